@@ -1,0 +1,117 @@
+# mefem build. `make run` and `make test` do everything on a fresh Debian 12 machine:
+# they install missing packages (make deps), build, and run the main example / all tests.
+#
+#   make            release build: bin/mefem
+#   make DEBUG=1    debug build (bounds checks, FPE traps): bin/mefem_debug
+#   make run        install, build, run the main example deck
+#   make test       install, build (release + debug), run every test; last line "N passed, N failed"
+#   make bench      reader benchmark (and later solver benchmarks); prints figures
+#   make deps       install the Debian packages that are missing (no-op when all present)
+#   make clean
+
+SHELL := /bin/bash
+
+# ---- packages -------------------------------------------------------------------------
+DEB_BUILD := gfortran make openmpi-bin libopenmpi-dev libmumps-dev libmetis-dev \
+             libhdf5-openmpi-dev hdf5-tools liblapack-dev libblas-dev
+DEB_TEST  := python3 python3-numpy python3-h5py python3-vtk9 python3-matplotlib
+DEB_ALL   := $(DEB_BUILD) $(DEB_TEST)
+SUDO      := $(if $(filter 0,$(shell id -u)),,sudo)
+
+# ---- MPI runs as root and with more ranks than cores (tests use up to 4 ranks) --------
+export OMPI_ALLOW_RUN_AS_ROOT := 1
+export OMPI_ALLOW_RUN_AS_ROOT_CONFIRM := 1
+export OMPI_MCA_rmaps_base_oversubscribe := 1
+export OPENBLAS_NUM_THREADS := 1
+MPIRUN := mpirun --oversubscribe
+
+# ---- compiler and libraries -----------------------------------------------------------
+FC       := mpif90
+HDF5_DIR := /usr/lib/x86_64-linux-gnu/hdf5/openmpi
+INCLUDES := -I/usr/include -I$(HDF5_DIR)/include
+LIBS     := -L$(HDF5_DIR)/lib -Wl,-rpath,$(HDF5_DIR)/lib -lhdf5_fortran -lhdf5 \
+            -ldmumps -lmumps_common -lmetis -llapack -lblas
+WARN     := -std=f2008 -Wall -Wno-maybe-uninitialized -fimplicit-none
+
+ifeq ($(DEBUG),1)
+  BUILD  := build/debug
+  EXE    := bin/mefem_debug
+  FFLAGS := $(WARN) -O0 -g -fcheck=all -ffpe-trap=invalid,zero,overflow -fbacktrace
+else
+  BUILD  := build/release
+  EXE    := bin/mefem
+  FFLAGS := $(WARN) -O3 -march=x86-64-v2 -g -fno-backtrace
+endif
+
+# Every .f90 under src/ is part of the library except the main program.
+SRC      := $(sort $(wildcard src/*/*.f90))
+MAIN_SRC := src/main/mefem.f90
+LIB_SRC  := $(filter-out $(MAIN_SRC),$(SRC))
+LIB_OBJ  := $(patsubst src/%.f90,$(BUILD)/%.o,$(LIB_SRC))
+MAIN_OBJ := $(patsubst src/%.f90,$(BUILD)/%.o,$(MAIN_SRC))
+UNIT_SRC := $(sort $(wildcard tests/unit/test_*.f90))
+UNIT_EXE := $(patsubst tests/unit/%.f90,$(BUILD)/tests/%,$(UNIT_SRC))
+HARNESS  := $(BUILD)/tests/testing.o
+
+.PHONY: all deps build run test bench clean lint unit-tests
+.DEFAULT_GOAL := all
+
+all: deps $(EXE)
+
+# Install whatever of the Debian packages is missing; a no-op when everything is there.
+deps:
+	@missing=""; for p in $(DEB_ALL); do \
+	  dpkg-query -W -f='$${Status}' $$p 2>/dev/null | grep -q 'install ok installed' || missing="$$missing $$p"; \
+	done; \
+	if [ -n "$$missing" ]; then \
+	  echo "make deps: installing$$missing"; \
+	  $(SUDO) apt-get -o DPkg::Lock::Timeout=600 update -qq && \
+	  DEBIAN_FRONTEND=noninteractive $(SUDO) apt-get -o DPkg::Lock::Timeout=600 install -y -qq \
+	    --no-install-recommends $$missing >/dev/null && echo "make deps: done"; \
+	fi
+
+$(EXE): $(LIB_OBJ) $(MAIN_OBJ) | bin
+	$(FC) $(FFLAGS) -o $@ $(MAIN_OBJ) $(LIB_OBJ) $(LIBS)
+
+bin:
+	@mkdir -p bin
+
+# Module dependencies are derived from the sources (use/module statements).
+$(BUILD)/deps.mk: $(SRC) $(UNIT_SRC) tests/unit/testing.f90 src/fortran_deps.sh
+	@mkdir -p $(BUILD)
+	@bash src/fortran_deps.sh $(BUILD) $(SRC) tests/unit/testing.f90 $(UNIT_SRC) > $@
+
+-include $(BUILD)/deps.mk
+
+$(BUILD)/%.o: src/%.f90
+	@mkdir -p $(dir $@) $(BUILD)/mod
+	$(FC) $(FFLAGS) $(INCLUDES) -J$(BUILD)/mod -c $< -o $@
+
+$(BUILD)/tests/%.o: tests/unit/%.f90
+	@mkdir -p $(dir $@) $(BUILD)/mod
+	$(FC) $(FFLAGS) $(INCLUDES) -J$(BUILD)/mod -c $< -o $@
+
+$(BUILD)/tests/test_%: $(BUILD)/tests/test_%.o $(HARNESS) $(LIB_OBJ)
+	$(FC) $(FFLAGS) -o $@ $< $(HARNESS) $(LIB_OBJ) $(LIBS)
+
+unit-tests: $(UNIT_EXE)
+
+run: deps
+	@$(MAKE) --no-print-directory $(EXE)
+	./$(EXE) -o results/main_example input/main_example.k
+
+# All tests: unit tests on the debug build, deck tests, output and MPI tests.
+test: deps
+	@$(MAKE) --no-print-directory bin/mefem
+	@$(MAKE) --no-print-directory DEBUG=1 bin/mefem_debug unit-tests
+	@bash tests/run_tests.sh
+
+bench: deps
+	@$(MAKE) --no-print-directory bin/mefem
+	@bash tests/bench/run_bench.sh
+
+lint:
+	@bash tests/lint.sh
+
+clean:
+	rm -rf build bin results tests/out

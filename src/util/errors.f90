@@ -1,0 +1,125 @@
+!> Error handling for all of mefem: three verbs and a counter.
+!>
+!> - input_error: a problem in the user's deck; printed as `file:line: *KEYWORD: message`,
+!>   counted, and reading goes on so that all problems are reported in one pass;
+!> - warn / warn_once: questionable but usable input;
+!> - fatal: an unrecoverable error; printed, then every rank stops with a non-zero code.
+!> Only rank 0 prints input messages (every rank reads the same deck and finds the same
+!> problems). status_t carries a failure out of a kernel to the driver that can react.
+module mefem_errors
+  use, intrinsic :: iso_fortran_env, only: error_unit, output_unit
+  use, intrinsic :: iso_c_binding, only: c_int
+  use mefem_comm, only: comm_is_root, comm_abort, comm_finalize
+  implicit none
+  private
+
+  public :: input_error, input_error_count, reset_input_errors
+  public :: warn, warn_once, fatal, fatal_local, say, terminate
+  public :: status_t
+
+  integer, parameter :: MAX_PRINTED = 500   !< input errors printed before the rest is only counted
+  integer, parameter :: MAX_WARN_KEYS = 200 !< distinct warn_once keys remembered
+
+  integer :: n_input_errors = 0
+  integer :: n_warn_keys = 0
+  character(len=80) :: warn_keys(MAX_WARN_KEYS)
+
+  !> Outcome of an operation that can fail because of the user's data.
+  interface
+    !> The C library's exit: ends the process with a status and no extra text.
+    subroutine c_exit(status) bind(C, name='exit')
+      import :: c_int
+      integer(c_int), value :: status
+    end subroutine c_exit
+  end interface
+
+  type, public :: status_t
+    logical :: ok = .true.                   !< false after a failure
+    character(len=:), allocatable :: message !< what failed, where (element, node, time)
+  end type status_t
+
+contains
+
+  !> Record one problem of the input deck; `where` is "file:line: *KEYWORD".
+  subroutine input_error(where, message)
+    character(len=*), intent(in) :: where    !< location prefix built by the reader
+    character(len=*), intent(in) :: message  !< what is wrong, quoting the offending text
+    n_input_errors = n_input_errors + 1
+    if (.not. comm_is_root()) return
+    if (n_input_errors <= MAX_PRINTED) then
+      if (len_trim(where) > 0) then
+        write(error_unit, '(a)') trim(where)//': '//trim(message)
+      else
+        write(error_unit, '(a)') 'mefem: '//trim(message)
+      end if
+    else if (n_input_errors == MAX_PRINTED + 1) then
+      write(error_unit, '(a)') 'mefem: further input errors are counted but not printed'
+    end if
+  end subroutine input_error
+
+  !> Number of input errors recorded so far.
+  integer function input_error_count()
+    input_error_count = n_input_errors
+  end function input_error_count
+
+  !> Forget recorded input errors and warnings (used by unit tests).
+  subroutine reset_input_errors()
+    n_input_errors = 0
+    n_warn_keys = 0
+  end subroutine reset_input_errors
+
+  !> Print a warning on rank 0.
+  subroutine warn(message)
+    character(len=*), intent(in) :: message  !< the warning text
+    if (comm_is_root()) write(error_unit, '(a)') 'warning: '//trim(message)
+  end subroutine warn
+
+  !> Print a warning once per key (e.g. once per ignored keyword name).
+  subroutine warn_once(key, message)
+    character(len=*), intent(in) :: key      !< what makes two warnings the same
+    character(len=*), intent(in) :: message  !< the warning text
+    integer :: i
+    do i = 1, n_warn_keys
+      if (warn_keys(i) == key) return
+    end do
+    if (n_warn_keys < MAX_WARN_KEYS) then
+      n_warn_keys = n_warn_keys + 1
+      warn_keys(n_warn_keys) = key
+    end if
+    call warn(message)
+  end subroutine warn_once
+
+  !> Print a line of progress or information on rank 0.
+  subroutine say(message)
+    character(len=*), intent(in) :: message  !< the text
+    if (comm_is_root()) then
+      write(output_unit, '(a)') trim(message)
+      flush(output_unit)
+    end if
+  end subroutine say
+
+  !> An error every rank detects alike: print on rank 0, finish MPI, exit with code 1.
+  subroutine fatal(message)
+    character(len=*), intent(in) :: message  !< what went wrong and where
+    if (comm_is_root()) write(error_unit, '(a)') 'mefem: error: '//trim(message)
+    call terminate(1)
+  end subroutine fatal
+
+  !> An error found on one rank only: print it from this rank and abort all ranks.
+  subroutine fatal_local(message)
+    character(len=*), intent(in) :: message  !< what went wrong and where
+    write(error_unit, '(a)') 'mefem: error: '//trim(message)
+    flush(error_unit)
+    call comm_abort(1)
+  end subroutine fatal_local
+
+  !> Finish MPI and end the program with the given exit code (0 = success).
+  subroutine terminate(code)
+    integer, intent(in) :: code   !< process exit code
+    flush(output_unit)
+    flush(error_unit)
+    call comm_finalize()
+    call c_exit(int(code, c_int))
+  end subroutine terminate
+
+end module mefem_errors
