@@ -1,0 +1,84 @@
+!> Deck parameters defined by *PARAMETER and referenced in fields as &name or -&name.
+module mefem_parameters
+  use mefem_strings, only: to_upper
+  implicit none
+  private
+
+  public :: parameter_define, parameter_lookup, parameters_clear
+
+  integer, parameter :: NAME_LEN = 32
+
+  !> One named parameter: its type letter and its value as text.
+  type :: deck_parameter_t
+    character(len=NAME_LEN) :: name = ''
+    character :: kind = 'R'                  !< R real, I integer, C character
+    character(len=:), allocatable :: value   !< the value as written
+  end type deck_parameter_t
+
+  type(deck_parameter_t), allocatable :: table(:)
+  integer :: n_defined = 0
+
+contains
+
+  !> Define (or redefine) a parameter.
+  subroutine parameter_define(name, kind, value)
+    character(len=*), intent(in) :: name    !< the name (case-insensitive)
+    character, intent(in) :: kind           !< R, I or C
+    character(len=*), intent(in) :: value   !< value text
+    type(deck_parameter_t), allocatable :: grown(:)
+    integer :: k
+    k = find(name)
+    if (k == 0) then
+      if (.not. allocated(table)) allocate(table(32))
+      if (n_defined == size(table)) then
+        allocate(grown(2*size(table)))
+        grown(1:n_defined) = table(1:n_defined)
+        call move_alloc(grown, table)
+      end if
+      n_defined = n_defined + 1
+      k = n_defined
+      table(k)%name = to_upper(name)
+    end if
+    table(k)%kind = kind
+    table(k)%value = trim(adjustl(value))
+  end subroutine parameter_define
+
+  !> Look a parameter up; found is false when it is not defined.
+  subroutine parameter_lookup(name, value, found, kind)
+    character(len=*), intent(in) :: name                   !< the name (case-insensitive)
+    character(len=:), allocatable, intent(out) :: value    !< its value text
+    logical, intent(out) :: found                          !< true when defined
+    character, intent(out), optional :: kind               !< its type letter
+    integer :: k
+    k = find(name)
+    found = k > 0
+    if (found) then
+      value = table(k)%value
+      if (present(kind)) kind = table(k)%kind
+    else
+      value = ''
+      if (present(kind)) kind = ' '
+    end if
+  end subroutine parameter_lookup
+
+  !> Forget all parameters.
+  subroutine parameters_clear()
+    n_defined = 0
+  end subroutine parameters_clear
+
+  !> Index of a name in the table, 0 if absent.
+  integer function find(name)
+    character(len=*), intent(in) :: name   !< the name looked for
+    integer :: k
+    character(len=NAME_LEN) :: key
+    key = to_upper(adjustl(name))
+    find = 0
+    do k = 1, n_defined
+      if (table(k)%name == key) then
+        find = k
+        return
+      end if
+    end do
+  end function find
+
+end module mefem_parameters

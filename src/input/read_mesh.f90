@@ -1,0 +1,377 @@
+!> Keyword handlers for the mesh: *NODE, *ELEMENT_SOLID, *ELEMENT_SHELL, *PART,
+!> *SECTION_SOLID, *SECTION_SHELL. Every handler reads all data cards of one keyword
+!> occurrence and appends to the model; ids are resolved later (model_resolve).
+module mefem_read_mesh
+  use mefem_kinds, only: wp
+  use mefem_strings, only: itoa
+  use mefem_cards, only: reader_t, card_t, next_card, split_card, get_int, get_real, &
+                         card_error, keyword_error
+  use mefem_model, only: model_t, nodes_t, elements_t, part_t, section_t, source_t, &
+                         ELEM_SOLID, ELEM_SHELL, SECTION_SOLID, SECTION_SHELL
+  implicit none
+  private
+
+  public :: read_node, read_element_solid, read_element_shell, read_part, read_section_solid, &
+            read_section_shell, has_option
+
+  integer, parameter :: W_NODE(6) = [8, 16, 16, 16, 8, 8]    !< *NODE field widths
+  integer, parameter :: W_I8(10) = 8                          !< element cards: I8 fields
+  integer, parameter :: W_10(8) = 10                          !< standard 8 x 10 card
+
+contains
+
+  !> True when the keyword's option list holds option (e.g. 'TITLE').
+  pure logical function has_option(options, option)
+    character(len=*), intent(in) :: options   !< options as ' OPT1 OPT2 '
+    character(len=*), intent(in) :: option    !< the option looked for
+    has_option = index(options, ' '//option//' ') > 0
+  end function has_option
+
+  !> *NODE: NID X Y Z TC RC, repeated.
+  subroutine read_node(rd, model)
+    type(reader_t), intent(inout) :: rd   !< reading state
+    type(model_t), intent(inout) :: model !< model appended to
+    type(card_t) :: card
+    logical :: got
+    integer :: nid, tc, rc, k
+    real(wp) :: x(3)
+    do
+      call next_card(rd, card, got)
+      if (.not. got) exit
+      call split_card(rd, card, W_NODE)
+      call get_int(card, 1, 'NID', nid, required=.true.)
+      call get_real(card, 2, 'X', x(1))
+      call get_real(card, 3, 'Y', x(2))
+      call get_real(card, 4, 'Z', x(3))
+      call get_int(card, 5, 'TC', tc)
+      call get_int(card, 6, 'RC', rc)
+      if (.not. card%bad .and. nid <= 0) then
+        call card_error(card, 'field NID: node id must be positive (got '//itoa(nid)//')')
+        card%bad = .true.
+      end if
+      if (.not. card%bad .and. (tc < 0 .or. tc > 7 .or. rc < 0 .or. rc > 7)) then
+        call card_error(card, 'fields TC/RC: constraint codes must be 0 to 7')
+        card%bad = .true.
+      end if
+      if (card%bad) cycle
+      call grow_nodes(model%nodes)
+      k = model%nodes%n + 1
+      model%nodes%n = k
+      model%nodes%id(k) = nid
+      model%nodes%x(:, k) = x
+      model%nodes%tc(k) = tc
+      model%nodes%rc(k) = rc
+      model%nodes%src(k) = source_t(card%file, card%line)
+    end do
+  end subroutine read_node
+
+  !> *ELEMENT_SOLID in either layout: EID PID N1..N8 on one line (legacy), or EID PID on
+  !> one line and N1..N10 on the next. Tets may repeat N4 or give only four nodes.
+  subroutine read_element_solid(rd, options, model)
+    type(reader_t), intent(inout) :: rd          !< reading state
+    character(len=*), intent(in) :: options      !< keyword options
+    type(model_t), intent(inout) :: model        !< model appended to
+    type(card_t) :: card, nodes_card
+    logical :: got, one_line
+    integer :: eid, pid, nodes(10), i, nfield
+    if (len_trim(options) > 0) then
+      call keyword_error(rd, 'options "'//trim(adjustl(options))//'" are not supported')
+    end if
+    do
+      call next_card(rd, card, got)
+      if (.not. got) exit
+      ! layout: text beyond the 16 columns of EID/PID (or more than two entries) = one line
+      if (card%free) then
+        nfield = count_commas(card%text(1:card%length)) + 1
+        one_line = nfield > 2
+      else
+        one_line = len_trim(card%text(1:card%length)) > 16
+      end if
+      call split_card(rd, card, W_I8)
+      call get_int(card, 1, 'EID', eid, required=.true.)
+      call get_int(card, 2, 'PID', pid, required=.true.)
+      nodes = 0
+      if (one_line) then
+        do i = 1, 8
+          call get_int(card, 2 + i, 'N'//achar(iachar('0') + i), nodes(i))
+        end do
+      else
+        call next_card(rd, nodes_card, got)
+        if (.not. got) then
+          call card_error(card, 'element '//itoa(eid)//': missing the card of nodes N1-N8')
+          exit
+        end if
+        call split_card(rd, nodes_card, W_I8)
+        do i = 1, 10
+          call get_int(nodes_card, i, 'N'//itoa(i), nodes(i))
+        end do
+        if (nodes_card%bad) card%bad = .true.
+        if (any(nodes(9:10) /= 0)) then
+          call card_error(nodes_card, 'element '//itoa(eid)// &
+              ': nodes N9/N10 given; 10-node tetrahedra are not supported')
+          card%bad = .true.
+        end if
+      end if
+      ! missing N5..N8 of a tet written with four nodes repeat N4
+      if (all(nodes(5:8) == 0) .and. nodes(4) /= 0) nodes(5:8) = nodes(4)
+      call add_element(model%elements, eid, pid, ELEM_SOLID, nodes(1:8), card)
+    end do
+  end subroutine read_element_solid
+
+  !> *ELEMENT_SHELL: EID PID N1 N2 N3 N4 (triangles: N4 = N3 or blank).
+  subroutine read_element_shell(rd, options, model)
+    type(reader_t), intent(inout) :: rd          !< reading state
+    character(len=*), intent(in) :: options      !< keyword options
+    type(model_t), intent(inout) :: model        !< model appended to
+    type(card_t) :: card
+    logical :: got
+    integer :: eid, pid, nodes(8), i
+    if (len_trim(options) > 0) then
+      call keyword_error(rd, 'options "'//trim(adjustl(options))//'" are not supported')
+    end if
+    do
+      call next_card(rd, card, got)
+      if (.not. got) exit
+      call split_card(rd, card, W_I8)
+      call get_int(card, 1, 'EID', eid, required=.true.)
+      call get_int(card, 2, 'PID', pid, required=.true.)
+      nodes = 0
+      do i = 1, 8
+        call get_int(card, 2 + i, 'N'//achar(iachar('0') + i), nodes(i))
+      end do
+      if (any(nodes(5:8) /= 0)) then
+        call card_error(card, 'element '//itoa(eid)// &
+            ': nodes N5-N8 given; 8-node shells are not supported')
+        card%bad = .true.
+      end if
+      if (nodes(4) == 0) nodes(4) = nodes(3)
+      call add_element(model%elements, eid, pid, ELEM_SHELL, nodes, card)
+    end do
+  end subroutine read_element_shell
+
+  !> Check and append one element (node ids are resolved later).
+  subroutine add_element(elements, eid, pid, keyword, nodes, card)
+    type(elements_t), intent(inout) :: elements  !< element store
+    integer, intent(in) :: eid, pid, keyword     !< id, part id, ELEM_SOLID/ELEM_SHELL
+    integer, intent(in) :: nodes(8)              !< node ids
+    type(card_t), intent(inout) :: card          !< the card, for messages
+    integer :: k, nreq
+    nreq = 4
+    if (keyword == ELEM_SHELL) nreq = 3
+    if (.not. card%bad) then
+      if (eid <= 0) then
+        call card_error(card, 'field EID: element id must be positive (got '// &
+            itoa(eid)//')')
+        card%bad = .true.
+      else if (pid <= 0) then
+        call card_error(card, 'element '//itoa(eid)//': field PID must be positive')
+        card%bad = .true.
+      else if (any(nodes(1:nreq) <= 0) .or. any(nodes < 0)) then
+        call card_error(card, 'element '//itoa(eid)//': needs at least '// &
+            itoa(nreq)//' positive node ids (N1-N'//itoa(nreq)//')')
+        card%bad = .true.
+      end if
+    end if
+    if (card%bad) return
+    call grow_elements(elements)
+    k = elements%n + 1
+    elements%n = k
+    elements%id(k) = eid
+    elements%part_id(k) = pid
+    elements%keyword(k) = keyword
+    elements%node_ids(:, k) = nodes
+    elements%src(k) = source_t(card%file, card%line)
+  end subroutine add_element
+
+  !> *PART: a heading card and a card PID SECID MID EOSID HGID GRAV ADPOPT TMID, repeated.
+  subroutine read_part(rd, options, model)
+    type(reader_t), intent(inout) :: rd          !< reading state
+    character(len=*), intent(in) :: options      !< keyword options
+    type(model_t), intent(inout) :: model        !< model appended to
+    type(card_t) :: heading, card
+    type(part_t) :: part
+    type(part_t), allocatable :: grown(:)
+    character(len=:), allocatable :: title
+    logical :: got
+    if (len_trim(options) > 0) then
+      call keyword_error(rd, 'options "'//trim(adjustl(options))//'" are not supported')
+    end if
+    do
+      call next_card(rd, heading, got, keep_blank=.true.)
+      if (.not. got) exit
+      call next_card(rd, card, got)
+      if (.not. got) then
+        if (len_trim(heading%text(1:heading%length)) > 0) &
+          call card_error(heading, 'missing the card PID SECID MID after the heading')
+        exit
+      end if
+      title = trim(adjustl(heading%text(1:min(heading%length, 80))))
+      call split_card(rd, card, W_10)
+      part = part_t()
+      part%title = title
+      call get_int(card, 1, 'PID', part%id, required=.true.)
+      call get_int(card, 2, 'SECID', part%section_id, required=.true.)
+      call get_int(card, 3, 'MID', part%material_id, required=.true.)
+      call get_int(card, 4, 'EOSID', part%eos_id)
+      call get_int(card, 5, 'HGID', part%hourglass_id)
+      part%src = source_t(card%file, card%line)
+      if (card%bad) cycle
+      if (part%eos_id /= 0) then
+        call card_error(card, 'part '//itoa(part%id)// &
+            ': EOSID is given but equations of state are not supported')
+        cycle
+      end if
+      if (.not. allocated(model%parts)) allocate(model%parts(0))
+      if (model%n_parts == size(model%parts)) then
+        allocate(grown(max(8, 2*model%n_parts)))
+        grown(1:model%n_parts) = model%parts(1:model%n_parts)
+        call move_alloc(grown, model%parts)
+      end if
+      model%n_parts = model%n_parts + 1
+      model%parts(model%n_parts) = part
+    end do
+  end subroutine read_part
+
+  !> *SECTION_SOLID: SECID ELFORM AET.
+  subroutine read_section_solid(rd, options, model)
+    type(reader_t), intent(inout) :: rd          !< reading state
+    character(len=*), intent(in) :: options      !< keyword options
+    type(model_t), intent(inout) :: model        !< model appended to
+    type(card_t) :: card
+    type(section_t) :: section
+    logical :: got
+    call skip_title(rd, options)
+    do
+      call next_card(rd, card, got)
+      if (.not. got) exit
+      call split_card(rd, card, W_10)
+      section = section_t()
+      section%kind = SECTION_SOLID
+      call get_int(card, 1, 'SECID', section%id, required=.true.)
+      call get_int(card, 2, 'ELFORM', section%elform, default=1)
+      call get_int(card, 3, 'AET', section%aet)
+      section%src = source_t(card%file, card%line)
+      if (.not. card%bad) call add_section(model, section)
+    end do
+  end subroutine read_section_solid
+
+  !> *SECTION_SHELL: SECID ELFORM SHRF NIP PROPT QR ICOMP SETYP / T1 T2 T3 T4 NLOC.
+  subroutine read_section_shell(rd, options, model)
+    type(reader_t), intent(inout) :: rd          !< reading state
+    character(len=*), intent(in) :: options      !< keyword options
+    type(model_t), intent(inout) :: model        !< model appended to
+    type(card_t) :: card, card2
+    type(section_t) :: section
+    logical :: got
+    integer :: icomp, i
+    call skip_title(rd, options)
+    do
+      call next_card(rd, card, got)
+      if (.not. got) exit
+      call split_card(rd, card, W_10)
+      section = section_t()
+      section%kind = SECTION_SHELL
+      call get_int(card, 1, 'SECID', section%id, required=.true.)
+      call get_int(card, 2, 'ELFORM', section%elform, default=2)
+      call get_real(card, 3, 'SHRF', section%shear_factor, default=1.0_wp)
+      call get_int(card, 4, 'NIP', section%nip, default=2)
+      call get_int(card, 7, 'ICOMP', icomp)
+      section%src = source_t(card%file, card%line)
+      call next_card(rd, card2, got, keep_blank=.true.)
+      if (.not. got) then
+        call card_error(card, 'section '//itoa(section%id)// &
+            ': missing card 2 (T1 T2 T3 T4 NLOC)')
+        exit
+      end if
+      call split_card(rd, card2, W_10)
+      do i = 1, 4
+        call get_real(card2, i, 'T'//achar(iachar('0') + i), section%thickness(i))
+      end do
+      where (section%thickness(2:4) == 0.0_wp) section%thickness(2:4) = section%thickness(1)
+      if (icomp /= 0) then
+        call card_error(card, 'section '//itoa(section%id)// &
+            ': ICOMP=1 (composite layers) is not supported')
+        card%bad = .true.
+      end if
+      if (.not. (card%bad .or. card2%bad)) call add_section(model, section)
+    end do
+  end subroutine read_section_shell
+
+  !> Consume the title card of a _TITLE option.
+  subroutine skip_title(rd, options)
+    type(reader_t), intent(inout) :: rd          !< reading state
+    character(len=*), intent(in) :: options      !< keyword options
+    type(card_t) :: card
+    logical :: got
+    if (has_option(options, 'TITLE')) call next_card(rd, card, got, keep_blank=.true.)
+  end subroutine skip_title
+
+  !> Append a section.
+  subroutine add_section(model, section)
+    type(model_t), intent(inout) :: model      !< model appended to
+    type(section_t), intent(in) :: section     !< the section
+    type(section_t), allocatable :: grown(:)
+    if (.not. allocated(model%sections)) allocate(model%sections(0))
+    if (model%n_sections == size(model%sections)) then
+      allocate(grown(max(8, 2*model%n_sections)))
+      grown(1:model%n_sections) = model%sections(1:model%n_sections)
+      call move_alloc(grown, model%sections)
+    end if
+    model%n_sections = model%n_sections + 1
+    model%sections(model%n_sections) = section
+  end subroutine add_section
+
+  !> Make room for one more node (capacity doubles).
+  subroutine grow_nodes(nodes)
+    type(nodes_t), intent(inout) :: nodes   !< node store
+    integer :: cap
+    integer, allocatable :: itmp(:)
+    real(wp), allocatable :: xtmp(:,:)
+    type(source_t), allocatable :: stmp(:)
+    if (.not. allocated(nodes%id)) then
+      allocate(nodes%id(1024), nodes%x(3, 1024), nodes%tc(1024), nodes%rc(1024), nodes%src(1024))
+      return
+    end if
+    if (nodes%n < size(nodes%id)) return
+    cap = 2*size(nodes%id)
+    allocate(itmp(cap)); itmp(1:nodes%n) = nodes%id(1:nodes%n); call move_alloc(itmp, nodes%id)
+    allocate(itmp(cap)); itmp(1:nodes%n) = nodes%tc(1:nodes%n); call move_alloc(itmp, nodes%tc)
+    allocate(itmp(cap)); itmp(1:nodes%n) = nodes%rc(1:nodes%n); call move_alloc(itmp, nodes%rc)
+    allocate(xtmp(3, cap)); xtmp(:, 1:nodes%n) = nodes%x(:, 1:nodes%n)
+    call move_alloc(xtmp, nodes%x)
+    allocate(stmp(cap)); stmp(1:nodes%n) = nodes%src(1:nodes%n); call move_alloc(stmp, nodes%src)
+  end subroutine grow_nodes
+
+  !> Make room for one more element (capacity doubles).
+  subroutine grow_elements(elements)
+    type(elements_t), intent(inout) :: elements   !< element store
+    integer :: cap, n
+    integer, allocatable :: itmp(:), ntmp(:,:)
+    type(source_t), allocatable :: stmp(:)
+    n = elements%n
+    if (.not. allocated(elements%id)) then
+      allocate(elements%id(1024), elements%part_id(1024), elements%keyword(1024), &
+               elements%node_ids(8, 1024), elements%src(1024))
+      return
+    end if
+    if (n < size(elements%id)) return
+    cap = 2*size(elements%id)
+    allocate(itmp(cap)); itmp(1:n) = elements%id(1:n); call move_alloc(itmp, elements%id)
+    allocate(itmp(cap)); itmp(1:n) = elements%part_id(1:n); call move_alloc(itmp, elements%part_id)
+    allocate(itmp(cap)); itmp(1:n) = elements%keyword(1:n); call move_alloc(itmp, elements%keyword)
+    allocate(ntmp(8, cap)); ntmp(:, 1:n) = elements%node_ids(:, 1:n)
+    call move_alloc(ntmp, elements%node_ids)
+    allocate(stmp(cap)); stmp(1:n) = elements%src(1:n); call move_alloc(stmp, elements%src)
+  end subroutine grow_elements
+
+  !> Number of commas in a text.
+  pure integer function count_commas(s)
+    character(len=*), intent(in) :: s   !< the text
+    integer :: i
+    count_commas = 0
+    do i = 1, len(s)
+      if (s(i:i) == ',') count_commas = count_commas + 1
+    end do
+  end function count_commas
+
+end module mefem_read_mesh

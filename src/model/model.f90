@@ -1,0 +1,267 @@
+!> The model as read from the deck: mesh, parts, sections, materials, sets, curves,
+!> boundary conditions, loads, contacts and controls.
+!>
+!> Entities are stored in flat arrays in deck order with their user ids. References between
+!> entities (element to node, part to section, BC to curve ...) are read as ids and resolved
+!> to 1-based indices by model_resolve (src/model/model_resolve.f90), which also reports
+!> every dangling reference. Each record keeps where it was read (file index, line number)
+!> for messages. Units are those of the deck (a consistent set; mefem converts nothing).
+module mefem_model
+  use mefem_kinds, only: wp
+  use mefem_output_mesh, only: TOPO_TRI3, TOPO_QUAD4, TOPO_TET4, TOPO_PENTA6, TOPO_HEX8
+  implicit none
+  private
+
+  public :: TOPO_TRI3, TOPO_QUAD4, TOPO_TET4, TOPO_PENTA6, TOPO_HEX8
+
+  ! element source keyword
+  integer, parameter, public :: ELEM_SOLID = 1, ELEM_SHELL = 2
+  ! section kinds
+  integer, parameter, public :: SECTION_SOLID = 1, SECTION_SHELL = 2
+  ! material kinds
+  integer, parameter, public :: MAT_ELASTIC = 1, MAT_PIECEWISE_LINEAR = 24, MAT_POWER_LAW = 18, &
+                                MAT_RIGID = 20, MAT_MOONEY_RIVLIN = 27
+  ! targets of boundary conditions and loads
+  integer, parameter, public :: ON_NODE = 1, ON_NODE_SET = 2, ON_PART = 3, ON_ALL_NODES = 4, &
+                                ON_PART_SET = 5, ON_SEGMENT_SET = 6
+  ! sets
+  integer, parameter, public :: SET_NODE = 1, SET_SEGMENT = 2, SET_PART = 3
+
+  !> Where a record was read.
+  type, public :: source_t
+    integer :: file = 0   !< file index (mefem_deck_source file_name)
+    integer :: line = 0   !< line number
+  end type source_t
+
+  !> All nodes.
+  type, public :: nodes_t
+    integer :: n = 0
+    integer, allocatable :: id(:)           !< (n) user ids
+    real(wp), allocatable :: x(:,:)         !< (3,n) coordinates
+    integer, allocatable :: tc(:), rc(:)    !< (n) translational/rotational constraint codes
+    type(source_t), allocatable :: src(:)   !< (n)
+  end type nodes_t
+
+  !> All elements, solids and shells alike (up to 8 corner nodes).
+  type, public :: elements_t
+    integer :: n = 0
+    integer, allocatable :: id(:)           !< (n) user ids
+    integer, allocatable :: part_id(:)      !< (n) user part id
+    integer, allocatable :: part(:)         !< (n) part index (after resolve)
+    integer, allocatable :: keyword(:)      !< (n) ELEM_SOLID or ELEM_SHELL
+    integer, allocatable :: topology(:)     !< (n) TOPO_* code (after resolve)
+    integer, allocatable :: node_ids(:,:)   !< (8,n) user node ids as read (0 = none)
+    integer, allocatable :: conn(:,:)       !< (8,n) node indices (after resolve; 0 = none)
+    type(source_t), allocatable :: src(:)   !< (n)
+  end type elements_t
+
+  !> *PART.
+  type, public :: part_t
+    integer :: id = 0
+    character(len=80) :: title = ''
+    integer :: section_id = 0, material_id = 0, eos_id = 0, hourglass_id = 0
+    integer :: section = 0, material = 0    !< indices (after resolve)
+    type(source_t) :: src
+  end type part_t
+
+  !> *SECTION_SOLID / *SECTION_SHELL.
+  type, public :: section_t
+    integer :: id = 0
+    integer :: kind = SECTION_SOLID
+    integer :: elform = 1
+    integer :: aet = 0
+    real(wp) :: thickness(4) = 0.0_wp       !< shells: T1..T4
+    real(wp) :: shear_factor = 1.0_wp       !< shells: SHRF
+    integer :: nip = 2                      !< shells: integration points through thickness
+    type(source_t) :: src
+  end type section_t
+
+  !> A material card; the fields used depend on kind.
+  type, public :: material_t
+    integer :: id = 0
+    integer :: kind = 0
+    character(len=80) :: title = ''
+    real(wp) :: density = 0.0_wp            !< RO
+    real(wp) :: young = 0.0_wp              !< E
+    real(wp) :: poisson = 0.0_wp            !< PR
+    ! plasticity (MAT_024, MAT_018)
+    real(wp) :: yield_stress = 0.0_wp       !< SIGY
+    real(wp) :: tangent_modulus = 0.0_wp    !< ETAN
+    real(wp) :: failure_strain = 0.0_wp     !< FAIL (MAT_024) / EPSF (MAT_018)
+    real(wp) :: cowper_c = 0.0_wp, cowper_p = 0.0_wp   !< C, P (MAT_024) / SRC, SRP (MAT_018)
+    integer :: lcss = 0                     !< curve id of stress vs plastic strain (MAT_024)
+    integer :: lcss_curve = 0               !< its index (after resolve)
+    integer :: lcsr = 0                     !< strain-rate curve id (MAT_024)
+    real(wp) :: vp = 0.0_wp                 !< VP rate formulation flag
+    integer :: n_points = 0                 !< EPS/ES pairs given (MAT_024)
+    real(wp) :: eps(8) = 0.0_wp, es(8) = 0.0_wp
+    real(wp) :: k_strength = 0.0_wp         !< K (MAT_018)
+    real(wp) :: n_exponent = 0.0_wp         !< N (MAT_018)
+    ! Mooney-Rivlin (MAT_027)
+    real(wp) :: mr_a = 0.0_wp, mr_b = 0.0_wp
+    ! rigid (MAT_020)
+    integer :: cmo = 0, con1 = 0, con2 = 0
+    type(source_t) :: src
+  end type material_t
+
+  !> *SET_NODE / *SET_PART / *SET_SEGMENT: members as user ids, resolved to indices.
+  type, public :: set_t
+    integer :: id = 0
+    integer :: kind = SET_NODE
+    character(len=80) :: title = ''
+    integer :: n = 0
+    integer, allocatable :: member_ids(:)   !< (n) node or part ids; segments: (4*n) node ids
+    integer, allocatable :: members(:)      !< indices (after resolve)
+    type(source_t) :: src
+  end type set_t
+
+  !> *DEFINE_CURVE with its scale factors and offsets already applied.
+  type, public :: curve_t
+    integer :: id = 0
+    character(len=80) :: title = ''
+    integer :: sidr = 0
+    integer :: n = 0
+    real(wp), allocatable :: t(:), f(:)     !< abscissas and ordinates
+    type(source_t) :: src
+  end type curve_t
+
+  !> *BOUNDARY_SPC_NODE/_SET: fixed degrees of freedom.
+  type, public :: spc_t
+    integer :: target_kind = ON_NODE
+    integer :: target_id = 0, target = 0     !< id and index of node or node set
+    integer :: cid = 0
+    logical :: dof(6) = .false.              !< x y z rx ry rz fixed
+    real(wp) :: birth = 0.0_wp, death = 1.0e20_wp
+    type(source_t) :: src
+  end type spc_t
+
+  !> *BOUNDARY_PRESCRIBED_MOTION_NODE/_SET/_RIGID.
+  type, public :: prescribed_motion_t
+    integer :: target_kind = ON_NODE
+    integer :: target_id = 0, target = 0
+    integer :: dof = 0, vad = 0
+    integer :: curve_id = 0, curve = 0
+    real(wp) :: scale = 1.0_wp
+    integer :: vector_id = 0
+    real(wp) :: death = 1.0e28_wp, birth = 0.0_wp
+    type(source_t) :: src
+  end type prescribed_motion_t
+
+  !> *LOAD_NODE_POINT/_SET: nodal force (or moment) from a curve.
+  type, public :: nodal_load_t
+    integer :: target_kind = ON_NODE
+    integer :: target_id = 0, target = 0
+    integer :: dof = 0
+    integer :: curve_id = 0, curve = 0
+    real(wp) :: scale = 1.0_wp
+    integer :: cid = 0
+    type(source_t) :: src
+  end type nodal_load_t
+
+  !> *LOAD_SEGMENT(_SET): pressure on a segment or on every segment of a set.
+  type, public :: pressure_load_t
+    integer :: curve_id = 0, curve = 0
+    real(wp) :: scale = 1.0_wp
+    real(wp) :: arrival = 0.0_wp
+    integer :: set_id = 0, set = 0           !< segment set (for _SET), else 0
+    integer :: node_ids(4) = 0, nodes(4) = 0 !< single segment
+    type(source_t) :: src
+  end type pressure_load_t
+
+  !> *INITIAL_VELOCITY, _NODE, _GENERATION.
+  type, public :: initial_velocity_t
+    integer :: target_kind = ON_ALL_NODES
+    integer :: target_id = 0, target = 0
+    integer :: exempt_set_id = 0, exempt_set = 0
+    real(wp) :: v(3) = 0.0_wp, omega_vector(3) = 0.0_wp
+    real(wp) :: v_exempt(3) = 0.0_wp
+    real(wp) :: omega = 0.0_wp               !< _GENERATION: angular velocity
+    real(wp) :: center(3) = 0.0_wp, axis(3) = 0.0_wp
+    type(source_t) :: src
+  end type initial_velocity_t
+
+  !> *CONTACT_AUTOMATIC_SURFACE_TO_SURFACE(_MORTAR).
+  type, public :: contact_t
+    integer :: id = 0
+    character(len=80) :: title = ''
+    logical :: mortar = .false.
+    integer :: surf_a_id = 0, surf_b_id = 0, surf_a_type = 0, surf_b_type = 0
+    integer :: surf_a = 0, surf_b = 0        !< set/part indices (after resolve)
+    real(wp) :: fs = 0.0_wp, fd = 0.0_wp, dc = 0.0_wp, vc = 0.0_wp, vdc = 0.0_wp
+    real(wp) :: birth = 0.0_wp, death = 1.0e20_wp
+    real(wp) :: sfsa = 1.0_wp, sfsb = 1.0_wp, sast = 0.0_wp, sbst = 0.0_wp
+    real(wp) :: sfsat = 1.0_wp, sfsbt = 1.0_wp, fsf = 1.0_wp, vsf = 1.0_wp
+    integer :: soft = 0, ignore = 0, igap = 1
+    real(wp) :: sofscl = 0.1_wp, penmax = 0.0_wp
+    type(source_t) :: src
+  end type contact_t
+
+  !> *RIGIDWALL_PLANAR.
+  type, public :: rigid_wall_t
+    integer :: id = 0
+    integer :: node_set_id = 0, node_set = 0, exempt_set_id = 0, exempt_set = 0
+    real(wp) :: offset = 0.0_wp, birth = 0.0_wp, death = 1.0e20_wp, stiffness_scale = 1.0_wp
+    real(wp) :: tail(3) = 0.0_wp, head(3) = 0.0_wp
+    real(wp) :: friction = 0.0_wp, weld_velocity = 0.0_wp
+    type(source_t) :: src
+  end type rigid_wall_t
+
+  !> Analysis controls and output requests (LS-DYNA defaults).
+  type, public :: controls_t
+    ! *CONTROL_TERMINATION
+    logical :: have_termination = .false.
+    real(wp) :: end_time = 0.0_wp
+    integer :: end_cycle = 0
+    real(wp) :: dt_min_fraction = 0.0_wp, end_energy = 0.0_wp, end_mass = 1.0e8_wp
+    ! *CONTROL_TIMESTEP
+    real(wp) :: dt_init = 0.0_wp, tssfac = 0.9_wp, dt2ms = 0.0_wp, tslimt = 0.0_wp
+    integer :: isdo = 0, lctm = 0, ms1st = 0
+    ! *CONTROL_IMPLICIT_GENERAL
+    integer :: imflag = 0, imform = 2, nsbs = 1, igs = 2
+    real(wp) :: dt0 = 0.0_wp
+    ! *CONTROL_IMPLICIT_SOLUTION
+    integer :: nsolvr = 12, ilimit = 11, maxref = 15
+    real(wp) :: dctol = 0.001_wp, ectol = 0.01_wp, rctol = 1.0e10_wp, lstol = 0.9_wp
+    real(wp) :: abstol = 1.0e-10_wp
+    integer :: dnorm = 2, diverg = 1, istif = 1, nlprint = 0, nlnorm = 2
+    ! *CONTROL_IMPLICIT_AUTO
+    integer :: iauto = 0, iteopt = 11, itewin = 5, kfail = 0
+    real(wp) :: auto_dtmin = 0.0_wp, auto_dtmax = 0.0_wp, dtexp = 0.0_wp
+    ! *DATABASE_*
+    real(wp) :: plot_interval = 0.0_wp        !< *DATABASE_BINARY_D3PLOT DT (0: none)
+    integer :: plot_count = 0                 !< NPLTC
+    real(wp) :: glstat_interval = 0.0_wp, rcforc_interval = 0.0_wp, nodout_interval = 0.0_wp
+    integer :: n_history_nodes = 0
+    integer, allocatable :: history_node_ids(:), history_nodes(:)
+    integer :: n_history_sets = 0
+    integer, allocatable :: history_set_ids(:)
+    ! *MEFEM_ENRICHMENT
+    real(wp) :: support_radius = 1.5_wp       !< a/L of the GMF approximation
+    integer :: gmf_basis = 1                  !< 1 atan, 2 exp
+    character(len=80) :: title = ''
+  end type controls_t
+
+  !> The whole model.
+  type, public :: model_t
+    type(nodes_t) :: nodes
+    type(elements_t) :: elements
+    integer :: n_parts = 0, n_sections = 0, n_materials = 0, n_sets = 0, n_curves = 0
+    type(part_t), allocatable :: parts(:)
+    type(section_t), allocatable :: sections(:)
+    type(material_t), allocatable :: materials(:)
+    type(set_t), allocatable :: sets(:)
+    type(curve_t), allocatable :: curves(:)
+    integer :: n_spcs = 0, n_motions = 0, n_nodal_loads = 0, n_pressure_loads = 0
+    integer :: n_initial_velocities = 0, n_contacts = 0, n_rigid_walls = 0
+    type(spc_t), allocatable :: spcs(:)
+    type(prescribed_motion_t), allocatable :: motions(:)
+    type(nodal_load_t), allocatable :: nodal_loads(:)
+    type(pressure_load_t), allocatable :: pressure_loads(:)
+    type(initial_velocity_t), allocatable :: initial_velocities(:)
+    type(contact_t), allocatable :: contacts(:)
+    type(rigid_wall_t), allocatable :: rigid_walls(:)
+    type(controls_t) :: controls
+    integer :: dimension = 3                  !< 2 for plane strain shells-only models
+  end type model_t
+
+end module mefem_model
