@@ -42,6 +42,7 @@ module mefem_cards
     character(len=80) :: keyword = ''        !< keyword the card belongs to
     logical :: free = .false.                !< comma-separated card
     logical :: bad = .false.                 !< a field of this card was invalid
+    logical :: unreadable = .false.          !< the card cannot be laid out: no field messages
     integer :: nfields = 0                   !< fields laid out
     integer :: first(MAX_FIELDS) = 1         !< first column of each field
     integer :: last(MAX_FIELDS) = 0          !< last column of each field (< first: empty)
@@ -82,6 +83,7 @@ contains
     card%keyword = rd%keyword
     card%free = index(card%text(1:card%length), ',') > 0
     card%bad = .false.
+    card%unreadable = .false.
     card%nfields = 0
   end subroutine next_card
 
@@ -118,9 +120,10 @@ contains
     end if
     tab = index(card%text(1:card%length), achar(9))
     if (tab > 0) then
-      call card_error(card, 'tab character at column '//itoa(tab)// &
+      call input_error(card_where(card), 'tab character at column '//itoa(tab)// &
           ': fixed-format cards are read by columns; use blanks or commas')
       card%bad = .true.
+      card%unreadable = .true.
     end if
     col = 1
     do i = 1, card%nfields
@@ -293,6 +296,7 @@ contains
   subroutine card_error(card, message)
     type(card_t), intent(in) :: card         !< the card
     character(len=*), intent(in) :: message  !< what is wrong
+    if (card%unreadable) return
     call input_error(card_where(card), message)
   end subroutine card_error
 

@@ -296,7 +296,7 @@ contains
     if (.not. exists) then
       if (present(from_file)) then
         call input_error(where, 'file "'//name//'" not found (looked in "'// &
-            merge(base_dir, '.       ', len(base_dir) > 0)//'" and the *INCLUDE_PATH directories)')
+            join_path(base_dir, '.')//'" and the *INCLUDE_PATH directories)')
       else
         call input_error('', 'cannot open deck "'//name//'": no such file')
       end if

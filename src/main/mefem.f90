@@ -1,9 +1,63 @@
-!> mefem main program (placeholder until the driver lands).
+!> mefem: large-deformation metal forming with the meshfree-enriched finite element method
+!> and mortar contact (Hu & Wu). The main program reads like the run it performs:
+!> read the deck, check it, split the mesh over the ranks, run the analysis, write results.
 program mefem
-  use mefem_comm, only: comm_init
+  use mefem_kinds, only: wp
+  use mefem_comm, only: comm_init, comm_size, comm_wtime
   use mefem_errors, only: say, terminate
+  use mefem_strings, only: itoa
+  use mefem_command_line, only: run_options_t, parse_command_line, MEFEM_VERSION
+  use mefem_model, only: model_t
+  use mefem_keyword_reader, only: read_deck
+  use mefem_model_resolve, only: model_resolve
+  use mefem_model_summary, only: print_model_summary, deck_stem
+  use mefem_decomposition, only: decomposition_t
+  use mefem_model_partition, only: partition_model
+  use mefem_output_mesh, only: output_field_t
+  use mefem_results, only: results_open, results_write_state, results_close, node_set_fields
+  use mefem_progress, only: peak_memory_mib
+  use mefem_errors, only: input_error_count
   implicit none
+
+  type(run_options_t) :: options
+  type(model_t) :: model
+  type(decomposition_t) :: decomp
+  type(output_field_t), allocatable :: point_fields(:), cell_fields(:)
+  integer :: n_errors
+  real(wp) :: t_start, t_read
+
+  ! start MPI and read the command line
   call comm_init()
-  call say('mefem')
+  t_start = comm_wtime()
+  call parse_command_line(options)
+  call say('mefem '//MEFEM_VERSION//' on '//itoa(comm_size())//' rank(s): '//options%deck)
+
+  ! read the deck (every rank reads it) and check every reference; stop on any problem
+  call read_deck(options%deck, model, n_errors)
+  if (n_errors == 0) call model_resolve(model)
+  n_errors = input_error_count()
+  if (n_errors > 0) then
+    call say(options%deck//': '//itoa(n_errors)//' input error(s); no analysis was run')
+    call terminate(1)
+  end if
+  t_read = comm_wtime() - t_start
+  call print_model_summary(model, t_read, peak_memory_mib())
+  if (options%check_only) then
+    call say(options%deck//': deck accepted')
+    call terminate(0)
+  end if
+
+  ! split the mesh over the ranks (METIS)
+  call partition_model(model, decomp)
+
+  ! write the model as read: the mesh, its parts and node sets (state 0)
+  call results_open(options%output_dir, deck_stem(options%deck), model, decomp)
+  call node_set_fields(model, decomp, point_fields)
+  allocate(cell_fields(0))
+  call results_write_state(0, 0.0_wp, point_fields, cell_fields)
+  call results_close()
+  call say('results: '//options%output_dir//'/'//deck_stem(options%deck)//'.pvd (ParaView), '// &
+           options%output_dir//'/'//deck_stem(options%deck)//'.h5 (HDF5)')
+  call say('no analysis solver is available yet: the model was read, checked and written')
   call terminate(0)
 end program mefem

@@ -1,0 +1,98 @@
+!> Result output of a run: VTK XML (ParaView) and HDF5 (scripts), written together.
+!>
+!> results_open builds this rank's output piece from the decomposition, creates the output
+!> directory and the HDF5 file and writes the mesh; results_write_state writes one state to
+!> both formats. Files are complete after every state (the .pvd and the HDF5 file are
+!> rewritten/flushed), so a run that stops early leaves readable results.
+module mefem_results
+  use mefem_kinds, only: wp
+  use mefem_comm, only: comm_is_root, comm_barrier, comm_any
+  use mefem_errors, only: fatal
+  use mefem_file_system, only: make_directory
+  use mefem_strings, only: itoa
+  use mefem_model, only: model_t, SET_NODE
+  use mefem_output_mesh, only: output_mesh_t, output_field_t
+  use mefem_decomposition, only: decomposition_t, fill_output_mesh
+  use mefem_vtk_output, only: vtk_write_state
+  use mefem_hdf5_output, only: h5_output_open, h5_output_write_mesh, h5_output_write_state, &
+                               h5_output_close
+  implicit none
+  private
+
+  public :: results_open, results_write_state, results_close, node_set_fields
+
+  type(output_mesh_t), save :: piece               !< this rank's output mesh
+  character(len=:), allocatable :: out_dir, stem   !< output directory and file stem
+
+contains
+
+  !> Create the output directory and files, and write the mesh.
+  subroutine results_open(dir, basename, model, decomp)
+    character(len=*), intent(in) :: dir              !< output directory
+    character(len=*), intent(in) :: basename         !< stem of the file names
+    type(model_t), intent(in) :: model               !< resolved model
+    type(decomposition_t), intent(in) :: decomp      !< this rank's share
+    logical :: ok
+    out_dir = dir
+    stem = basename
+    ok = .true.
+    if (comm_is_root()) call make_directory(dir, ok)
+    if (comm_any(.not. ok)) call fatal('cannot create the output directory "'//dir//'"')
+    call comm_barrier()
+    call fill_output_mesh(decomp, model%nodes%x, model%nodes%id, model%elements%topology, &
+                          model%elements%id, model%elements%part_id, piece)
+    call h5_output_open(dir//'/'//basename//'.h5')
+    call h5_output_write_mesh(piece)
+  end subroutine results_open
+
+  !> Write one state: point fields sized (ncomp, local nodes), cell fields (ncomp, local cells).
+  subroutine results_write_state(step, time, point_fields, cell_fields)
+    integer, intent(in) :: step                          !< output state number
+    real(wp), intent(in) :: time                         !< analysis time
+    type(output_field_t), intent(in) :: point_fields(:)  !< fields on this piece's nodes
+    type(output_field_t), intent(in) :: cell_fields(:)   !< fields on this piece's cells
+    call vtk_write_state(out_dir, stem, step, time, piece, point_fields, cell_fields)
+    call h5_output_write_state(step, time, point_fields, cell_fields)
+  end subroutine results_write_state
+
+  !> Close the files.
+  subroutine results_close()
+    call h5_output_close()
+  end subroutine results_close
+
+  !> One point field per node set ("node_set_<id>": 1 on members, 0 elsewhere), on this
+  !> rank's piece, so that sets can be checked in ParaView.
+  subroutine node_set_fields(model, decomp, fields)
+    type(model_t), intent(in) :: model                            !< resolved model
+    type(decomposition_t), intent(in) :: decomp                   !< this rank's share
+    type(output_field_t), allocatable, intent(out) :: fields(:)   !< the fields
+    integer :: s, k, nfield, i
+    integer, allocatable :: local_of(:)
+    nfield = 0
+    do s = 1, model%n_sets
+      if (model%sets(s)%kind == SET_NODE) nfield = nfield + 1
+    end do
+    allocate(fields(nfield))
+    if (nfield == 0) return
+    allocate(local_of(model%nodes%n))
+    local_of = 0
+    do i = 1, decomp%nnode_local
+      local_of(decomp%node_global(i)) = i
+    end do
+    k = 0
+    do s = 1, model%n_sets
+      if (model%sets(s)%kind /= SET_NODE) cycle
+      k = k + 1
+      fields(k)%name = 'node_set_'//itoa(model%sets(s)%id)
+      fields(k)%ncomp = 1
+      allocate(fields(k)%values(1, decomp%nnode_local))
+      fields(k)%values = 0.0_wp
+      do i = 1, size(model%sets(s)%members)
+        if (model%sets(s)%members(i) <= 0) cycle
+        if (local_of(model%sets(s)%members(i)) > 0) &
+          fields(k)%values(1, local_of(model%sets(s)%members(i))) = 1.0_wp
+      end do
+    end do
+  end subroutine node_set_fields
+
+end module mefem_results

@@ -1,0 +1,362 @@
+!> Cross-checks the model after reading: ids to indices, element topology and orientation,
+!> parts to sections and materials, supported element formulations, 2D or 3D.
+!>
+!> Every problem is reported with the file:line of the record that holds the bad reference,
+!> all in one pass. References of sets, curves, loads, contacts and outputs are resolved by
+!> mefem_resolve_conditions, called from here.
+module mefem_model_resolve
+  use mefem_kinds, only: wp
+  use mefem_errors, only: input_error, say
+  use mefem_strings, only: itoa, rtoa
+  use mefem_deck_source, only: location
+  use mefem_id_map, only: id_map_t, id_map_build, id_map_find
+  use mefem_model, only: model_t, source_t, ELEM_SOLID, ELEM_SHELL, SECTION_SOLID, &
+                         SECTION_SHELL, MAT_RIGID, TOPO_TRI3, TOPO_QUAD4, TOPO_TET4, &
+                         TOPO_PENTA6, TOPO_HEX8
+  use mefem_output_mesh, only: NODES_OF_TOPO
+  use mefem_resolve_conditions, only: resolve_conditions
+  implicit none
+  private
+
+  public :: model_resolve, element_measure, formulation_name
+
+  ! element formulations mefem computes (ELFORM of *SECTION_SOLID / *SECTION_SHELL)
+  integer, parameter, public :: ELFORM_TET_STANDARD = 10       !< linear tetrahedron
+  integer, parameter, public :: ELFORM_MEFEM = 43              !< ME-FEM tet / plane-strain triangle
+  integer, parameter, public :: ELFORM_TRI_PLANE_STRAIN = 13   !< linear plane-strain triangle
+
+  !> Outward faces of a hexahedron (LS-DYNA order: N1-N4 bottom, N5-N8 top); degenerate
+  !> elements (tets, pentas) are measured through their collapsed 8-node form.
+  integer, parameter :: HEX_FACES(4, 6) = reshape([1, 4, 3, 2,  5, 6, 7, 8,  1, 2, 6, 5, &
+                                                   2, 3, 7, 6,  3, 4, 8, 7,  4, 1, 5, 8], [4, 6])
+
+contains
+
+  !> Resolve and check the whole model; errors are counted by mefem_errors.
+  subroutine model_resolve(model)
+    type(model_t), intent(inout) :: model   !< the model read from the deck
+    type(id_map_t) :: node_map, part_map, section_map, material_map, curve_map
+    integer :: k
+    call id_map_build(model%nodes%id, model%nodes%n, node_map)
+    call report_duplicates(node_map, model%nodes%src, '*NODE', 'node')
+    if (.not. allocated(model%parts)) allocate(model%parts(0))
+    if (.not. allocated(model%sections)) allocate(model%sections(0))
+    call id_map_build(model%parts(1:model%n_parts)%id, model%n_parts, part_map)
+    call report_duplicates(part_map, model%parts(1:model%n_parts)%src, '*PART', 'part')
+    call id_map_build(model%sections(1:model%n_sections)%id, model%n_sections, section_map)
+    call report_duplicates(section_map, model%sections(1:model%n_sections)%src, '*SECTION', &
+                           'section')
+    call resolve_conditions(model, node_map, part_map, material_map, curve_map)
+    do k = 1, model%n_parts
+      call resolve_part(model, k, section_map, material_map)
+    end do
+    call resolve_elements(model, node_map, part_map)
+    if (model%nodes%n == 0) call input_error('', 'the deck defines no nodes (*NODE)')
+    if (model%elements%n == 0) call input_error('', 'the deck defines no elements '// &
+        '(*ELEMENT_SOLID or *ELEMENT_SHELL)')
+  end subroutine model_resolve
+
+  !> Report every id that occurs more than once (at each later occurrence).
+  subroutine report_duplicates(map, src, keyword, what)
+    type(id_map_t), intent(in) :: map          !< sorted ids
+    type(source_t), intent(in) :: src(:)       !< where each record was read
+    character(len=*), intent(in) :: keyword    !< keyword for the message
+    character(len=*), intent(in) :: what       !< 'node', 'part', ...
+    integer :: k
+    do k = 2, map%n
+      if (map%ids(k) == map%ids(k-1)) then
+        call input_error(location(src(map%index(k))%file, src(map%index(k))%line)//': '// &
+            keyword, what//' id '//itoa(map%ids(k))//' is defined twice (first at '// &
+            location(src(map%index(k-1))%file, src(map%index(k-1))%line)//')')
+      end if
+    end do
+  end subroutine report_duplicates
+
+  !> Part k: its section and material exist and the formulation is one mefem computes.
+  subroutine resolve_part(model, k, section_map, material_map)
+    type(model_t), intent(inout) :: model          !< the model
+    integer, intent(in) :: k                       !< part index
+    type(id_map_t), intent(in) :: section_map, material_map  !< id maps
+    character(len=:), allocatable :: where
+    associate (part => model%parts(k))
+      where = location(part%src%file, part%src%line)//': *PART'
+      part%section = id_map_find(section_map, part%section_id)
+      part%material = id_map_find(material_map, part%material_id)
+      if (part%section == 0) call input_error(where, 'part '//itoa(part%id)//': section '// &
+          itoa(part%section_id)//' (SECID) is not defined')
+      if (part%material == 0) call input_error(where, 'part '//itoa(part%id)//': material '// &
+          itoa(part%material_id)//' (MID) is not defined')
+    end associate
+  end subroutine resolve_part
+
+  !> Elements: nodes and parts exist, topology, formulation and positive volume or area.
+  subroutine resolve_elements(model, node_map, part_map)
+    type(model_t), intent(inout) :: model          !< the model
+    type(id_map_t), intent(in) :: node_map, part_map  !< id maps
+    type(id_map_t) :: element_map
+    integer :: e, i, n_solid_deformable, n_shell_deformable, n_before
+    logical :: ok
+    character(len=:), allocatable :: where
+    associate (el => model%elements)
+      allocate(el%part(el%n), el%topology(el%n), el%conn(8, el%n))
+      call id_map_build(el%id, el%n, element_map)
+      call report_duplicates(element_map, el%src, '*ELEMENT', 'element')
+      n_solid_deformable = 0
+      n_shell_deformable = 0
+      do e = 1, el%n
+        where = location(el%src(e)%file, el%src(e)%line)//': '// &
+                merge('*ELEMENT_SOLID', '*ELEMENT_SHELL', el%keyword(e) == ELEM_SOLID)
+        el%conn(:, e) = 0
+        ok = .true.
+        do i = 1, 8
+          if (el%node_ids(i, e) == 0) cycle
+          el%conn(i, e) = id_map_find(node_map, el%node_ids(i, e))
+          if (el%conn(i, e) == 0) then
+            call input_error(where, 'element '//itoa(el%id(e))//': node '// &
+                itoa(el%node_ids(i, e))//' (N'//itoa(i)//') is not defined')
+            ok = .false.
+          end if
+        end do
+        el%part(e) = id_map_find(part_map, el%part_id(e))
+        if (el%part(e) == 0) then
+          call input_error(where, 'element '//itoa(el%id(e))//': part '// &
+              itoa(el%part_id(e))//' (PID) is not defined')
+          ok = .false.
+        end if
+        call classify(el%keyword(e), el%conn(:, e), el%topology(e))
+        if (el%topology(e) == 0) then
+          call input_error(where, 'element '//itoa(el%id(e))//': nodes '// &
+              node_list(el%node_ids(:, e))//' form no tetrahedron, pentahedron or hexahedron'// &
+              ' (repeated nodes in unexpected places)')
+          ok = .false.
+        end if
+        if (.not. ok) cycle
+        n_before = n_shell_deformable
+        call check_formulation(model, e, where, n_solid_deformable, n_shell_deformable)
+        call check_measure(model, e, where, n_shell_deformable > n_before)
+      end do
+      if (n_solid_deformable > 0 .and. n_shell_deformable > 0) call input_error('', &
+          'the model mixes deformable solids (3D) and plane-strain triangles (2D); '// &
+          'one analysis is either 2D or 3D')
+      model%dimension = 3
+      if (n_shell_deformable > 0) model%dimension = 2
+    end associate
+  end subroutine resolve_elements
+
+  !> Topology from the node pattern, with the corner nodes rearranged in output (VTK) order.
+  subroutine classify(keyword, conn, topology)
+    integer, intent(in) :: keyword         !< ELEM_SOLID or ELEM_SHELL
+    integer, intent(inout) :: conn(8)      !< node indices; rearranged
+    integer, intent(out) :: topology       !< TOPO_* or 0 when not recognised
+    integer :: c(8)
+    c = conn
+    topology = 0
+    if (keyword == ELEM_SHELL) then
+      if (c(4) == c(3) .or. c(4) == 0) then
+        if (distinct(c(1:3))) topology = TOPO_TRI3
+        conn(4:8) = 0
+      else if (distinct(c(1:4))) then
+        topology = TOPO_QUAD4
+        conn(5:8) = 0
+      end if
+      return
+    end if
+    if (all(c(5:8) == c(4)) .and. distinct(c(1:4))) then
+      topology = TOPO_TET4
+      conn(5:8) = 0
+    else if (c(5) == c(6) .and. c(7) == c(8) .and. distinct([c(1:5), c(7)])) then
+      ! LS-DYNA pentahedron N1 N2 N3 N4 N5 N5 N6 N6: wedge triangles (N1,N2,N5), (N4,N3,N6)
+      topology = TOPO_PENTA6
+      conn(1:6) = [c(1), c(2), c(5), c(4), c(3), c(7)]
+      conn(7:8) = 0
+    else if (distinct(c)) then
+      topology = TOPO_HEX8
+    end if
+  end subroutine classify
+
+  !> True when all entries differ.
+  pure logical function distinct(v)
+    integer, intent(in) :: v(:)   !< node indices
+    integer :: i
+    distinct = .true.
+    do i = 2, size(v)
+      if (any(v(1:i-1) == v(i))) distinct = .false.
+    end do
+  end function distinct
+
+  !> The element's part uses a formulation mefem computes for its topology.
+  subroutine check_formulation(model, e, where, n_solid_deformable, n_shell_deformable)
+    type(model_t), intent(in) :: model          !< the model
+    integer, intent(in) :: e                    !< element index
+    character(len=*), intent(in) :: where       !< location prefix
+    integer, intent(inout) :: n_solid_deformable, n_shell_deformable  !< counters
+    integer :: p, s, m, elform, topo
+    p = model%elements%part(e)
+    s = model%parts(p)%section
+    m = model%parts(p)%material
+    if (s == 0 .or. m == 0) return
+    topo = model%elements%topology(e)
+    elform = model%sections(s)%elform
+    if (model%elements%keyword(e) == ELEM_SOLID .and. model%sections(s)%kind /= SECTION_SOLID) &
+      then
+      call input_error(where, 'element '//itoa(model%elements%id(e))//': part '// &
+          itoa(model%parts(p)%id)//' has a *SECTION_SHELL but the element is a solid')
+      return
+    end if
+    if (model%elements%keyword(e) == ELEM_SHELL .and. model%sections(s)%kind /= SECTION_SHELL) &
+      then
+      call input_error(where, 'element '//itoa(model%elements%id(e))//': part '// &
+          itoa(model%parts(p)%id)//' has a *SECTION_SOLID but the element is a shell')
+      return
+    end if
+    if (model%materials(m)%kind == MAT_RIGID) return      ! rigid parts: any topology
+    if (model%elements%keyword(e) == ELEM_SOLID) then
+      n_solid_deformable = n_solid_deformable + 1
+      if (elform /= ELFORM_TET_STANDARD .and. elform /= ELFORM_MEFEM) then
+        call input_error(where, 'element '//itoa(model%elements%id(e))//': part '// &
+            itoa(model%parts(p)%id)//': solid ELFORM '//itoa(elform)//' is not supported '// &
+            '(deformable solids: 43 ME-FEM tetrahedron, 10 standard linear tetrahedron)')
+      else if (topo /= TOPO_TET4) then
+        call input_error(where, 'element '//itoa(model%elements%id(e))//': part '// &
+            itoa(model%parts(p)%id)//': ELFORM '//itoa(elform)// &
+            ' needs tetrahedra; this element is not one')
+      end if
+    else
+      n_shell_deformable = n_shell_deformable + 1
+      if (elform /= ELFORM_TRI_PLANE_STRAIN .and. elform /= ELFORM_MEFEM) then
+        call input_error(where, 'element '//itoa(model%elements%id(e))//': part '// &
+            itoa(model%parts(p)%id)//': shell ELFORM '//itoa(elform)//' is not supported '// &
+            'for deformable parts (43 ME-FEM plane-strain triangle, 13 standard plane-strain '// &
+            'triangle; shells of *MAT_RIGID parts may be tool surfaces)')
+      else if (topo /= TOPO_TRI3) then
+        call input_error(where, 'element '//itoa(model%elements%id(e))//': part '// &
+            itoa(model%parts(p)%id)//': plane-strain ELFORM '//itoa(elform)// &
+            ' needs triangles; this element is a quadrilateral')
+      end if
+    end if
+  end subroutine check_formulation
+
+  !> Volume (solids) or area (shells) must be positive; plane-strain triangles lie in z = 0
+  !> and run counter-clockwise about +z.
+  subroutine check_measure(model, e, where, plane_strain)
+    type(model_t), intent(in) :: model          !< the model
+    integer, intent(in) :: e                    !< element index
+    character(len=*), intent(in) :: where       !< location prefix
+    logical, intent(in) :: plane_strain         !< a deformable plane-strain triangle
+    real(wp) :: measure, size_scale
+    integer :: nn, i
+    real(wp) :: xe(3, 8)
+    nn = NODES_OF_TOPO(model%elements%topology(e))
+    xe(:, 1:nn) = model%nodes%x(:, model%elements%conn(1:nn, e))
+    measure = element_measure(model%elements%topology(e), xe(:, 1:nn))
+    size_scale = 0.0_wp
+    do i = 1, 3
+      size_scale = max(size_scale, maxval(xe(i, 1:nn)) - minval(xe(i, 1:nn)))
+    end do
+    if (model%elements%keyword(e) == ELEM_SOLID) then
+      if (measure <= 1.0e-12_wp*size_scale**3) call input_error(where, 'element '// &
+          itoa(model%elements%id(e))//' has zero or negative volume ('//rtoa(measure)// &
+          '): check its node order (N1-N2-N3 counter-clockwise seen from N4 for a tet)')
+    else if (plane_strain) then
+      if (any(xe(3, 1:nn) /= 0.0_wp)) then
+        call input_error(where, 'element '//itoa(model%elements%id(e))//': plane-strain '// &
+            'triangles must lie in the x-y plane (z = 0)')
+      else if (measure <= 1.0e-12_wp*size_scale**2) then
+        call input_error(where, 'element '//itoa(model%elements%id(e))//' has zero or '// &
+            'negative area ('//rtoa(measure)//'): N1-N2-N3 must run counter-clockwise about +z')
+      end if
+    else if (abs(measure) <= 1.0e-12_wp*size_scale**2) then
+      call input_error(where, 'element '//itoa(model%elements%id(e))// &
+          ' has zero area (its nodes are collinear or repeated)')
+    end if
+  end subroutine check_measure
+
+  !> Signed volume of a solid (through its collapsed-hexahedron faces) or, for a shell, the
+  !> area (signed about +z for triangles and quads in the x-y plane, else unsigned).
+  pure real(wp) function element_measure(topology, xe)
+    integer, intent(in) :: topology     !< TOPO_* code
+    real(wp), intent(in) :: xe(:,:)     !< (3, corner nodes) coordinates in output order
+    real(wp) :: xh(3, 8), a(3), b(3), c(3), centre(3), area(3)
+    integer :: f, i, map(8)
+    select case (topology)
+    case (TOPO_TRI3, TOPO_QUAD4)
+      area = 0.0_wp
+      do i = 1, size(xe, 2)
+        area = area + cross(xe(:, i), xe(:, modulo(i, size(xe, 2)) + 1))
+      end do
+      area = 0.5_wp*area
+      if (all(xe(3, :) == xe(3, 1))) then
+        element_measure = area(3)
+      else
+        element_measure = norm2(area)
+      end if
+      return
+    case (TOPO_TET4)
+      map = [1, 2, 3, 4, 4, 4, 4, 4]
+    case (TOPO_PENTA6)
+      map = [1, 2, 5, 4, 3, 3, 6, 6]
+    case default
+      map = [1, 2, 3, 4, 5, 6, 7, 8]
+    end select
+    xh = xe(:, map)
+    element_measure = 0.0_wp
+    do f = 1, 6
+      centre = 0.25_wp*sum(xh(:, HEX_FACES(:, f)), dim=2)
+      do i = 1, 4
+        a = xh(:, HEX_FACES(i, f))
+        b = xh(:, HEX_FACES(modulo(i, 4) + 1, f))
+        c = cross(a - centre, b - centre)
+        element_measure = element_measure + dot_product(centre, c)/6.0_wp
+      end do
+    end do
+  end function element_measure
+
+  !> Cross product.
+  pure function cross(a, b) result(c)
+    real(wp), intent(in) :: a(3), b(3)   !< vectors
+    real(wp) :: c(3)
+    c = [a(2)*b(3) - a(3)*b(2), a(3)*b(1) - a(1)*b(3), a(1)*b(2) - a(2)*b(1)]
+  end function cross
+
+  !> "a b c d" list of the nonzero node ids.
+  function node_list(ids) result(s)
+    integer, intent(in) :: ids(:)   !< node ids
+    character(len=:), allocatable :: s
+    integer :: i
+    s = ''
+    do i = 1, size(ids)
+      if (ids(i) /= 0) s = s//' '//itoa(ids(i))
+    end do
+    s = adjustl(s)
+  end function node_list
+
+  !> Name of the formulation of a part, for the run log.
+  function formulation_name(model, p) result(s)
+    type(model_t), intent(in) :: model   !< the model
+    integer, intent(in) :: p             !< part index
+    character(len=:), allocatable :: s
+    integer :: sec, mat
+    sec = model%parts(p)%section
+    mat = model%parts(p)%material
+    s = 'unknown'
+    if (sec == 0 .or. mat == 0) return
+    if (model%materials(mat)%kind == MAT_RIGID) then
+      s = 'rigid body'
+    else if (model%sections(sec)%kind == SECTION_SOLID) then
+      select case (model%sections(sec)%elform)
+      case (ELFORM_MEFEM)
+        s = 'ME-FEM tetrahedron (ELFORM 43)'
+      case (ELFORM_TET_STANDARD)
+        s = 'standard linear tetrahedron (ELFORM 10)'
+      end select
+    else
+      select case (model%sections(sec)%elform)
+      case (ELFORM_MEFEM)
+        s = 'ME-FEM plane-strain triangle (ELFORM 43)'
+      case (ELFORM_TRI_PLANE_STRAIN)
+        s = 'standard plane-strain triangle (ELFORM 13)'
+      end select
+    end if
+  end function formulation_name
+
+end module mefem_model_resolve
