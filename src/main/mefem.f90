@@ -34,7 +34,7 @@ program mefem
 
   ! read the deck (every rank reads it) and check every reference; stop on any problem
   call read_deck(options%deck, model, n_errors)
-  if (n_errors == 0) call model_resolve(model)
+  call model_resolve(model)
   n_errors = input_error_count()
   if (n_errors > 0) then
     call say(options%deck//': '//itoa(n_errors)//' input error(s); no analysis was run')

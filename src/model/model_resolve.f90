@@ -111,7 +111,8 @@ contains
         do i = 1, 8
           if (el%node_ids(i, e) == 0) cycle
           el%conn(i, e) = id_map_find(node_map, el%node_ids(i, e))
-          if (el%conn(i, e) == 0) then
+          if (el%conn(i, e) == 0 .and. .not. any(el%node_ids(1:i-1, e) == el%node_ids(i, e))) &
+            then
             call input_error(where, 'element '//itoa(el%id(e))//': node '// &
                 itoa(el%node_ids(i, e))//' (N'//itoa(i)//') is not defined')
             ok = .false.
@@ -327,7 +328,7 @@ contains
     do i = 1, size(ids)
       if (ids(i) /= 0) s = s//' '//itoa(ids(i))
     end do
-    s = adjustl(s)
+    s = trim(adjustl(s))
   end function node_list
 
   !> Name of the formulation of a part, for the run log.
