@@ -36,7 +36,7 @@ WARN     := -std=f2008 -Wall -Wno-maybe-uninitialized -fimplicit-none
 ifeq ($(DEBUG),1)
   BUILD  := build/debug
   EXE    := bin/mefem_debug
-  FFLAGS := $(WARN) -O0 -g -fcheck=all -ffpe-trap=invalid,zero,overflow -fbacktrace
+  FFLAGS := $(WARN) -O0 -g -fcheck=all,no-array-temps -ffpe-trap=invalid,zero,overflow -fbacktrace
 else
   BUILD  := build/release
   EXE    := bin/mefem

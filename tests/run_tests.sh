@@ -64,8 +64,8 @@ for deck in tests/decks/broken/*.k; do
       ok=1
       while IFS= read -r want; do
         grep -qF -- "$want" "$out.o" || { ok=0; echo "FAIL: $deck: missing message: $want"; }
-      done < <(grep -oP '^\$ expect: \K.*' "$deck")
-      grep -q '^\$ expect: ' "$deck" || { ok=0; echo "FAIL: $deck: has no '\$ expect:' line"; }
+      done < <(grep -aoP '^\$ expect: \K.*' "$deck")
+      grep -aq '^\$ expect: ' "$deck" || { ok=0; echo "FAIL: $deck: has no '\$ expect:' line"; }
       [ $ok = 1 ] && echo "PASS: rejects $deck"
       [ $ok = 1 ] || { echo "    got:"; sed 's/^/    /' "$out.o" | head -20; }
     fi

@@ -41,13 +41,48 @@ contains
     s = trim(buf)
   end function itoa
 
-  !> Real as short text (general format, no leading blanks).
+  !> Real as short text with 6 significant digits: plain notation between 1e-3 and 1e6
+  !> ("0.00628", "210000"), scientific outside ("1.5e-09"); no trailing zeros.
   pure function rtoa(x) result(s)
     real(wp), intent(in) :: x   !< the number
     character(len=:), allocatable :: s
     character(len=32) :: buf
-    write(buf, '(g0.6)') x
-    s = trim(adjustl(buf))
+    integer :: e, k, decimals
+    if (x == 0.0_wp) then
+      s = '0'
+      return
+    end if
+    e = floor(log10(abs(x)))
+    if (e >= -3 .and. e < 6) then
+      decimals = max(0, 5 - e)
+      write(buf, '(f0.'//achar(iachar('0') + decimals)//')') x
+      s = trim(adjustl(buf))
+      if (index(s, '.') > 0) then
+        k = len(s)
+        do while (s(k:k) == '0')
+          k = k - 1
+        end do
+        if (s(k:k) == '.') k = k - 1
+        s = s(1:k)
+      end if
+      if (s(1:1) == '.') s = '0'//s
+      if (len(s) > 1) then
+        if (s(1:2) == '-.') s = '-0'//s(2:)
+      end if
+    else
+      write(buf, '(es14.5e3)') x
+      s = trim(adjustl(buf))
+      k = index(s, 'E')
+      buf = s(k+1:)
+      s = s(1:k-1)
+      do while (s(len(s):len(s)) == '0')
+        s = s(1:len(s)-1)
+      end do
+      if (s(len(s):len(s)) == '.') s = s(1:len(s)-1)
+      ! exponent without leading zeros beyond two digits: e+006 -> e+06
+      if (buf(2:2) == '0') buf = buf(1:1)//buf(3:)
+      s = s//'e'//trim(buf)
+    end if
   end function rtoa
 
   !> True when s begins with prefix.
