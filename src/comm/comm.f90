@@ -13,6 +13,7 @@ module mefem_comm
   public :: comm_rank, comm_size, comm_is_root, comm_fortran_handle, comm_wtime
   public :: comm_sum, comm_min, comm_max, comm_bcast, comm_exscan_sum
   public :: comm_allgather, comm_any, comm_gatherv_real, comm_gatherv_int
+  public :: comm_info_null_handle
 
   integer :: my_rank = 0    !< rank of this process in the world communicator
   integer :: n_ranks = 1    !< number of ranks
@@ -257,5 +258,10 @@ contains
     call MPI_Gatherv(mine, size(mine), MPI_INTEGER, all, counts, displs, &
                      MPI_INTEGER, 0, MPI_COMM_WORLD, ierr)
   end subroutine comm_gatherv_int
+
+  !> Fortran integer handle of MPI_INFO_NULL (no MPI-IO hints), for HDF5's MPI-IO driver.
+  integer function comm_info_null_handle()
+    comm_info_null_handle = MPI_INFO_NULL%MPI_VAL
+  end function comm_info_null_handle
 
 end module mefem_comm
