@@ -19,6 +19,7 @@ module mefem_cards
 
   integer, parameter, public :: MAX_FIELDS = 64   !< fields per card at most
   integer, parameter, public :: LONG_WIDTH = 20   !< field width in long format
+  integer, parameter :: BLANK_CODE = 32            !< iachar(' ')
 
   public :: next_card, split_card, get_int, get_real, get_text, field_is_blank
   public :: card_where, card_error, keyword_where, keyword_error
@@ -81,7 +82,7 @@ contains
     card%file = rd%deck%file
     card%line = rd%deck%line
     card%keyword = rd%keyword
-    card%free = index(card%text(1:card%length), ',') > 0
+    card%free = first_position(card%text(1:card%length), ',') > 0
     card%bad = .false.
     card%unreadable = .false.
     card%nfields = 0
@@ -118,7 +119,7 @@ contains
       end do
       return
     end if
-    tab = index(card%text(1:card%length), achar(9))
+    tab = first_position(card%text(1:card%length), achar(9))
     if (tab > 0) then
       call input_error(card_where(card), 'tab character at column '//itoa(tab)// &
           ': fixed-format cards are read by columns; use blanks or commas')
@@ -135,6 +136,22 @@ contains
     end do
   end subroutine split_card
 
+  !> Position of the first occurrence of character c in s (0 if none): index(s, c) as a plain
+  !> loop, several times faster than the library's general substring search.
+  pure integer function first_position(s, c)
+    character(len=*), intent(in) :: s   !< the text
+    character, intent(in) :: c          !< the character looked for
+    integer :: k, code
+    code = iachar(c)
+    first_position = 0
+    do k = 1, len(s)
+      if (iachar(s(k:k)) == code) then
+        first_position = k
+        return
+      end if
+    end do
+  end function first_position
+
   !> Raw text of field i with blanks trimmed ('' when empty or beyond the card).
   function field_text(card, i) result(s)
     type(card_t), intent(in) :: card   !< the card
@@ -149,6 +166,37 @@ contains
     end if
   end function field_text
 
+  !> Columns lo:hi of field i without its leading and trailing blanks (hi < lo when the field
+  !> is empty or beyond the card); the same text as field_text, without building a copy.
+  pure subroutine field_bounds(card, i, lo, hi)
+    type(card_t), intent(in) :: card   !< the card
+    integer, intent(in) :: i           !< field number
+    integer, intent(out) :: lo, hi     !< first and last non-blank column
+    lo = 1
+    hi = 0
+    if (i > card%nfields) return
+    lo = card%first(i)
+    hi = card%last(i)
+    do while (lo <= hi)
+      if (iachar(card%text(lo:lo)) /= BLANK_CODE) exit
+      lo = lo + 1
+    end do
+    do while (hi >= lo)
+      if (iachar(card%text(hi:hi)) /= BLANK_CODE) exit
+      hi = hi - 1
+    end do
+  end subroutine field_bounds
+
+  !> True when the non-blank field text lo:hi holds a &parameter reference ('&name' or
+  !> '-&name') that substitute would replace.
+  pure logical function is_parameter_reference(card, lo, hi)
+    type(card_t), intent(in) :: card   !< the card
+    integer, intent(in) :: lo, hi      !< bounds from field_bounds (lo <= hi)
+    is_parameter_reference = card%text(lo:lo) == '&'
+    if (hi > lo) is_parameter_reference = is_parameter_reference .or. &
+        card%text(lo:lo+1) == '-&'
+  end function is_parameter_reference
+
   !> True when field i is empty (the deck asks for the default).
   logical function field_is_blank(card, i)
     type(card_t), intent(in) :: card   !< the card
@@ -160,12 +208,13 @@ contains
   function field_label(card, i, name) result(s)
     type(card_t), intent(in) :: card        !< the card
     integer, intent(in) :: i                !< field number
-    character(len=*), intent(in) :: name    !< field name in the manual
+    character(len=*), intent(in) :: name    !< field name in the manual (trailing blanks
+                                            !< are dropped)
     character(len=:), allocatable :: s
     if (card%free) then
-      s = 'field '//name//' (entry '//itoa(i)//')'
+      s = 'field '//trim(name)//' (entry '//itoa(i)//')'
     else
-      s = 'field '//name//' (columns '//itoa(card%first(i))//'-'// &
+      s = 'field '//trim(name)//' (columns '//itoa(card%first(i))//'-'// &
           itoa(card%first(i) + max(card%last(i) - card%first(i), 0))//')'
     end if
   end function field_label
@@ -221,8 +270,21 @@ contains
     logical, intent(in), optional :: required       !< a blank field is an error
     character(len=:), allocatable :: s
     logical :: ok
+    integer :: lo, hi
     value = 0
     if (present(default)) value = default
+    ! common case first, without copies: a plain number (else the general path below
+    ! handles blanks, parameters and reports errors)
+    call field_bounds(card, i, lo, hi)
+    if (lo > hi .and. .not. present(required)) return     ! blank: the default
+    if (lo <= hi) then
+      if (.not. is_parameter_reference(card, lo, hi)) then
+        call parse_int(card%text(lo:hi), value, ok)
+        if (ok) return
+        value = 0
+        if (present(default)) value = default
+      end if
+    end if
     s = field_text(card, i)
     call substitute(card, i, name, s, ok)
     if (.not. ok) return
@@ -254,8 +316,21 @@ contains
     logical, intent(in), optional :: required       !< a blank field is an error
     character(len=:), allocatable :: s
     logical :: ok
+    integer :: lo, hi
     value = 0.0_wp
     if (present(default)) value = default
+    ! common case first, without copies: a plain number (else the general path below
+    ! handles blanks, parameters and reports errors)
+    call field_bounds(card, i, lo, hi)
+    if (lo > hi .and. .not. present(required)) return     ! blank: the default
+    if (lo <= hi) then
+      if (.not. is_parameter_reference(card, lo, hi)) then
+        call parse_real(card%text(lo:hi), value, ok)
+        if (ok) return
+        value = 0.0_wp
+        if (present(default)) value = default
+      end if
+    end if
     s = field_text(card, i)
     call substitute(card, i, name, s, ok)
     if (.not. ok) return

@@ -1,9 +1,10 @@
 !> The keyword reader: reads a deck into the model, dispatching each keyword to its handler.
 !>
 !> The registry below lists every keyword mefem reads (its base name, the options it takes
-!> and its handler), the keywords it skips with one warning (output requests and cosmetic
-!> settings that cannot change the answer) and the rule for everything else: a keyword that
-!> is not known is an error, because ignoring it could silently change the analysis.
+!> and its handler), the keywords it skips with one warning (output requests, cosmetic
+!> settings, and settings with no counterpart in mefem's formulation, each with the reason
+!> in the warning) and the rule for everything else: a keyword that is not known is an
+!> error, because ignoring it could silently change the analysis.
 !> A keyword name is matched against the longest registered base name; what follows it
 !> (`_TITLE`, `_ID`, `_SET`, `_GENERATE` ...) are options, each checked against the list.
 module mefem_keyword_reader
@@ -12,11 +13,24 @@ module mefem_keyword_reader
   use mefem_deck_source, only: deck_open, deck_next_line, deck_close, location, &
                                LINE_KEYWORD, LINE_DATA, LINE_EOF
   use mefem_cards, only: reader_t, card_t, next_card, keyword_error
-  use mefem_model, only: model_t
+  use mefem_model, only: model_t, ON_NODE, ON_NODE_SET, ON_PART
   use mefem_read_mesh, only: read_node, read_element_solid, read_element_shell, read_part, &
                              read_section_solid, read_section_shell
   use mefem_read_controls, only: read_keyword_card, read_title, read_parameter, &
-                                 read_control_termination
+                                 read_control_termination, read_control_timestep, &
+                                 read_control_implicit_general, &
+                                 read_control_implicit_solution, read_control_implicit_auto, &
+                                 read_database_binary_d3plot, read_database_interval, &
+                                 read_database_history_node, read_mefem_enrichment, &
+                                 DATABASE_GLSTAT, DATABASE_RCFORC, DATABASE_NODOUT
+  use mefem_read_materials, only: read_mat_elastic, read_mat_piecewise_linear, &
+                                  read_mat_power_law, read_mat_mooney_rivlin, read_mat_rigid
+  use mefem_read_sets, only: read_set_node, read_set_part, read_set_segment
+  use mefem_read_conditions, only: read_boundary_spc, read_prescribed_motion, &
+                                   read_define_curve, read_load_node, read_load_segment, &
+                                   read_load_segment_set, read_initial_velocity, &
+                                   read_initial_velocity_node, read_initial_velocity_generation
+  use mefem_read_contact, only: read_contact_surface_to_surface, read_rigidwall_planar
   implicit none
   private
 
@@ -26,6 +40,20 @@ module mefem_keyword_reader
   integer, parameter :: H_NODE = 1, H_ELEMENT_SOLID = 2, H_ELEMENT_SHELL = 3, H_PART = 4, &
                         H_SECTION_SOLID = 5, H_SECTION_SHELL = 6, H_KEYWORD = 7, H_TITLE = 8, &
                         H_PARAMETER = 9, H_CONTROL_TERMINATION = 10
+  integer, parameter :: H_MAT_ELASTIC = 11, H_MAT_PIECEWISE_LINEAR = 12, H_MAT_POWER_LAW = 13, &
+                        H_MAT_MOONEY_RIVLIN = 14, H_MAT_RIGID = 15
+  integer, parameter :: H_SET_NODE = 16, H_SET_PART = 17, H_SET_SEGMENT = 18
+  integer, parameter :: H_SPC_NODE = 19, H_SPC_SET = 20, H_MOTION_NODE = 21, H_MOTION_SET = 22, &
+                        H_MOTION_RIGID = 23, H_DEFINE_CURVE = 24, H_LOAD_NODE_POINT = 25, &
+                        H_LOAD_NODE_SET = 26, H_LOAD_SEGMENT = 27, H_LOAD_SEGMENT_SET = 28, &
+                        H_INITIAL_VELOCITY = 29, H_INITIAL_VELOCITY_NODE = 30, &
+                        H_INITIAL_VELOCITY_GENERATION = 31
+  integer, parameter :: H_CONTACT_SURFACE_TO_SURFACE = 32, H_RIGIDWALL_PLANAR = 33
+  integer, parameter :: H_CONTROL_TIMESTEP = 34, H_CONTROL_IMPLICIT_GENERAL = 35, &
+                        H_CONTROL_IMPLICIT_SOLUTION = 36, H_CONTROL_IMPLICIT_AUTO = 37, &
+                        H_DATABASE_D3PLOT = 38, H_DATABASE_GLSTAT = 39, H_DATABASE_RCFORC = 40, &
+                        H_DATABASE_NODOUT = 41, H_HISTORY_NODE = 42, H_HISTORY_NODE_SET = 43, &
+                        H_MEFEM_ENRICHMENT = 44
 
   !> One registered keyword.
   type :: keyword_entry_t
@@ -34,7 +62,7 @@ module mefem_keyword_reader
     character(len=64) :: options = ''    !< options accepted, as ' OPT1 OPT2 '
   end type keyword_entry_t
 
-  integer, parameter :: N_ENTRIES = 10
+  integer, parameter :: N_ENTRIES = 50
   type(keyword_entry_t), parameter :: REGISTRY(N_ENTRIES) = [ &
     keyword_entry_t('NODE', H_NODE, ' '), &
     keyword_entry_t('ELEMENT_SOLID', H_ELEMENT_SOLID, ' '), &
@@ -45,13 +73,99 @@ module mefem_keyword_reader
     keyword_entry_t('KEYWORD', H_KEYWORD, ' '), &
     keyword_entry_t('TITLE', H_TITLE, ' '), &
     keyword_entry_t('PARAMETER', H_PARAMETER, ' '), &
-    keyword_entry_t('CONTROL_TERMINATION', H_CONTROL_TERMINATION, ' ') ]
+    keyword_entry_t('CONTROL_TERMINATION', H_CONTROL_TERMINATION, ' '), &
+    ! materials, by name and by number
+    keyword_entry_t('MAT_ELASTIC', H_MAT_ELASTIC, ' TITLE '), &
+    keyword_entry_t('MAT_001', H_MAT_ELASTIC, ' TITLE '), &
+    keyword_entry_t('MAT_PIECEWISE_LINEAR_PLASTICITY', H_MAT_PIECEWISE_LINEAR, ' TITLE '), &
+    keyword_entry_t('MAT_024', H_MAT_PIECEWISE_LINEAR, ' TITLE '), &
+    keyword_entry_t('MAT_POWER_LAW_PLASTICITY', H_MAT_POWER_LAW, ' TITLE '), &
+    keyword_entry_t('MAT_018', H_MAT_POWER_LAW, ' TITLE '), &
+    keyword_entry_t('MAT_MOONEY-RIVLIN_RUBBER', H_MAT_MOONEY_RIVLIN, ' TITLE '), &
+    keyword_entry_t('MAT_MOONEY_RIVLIN_RUBBER', H_MAT_MOONEY_RIVLIN, ' TITLE '), &
+    keyword_entry_t('MAT_027', H_MAT_MOONEY_RIVLIN, ' TITLE '), &
+    keyword_entry_t('MAT_RIGID', H_MAT_RIGID, ' TITLE '), &
+    keyword_entry_t('MAT_020', H_MAT_RIGID, ' TITLE '), &
+    ! sets (*SET_NODE and *SET_PART are the older names of the _LIST forms)
+    keyword_entry_t('SET_NODE', H_SET_NODE, ' LIST GENERATE TITLE '), &
+    keyword_entry_t('SET_PART', H_SET_PART, ' LIST TITLE '), &
+    keyword_entry_t('SET_SEGMENT', H_SET_SEGMENT, ' TITLE '), &
+    ! boundary conditions, curves, loads, initial conditions
+    keyword_entry_t('BOUNDARY_SPC_NODE', H_SPC_NODE, ' ID BIRTH DEATH '), &
+    keyword_entry_t('BOUNDARY_SPC_SET', H_SPC_SET, ' ID BIRTH DEATH '), &
+    keyword_entry_t('BOUNDARY_PRESCRIBED_MOTION_NODE', H_MOTION_NODE, ' ID '), &
+    keyword_entry_t('BOUNDARY_PRESCRIBED_MOTION_SET', H_MOTION_SET, ' ID '), &
+    keyword_entry_t('BOUNDARY_PRESCRIBED_MOTION_RIGID', H_MOTION_RIGID, ' ID '), &
+    keyword_entry_t('DEFINE_CURVE', H_DEFINE_CURVE, ' TITLE '), &
+    keyword_entry_t('LOAD_NODE_POINT', H_LOAD_NODE_POINT, ' '), &
+    keyword_entry_t('LOAD_NODE_SET', H_LOAD_NODE_SET, ' '), &
+    keyword_entry_t('LOAD_SEGMENT', H_LOAD_SEGMENT, ' ID '), &
+    keyword_entry_t('LOAD_SEGMENT_SET', H_LOAD_SEGMENT_SET, ' ID '), &
+    keyword_entry_t('INITIAL_VELOCITY', H_INITIAL_VELOCITY, ' '), &
+    keyword_entry_t('INITIAL_VELOCITY_NODE', H_INITIAL_VELOCITY_NODE, ' '), &
+    keyword_entry_t('INITIAL_VELOCITY_GENERATION', H_INITIAL_VELOCITY_GENERATION, ' '), &
+    ! contact and rigid walls
+    keyword_entry_t('CONTACT_AUTOMATIC_SURFACE_TO_SURFACE', H_CONTACT_SURFACE_TO_SURFACE, &
+                    ' MORTAR ID TITLE MPP '), &
+    keyword_entry_t('RIGIDWALL_PLANAR', H_RIGIDWALL_PLANAR, ' ID '), &
+    ! controls and output requests (matched before the DATABASE_ skip rule)
+    keyword_entry_t('CONTROL_TIMESTEP', H_CONTROL_TIMESTEP, ' '), &
+    keyword_entry_t('CONTROL_IMPLICIT_GENERAL', H_CONTROL_IMPLICIT_GENERAL, ' '), &
+    keyword_entry_t('CONTROL_IMPLICIT_SOLUTION', H_CONTROL_IMPLICIT_SOLUTION, ' '), &
+    keyword_entry_t('CONTROL_IMPLICIT_AUTO', H_CONTROL_IMPLICIT_AUTO, ' '), &
+    keyword_entry_t('DATABASE_BINARY_D3PLOT', H_DATABASE_D3PLOT, ' '), &
+    keyword_entry_t('DATABASE_GLSTAT', H_DATABASE_GLSTAT, ' '), &
+    keyword_entry_t('DATABASE_RCFORC', H_DATABASE_RCFORC, ' '), &
+    keyword_entry_t('DATABASE_NODOUT', H_DATABASE_NODOUT, ' '), &
+    keyword_entry_t('DATABASE_HISTORY_NODE', H_HISTORY_NODE, ' '), &
+    keyword_entry_t('DATABASE_HISTORY_NODE_SET', H_HISTORY_NODE_SET, ' '), &
+    keyword_entry_t('MEFEM_ENRICHMENT', H_MEFEM_ENRICHMENT, ' ') ]
 
-  !> Keyword names skipped with one warning: output and cosmetic settings.
-  integer, parameter :: N_SKIPPED = 9
-  character(len=32), parameter :: SKIPPED(N_SKIPPED) = [character(len=32) :: &
-    'DATABASE_', 'CONTROL_OUTPUT', 'CONTROL_ENERGY', 'CONTROL_CPU', 'CONTROL_PARALLEL', &
-    'CONTROL_MPP_', 'INTERFACE_SPRINGBACK', 'COMMENT', 'KEYWORD_ID']
+  !> A keyword skipped with one warning, and why skipping it is safe.
+  type :: skipped_entry_t
+    character(len=32) :: prefix = ''     !< keyword names starting with this are skipped
+    character(len=128) :: reason = ''    !< the consequence, stated in the warning
+  end type skipped_entry_t
+
+  character(len=*), parameter :: OUTPUT_ONLY = 'output or cosmetic setting not used by mefem'
+
+  !> Keywords skipped with one warning: output and cosmetic settings (they cannot change
+  !> the answer), and settings that have no counterpart in mefem's formulation:
+  !> - hourglass control: linear tetrahedra and triangles have no hourglass (zero-energy)
+  !>   modes, so there is nothing to control;
+  !> - *CONTROL_CONTACT: global contact defaults; mefem's mortar contact takes everything it
+  !>   uses from each *CONTACT card;
+  !> - *CONTROL_SOLID / *CONTROL_SHELL: element options of LS-DYNA's formulations; mefem's
+  !>   formulation of each part follows from its section's ELFORM;
+  !> - *CONTROL_ACCURACY: objective-update and node-ordering options; mefem always uses its
+  !>   own objective finite-strain update;
+  !> - *CONTROL_BULK_VISCOSITY: mefem adds no bulk viscosity; only shock-dominated problems
+  !>   (impact), not forming, would notice.
+  integer, parameter :: N_SKIPPED = 16
+  type(skipped_entry_t), parameter :: SKIPPED(N_SKIPPED) = [ &
+    skipped_entry_t('DATABASE_', OUTPUT_ONLY), &
+    skipped_entry_t('CONTROL_OUTPUT', OUTPUT_ONLY), &
+    skipped_entry_t('CONTROL_ENERGY', OUTPUT_ONLY), &
+    skipped_entry_t('CONTROL_CPU', OUTPUT_ONLY), &
+    skipped_entry_t('CONTROL_PARALLEL', OUTPUT_ONLY), &
+    skipped_entry_t('CONTROL_MPP_', OUTPUT_ONLY), &
+    skipped_entry_t('INTERFACE_SPRINGBACK', OUTPUT_ONLY), &
+    skipped_entry_t('COMMENT', OUTPUT_ONLY), &
+    skipped_entry_t('KEYWORD_ID', OUTPUT_ONLY), &
+    skipped_entry_t('CONTROL_HOURGLASS', 'no effect: mefem''s tetrahedra and triangles '// &
+                    'have no hourglass modes'), &
+    skipped_entry_t('HOURGLASS', 'no effect: mefem''s tetrahedra and triangles have no '// &
+                    'hourglass modes'), &
+    skipped_entry_t('CONTROL_CONTACT', 'global contact defaults are not used; each '// &
+                    '*CONTACT card sets its own stiffness scale and friction'), &
+    skipped_entry_t('CONTROL_SOLID', 'solid element options are not used; each part''s '// &
+                    'formulation follows its *SECTION_SOLID ELFORM'), &
+    skipped_entry_t('CONTROL_SHELL', 'shell options are not used; shells are plane-strain '// &
+                    'triangles or rigid tool surfaces'), &
+    skipped_entry_t('CONTROL_ACCURACY', 'accuracy options are not used; mefem always uses '// &
+                    'its objective finite-strain stress update'), &
+    skipped_entry_t('CONTROL_BULK_VISCOSITY', 'no bulk viscosity is applied; shock fronts '// &
+                    'are not smeared (matters for impact, not for forming)') ]
 
 contains
 
@@ -184,6 +298,74 @@ contains
       call read_parameter(rd)
     case (H_CONTROL_TERMINATION)
       call read_control_termination(rd, model)
+    case (H_MAT_ELASTIC)
+      call read_mat_elastic(rd, options, model)
+    case (H_MAT_PIECEWISE_LINEAR)
+      call read_mat_piecewise_linear(rd, options, model)
+    case (H_MAT_POWER_LAW)
+      call read_mat_power_law(rd, options, model)
+    case (H_MAT_MOONEY_RIVLIN)
+      call read_mat_mooney_rivlin(rd, options, model)
+    case (H_MAT_RIGID)
+      call read_mat_rigid(rd, options, model)
+    case (H_SET_NODE)
+      call read_set_node(rd, options, model)
+    case (H_SET_PART)
+      call read_set_part(rd, options, model)
+    case (H_SET_SEGMENT)
+      call read_set_segment(rd, options, model)
+    case (H_SPC_NODE)
+      call read_boundary_spc(rd, options, .false., model)
+    case (H_SPC_SET)
+      call read_boundary_spc(rd, options, .true., model)
+    case (H_MOTION_NODE)
+      call read_prescribed_motion(rd, options, ON_NODE, model)
+    case (H_MOTION_SET)
+      call read_prescribed_motion(rd, options, ON_NODE_SET, model)
+    case (H_MOTION_RIGID)
+      call read_prescribed_motion(rd, options, ON_PART, model)
+    case (H_DEFINE_CURVE)
+      call read_define_curve(rd, options, model)
+    case (H_LOAD_NODE_POINT)
+      call read_load_node(rd, .false., model)
+    case (H_LOAD_NODE_SET)
+      call read_load_node(rd, .true., model)
+    case (H_LOAD_SEGMENT)
+      call read_load_segment(rd, options, model)
+    case (H_LOAD_SEGMENT_SET)
+      call read_load_segment_set(rd, options, model)
+    case (H_INITIAL_VELOCITY)
+      call read_initial_velocity(rd, model)
+    case (H_INITIAL_VELOCITY_NODE)
+      call read_initial_velocity_node(rd, model)
+    case (H_INITIAL_VELOCITY_GENERATION)
+      call read_initial_velocity_generation(rd, model)
+    case (H_CONTACT_SURFACE_TO_SURFACE)
+      call read_contact_surface_to_surface(rd, options, model)
+    case (H_RIGIDWALL_PLANAR)
+      call read_rigidwall_planar(rd, options, model)
+    case (H_CONTROL_TIMESTEP)
+      call read_control_timestep(rd, model)
+    case (H_CONTROL_IMPLICIT_GENERAL)
+      call read_control_implicit_general(rd, model)
+    case (H_CONTROL_IMPLICIT_SOLUTION)
+      call read_control_implicit_solution(rd, model)
+    case (H_CONTROL_IMPLICIT_AUTO)
+      call read_control_implicit_auto(rd, model)
+    case (H_DATABASE_D3PLOT)
+      call read_database_binary_d3plot(rd, model)
+    case (H_DATABASE_GLSTAT)
+      call read_database_interval(rd, DATABASE_GLSTAT, model)
+    case (H_DATABASE_RCFORC)
+      call read_database_interval(rd, DATABASE_RCFORC, model)
+    case (H_DATABASE_NODOUT)
+      call read_database_interval(rd, DATABASE_NODOUT, model)
+    case (H_HISTORY_NODE)
+      call read_database_history_node(rd, .false., model)
+    case (H_HISTORY_NODE_SET)
+      call read_database_history_node(rd, .true., model)
+    case (H_MEFEM_ENRICHMENT)
+      call read_mefem_enrichment(rd, model)
     end select
   end subroutine dispatch
 
@@ -194,9 +376,9 @@ contains
     character(len=*), intent(in) :: name     !< keyword name, upper case, no '*'
     integer :: k
     do k = 1, N_SKIPPED
-      if (starts_with(name, trim(SKIPPED(k)))) then
-        call warn_once(name, '*'//name//' ignored (output or cosmetic setting not used '// &
-            'by mefem), first at '//location(rd%kw_file, rd%kw_line))
+      if (starts_with(name, trim(SKIPPED(k)%prefix))) then
+        call warn_once(name, '*'//name//' ignored ('//trim(SKIPPED(k)%reason)// &
+            '), first at '//location(rd%kw_file, rd%kw_line))
         call skip_cards(rd)
         return
       end if

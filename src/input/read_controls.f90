@@ -2,16 +2,26 @@
 !> *CONTROL_* and *DATABASE_* output requests, and mefem's own *MEFEM_* keywords.
 module mefem_read_controls
   use mefem_kinds, only: wp
-  use mefem_strings, only: to_upper, itoa
+  use mefem_strings, only: to_upper, itoa, rtoa
   use mefem_parameters, only: parameter_define
   use mefem_numbers, only: parse_real, parse_int
   use mefem_cards, only: reader_t, card_t, next_card, split_card, get_int, get_real, get_text, &
                          card_error, keyword_error
-  use mefem_model, only: model_t
+  use mefem_errors, only: warn
+  use mefem_deck_source, only: location
+  use mefem_model, only: model_t, source_t
   implicit none
   private
 
   public :: read_keyword_card, read_title, read_parameter, read_control_termination
+  public :: read_control_timestep, read_control_implicit_general, &
+            read_control_implicit_solution, read_control_implicit_auto, &
+            read_database_binary_d3plot, read_database_interval, read_database_history_node, &
+            read_mefem_enrichment
+  public :: DATABASE_GLSTAT, DATABASE_RCFORC, DATABASE_NODOUT
+
+  ! ASCII output files of read_database_interval
+  integer, parameter :: DATABASE_GLSTAT = 1, DATABASE_RCFORC = 2, DATABASE_NODOUT = 3
 
   integer, parameter :: W_10(8) = 10   !< standard 8 x 10 card
 
@@ -125,5 +135,358 @@ contains
       c%have_termination = .true.
     end associate
   end subroutine read_control_termination
+
+  !> *CONTROL_TIMESTEP: DTINIT TSSFAC ISDO TSLIMT DT2MS LCTM ERODE MS1ST; the optional further
+  !> cards (mass-scaling refinements) are accepted and not used. TSSFAC 0 means 0.9.
+  subroutine read_control_timestep(rd, model)
+    type(reader_t), intent(inout) :: rd      !< reading state
+    type(model_t), intent(inout) :: model    !< model receiving the controls
+    type(card_t) :: card
+    logical :: got
+    integer :: erode
+    call next_card(rd, card, got, keep_blank=.true.)
+    if (.not. got) then
+      call keyword_error(rd, 'missing card 1 (DTINIT TSSFAC ISDO TSLIMT DT2MS LCTM ERODE MS1ST)')
+      return
+    end if
+    call split_card(rd, card, W_10)
+    associate (c => model%controls)
+      call get_real(card, 1, 'DTINIT', c%dt_init)
+      call get_real(card, 2, 'TSSFAC', c%tssfac, default=0.9_wp)
+      call get_int(card, 3, 'ISDO', c%isdo)
+      call get_real(card, 4, 'TSLIMT', c%tslimt)
+      call get_real(card, 5, 'DT2MS', c%dt2ms)
+      call get_int(card, 6, 'LCTM', c%lctm)
+      call get_int(card, 7, 'ERODE', erode)
+      call get_int(card, 8, 'MS1ST', c%ms1st)
+      c%lctm_src = source_t(card%file, card%line)
+      if (c%tssfac == 0.0_wp) c%tssfac = 0.9_wp
+      if (.not. card%bad) then
+        if (c%dt_init < 0.0_wp) call card_error(card, 'field DTINIT must not be negative '// &
+            '(got '//rtoa(c%dt_init)//')')
+        if (c%tssfac < 0.0_wp .or. c%tssfac > 1.0_wp) call card_error(card, 'field TSSFAC '// &
+            'must be > 0 and <= 1 (a larger factor makes the explicit step unstable) (got '// &
+            rtoa(c%tssfac)//')')
+        if (c%isdo < 0 .or. c%isdo > 2) call card_error(card, 'field ISDO must be 0, 1 or '// &
+            '2 (got '//itoa(c%isdo)//')')
+        if (c%tslimt < 0.0_wp) call card_error(card, 'field TSLIMT must not be negative '// &
+            '(got '//rtoa(c%tslimt)//')')
+        if (c%lctm < 0) call card_error(card, 'field LCTM must not be negative (got '// &
+            itoa(c%lctm)//')')
+        if (c%ms1st /= 0 .and. c%ms1st /= 1) call card_error(card, 'field MS1ST must be 0 '// &
+            'or 1 (got '//itoa(c%ms1st)//')')
+      end if
+    end associate
+    call skip_remaining(rd)
+  end subroutine read_control_timestep
+
+  !> *CONTROL_IMPLICIT_GENERAL: IMFLAG DT0 IMFORM NSBS IGS CNSTN FORM ZERO_V.
+  !> IMFLAG 0 explicit, 1 implicit; the switching and springback modes are not supported.
+  subroutine read_control_implicit_general(rd, model)
+    type(reader_t), intent(inout) :: rd      !< reading state
+    type(model_t), intent(inout) :: model    !< model receiving the controls
+    type(card_t) :: card
+    logical :: got
+    call next_card(rd, card, got, keep_blank=.true.)
+    if (.not. got) then
+      call keyword_error(rd, 'missing card 1 (IMFLAG DT0 IMFORM NSBS IGS CNSTN FORM ZERO_V)')
+      return
+    end if
+    call split_card(rd, card, W_10)
+    associate (c => model%controls)
+      call get_int(card, 1, 'IMFLAG', c%imflag)
+      call get_real(card, 2, 'DT0', c%dt0)
+      call get_int(card, 3, 'IMFORM', c%imform, default=2)
+      call get_int(card, 4, 'NSBS', c%nsbs, default=1)
+      call get_int(card, 5, 'IGS', c%igs, default=2)
+      if (c%imform == 0) c%imform = 2
+      if (c%nsbs == 0) c%nsbs = 1
+      if (c%igs == 0) c%igs = 2
+      if (.not. card%bad) then
+        if (c%imflag /= 0 .and. c%imflag /= 1) then
+          call card_error(card, 'field IMFLAG = '//itoa(c%imflag)//' is not supported '// &
+              '(0 explicit, 1 implicit)')
+        else if (c%imflag == 1 .and. c%dt0 <= 0.0_wp) then
+          call card_error(card, 'field DT0: the implicit analysis needs an initial time '// &
+              'step DT0 > 0 (got '//rtoa(c%dt0)//')')
+        end if
+        if (c%nsbs < 1) call card_error(card, 'field NSBS must be >= 1 (got '// &
+            itoa(c%nsbs)//')')
+      end if
+    end associate
+    call skip_remaining(rd)
+  end subroutine read_control_implicit_general
+
+  !> *CONTROL_IMPLICIT_SOLUTION: NSOLVR ILIMIT MAXREF DCTOL ECTOL RCTOL LSTOL ABSTOL /
+  !> DNORM DIVERG ISTIF NLPRINT NLNORM D3ITCTL CPCHK; further cards (arc length, line search
+  !> details) are accepted and not used. Blank or 0 fields take LS-DYNA's defaults.
+  subroutine read_control_implicit_solution(rd, model)
+    type(reader_t), intent(inout) :: rd      !< reading state
+    type(model_t), intent(inout) :: model    !< model receiving the controls
+    type(card_t) :: card, card2
+    logical :: got
+    call next_card(rd, card, got, keep_blank=.true.)
+    if (.not. got) then
+      call keyword_error(rd, 'missing card 1 (NSOLVR ILIMIT MAXREF DCTOL ECTOL RCTOL LSTOL '// &
+          'ABSTOL)')
+      return
+    end if
+    call split_card(rd, card, W_10)
+    associate (c => model%controls)
+      call get_int(card, 1, 'NSOLVR', c%nsolvr, default=12)
+      call get_int(card, 2, 'ILIMIT', c%ilimit, default=11)
+      call get_int(card, 3, 'MAXREF', c%maxref, default=15)
+      call get_real(card, 4, 'DCTOL', c%dctol, default=0.001_wp)
+      call get_real(card, 5, 'ECTOL', c%ectol, default=0.01_wp)
+      call get_real(card, 6, 'RCTOL', c%rctol, default=1.0e10_wp)
+      call get_real(card, 7, 'LSTOL', c%lstol, default=0.9_wp)
+      call get_real(card, 8, 'ABSTOL', c%abstol, default=1.0e-10_wp)
+      if (c%nsolvr == 0) c%nsolvr = 12
+      if (c%ilimit == 0) c%ilimit = 11
+      if (c%maxref == 0) c%maxref = 15
+      if (c%dctol == 0.0_wp) c%dctol = 0.001_wp
+      if (c%ectol == 0.0_wp) c%ectol = 0.01_wp
+      if (c%rctol == 0.0_wp) c%rctol = 1.0e10_wp
+      if (c%lstol == 0.0_wp) c%lstol = 0.9_wp
+      if (c%abstol == 0.0_wp) c%abstol = 1.0e-10_wp
+      if (.not. card%bad) then
+        if (.not. any(c%nsolvr == [1, 2, 12])) call card_error(card, 'field NSOLVR = '// &
+            itoa(c%nsolvr)//' is not supported (1 linear, 2 or 12 nonlinear with BFGS '// &
+            'updates)')
+        if (c%ilimit < 1) call card_error(card, 'field ILIMIT must be >= 1 (got '// &
+            itoa(c%ilimit)//')')
+        if (c%dctol < 0.0_wp .or. c%ectol < 0.0_wp .or. c%rctol < 0.0_wp .or. &
+            c%lstol < 0.0_wp .or. c%abstol < 0.0_wp) call card_error(card, 'fields DCTOL '// &
+            'ECTOL RCTOL LSTOL ABSTOL must be positive (negative values select curves or '// &
+            'special modes, which are not supported)')
+      end if
+      call next_card(rd, card2, got, keep_blank=.true.)
+      if (got) then
+        call split_card(rd, card2, W_10)
+        call get_int(card2, 1, 'DNORM', c%dnorm, default=2)
+        call get_int(card2, 2, 'DIVERG', c%diverg, default=1)
+        call get_int(card2, 3, 'ISTIF', c%istif, default=1)
+        call get_int(card2, 4, 'NLPRINT', c%nlprint)
+        call get_int(card2, 5, 'NLNORM', c%nlnorm, default=2)
+        if (c%dnorm == 0) c%dnorm = 2
+        if (c%diverg == 0) c%diverg = 1
+        if (c%istif == 0) c%istif = 1
+        if (c%nlnorm == 0) c%nlnorm = 2
+        if (.not. card2%bad) then
+          if (c%dnorm /= 1 .and. c%dnorm /= 2) call card_error(card2, 'field DNORM must '// &
+              'be 1 or 2 (got '//itoa(c%dnorm)//')')
+          if (c%diverg /= 1 .and. c%diverg /= 2) call card_error(card2, 'field DIVERG '// &
+              'must be 1 or 2 (got '//itoa(c%diverg)//')')
+          if (c%istif < 1) call card_error(card2, 'field ISTIF must be >= 1 (got '// &
+              itoa(c%istif)//')')
+        end if
+      end if
+    end associate
+    call skip_remaining(rd)
+  end subroutine read_control_implicit_solution
+
+  !> *CONTROL_IMPLICIT_AUTO: IAUTO ITEOPT ITEWIN DTMIN DTMAX DTEXP KFAIL KCYCLE.
+  subroutine read_control_implicit_auto(rd, model)
+    type(reader_t), intent(inout) :: rd      !< reading state
+    type(model_t), intent(inout) :: model    !< model receiving the controls
+    type(card_t) :: card
+    logical :: got
+    integer :: kcycle
+    call next_card(rd, card, got, keep_blank=.true.)
+    if (.not. got) then
+      call keyword_error(rd, 'missing card 1 (IAUTO ITEOPT ITEWIN DTMIN DTMAX DTEXP KFAIL '// &
+          'KCYCLE)')
+      return
+    end if
+    call split_card(rd, card, W_10)
+    associate (c => model%controls)
+      call get_int(card, 1, 'IAUTO', c%iauto)
+      call get_int(card, 2, 'ITEOPT', c%iteopt, default=11)
+      call get_int(card, 3, 'ITEWIN', c%itewin, default=5)
+      call get_real(card, 4, 'DTMIN', c%auto_dtmin)
+      call get_real(card, 5, 'DTMAX', c%auto_dtmax)
+      call get_real(card, 6, 'DTEXP', c%dtexp)
+      call get_int(card, 7, 'KFAIL', c%kfail)
+      call get_int(card, 8, 'KCYCLE', kcycle)
+      if (c%iteopt == 0) c%iteopt = 11
+      if (c%itewin == 0) c%itewin = 5
+      if (.not. card%bad) then
+        if (c%iauto < 0 .or. c%iauto > 2) call card_error(card, 'field IAUTO = '// &
+            itoa(c%iauto)//' is not supported (0 fixed step, 1 or 2 automatic)')
+        if (c%iteopt < 1 .or. c%itewin < 0) call card_error(card, 'fields ITEOPT >= 1 and '// &
+            'ITEWIN >= 0 expected (got '//itoa(c%iteopt)//' and '//itoa(c%itewin)//')')
+        if (c%auto_dtmin < 0.0_wp .or. c%auto_dtmax < 0.0_wp) call card_error(card, &
+            'fields DTMIN/DTMAX must not be negative (a negative DTMAX selects a curve, '// &
+            'which is not supported)')
+        if (c%auto_dtmax > 0.0_wp .and. c%auto_dtmin > c%auto_dtmax) call card_error(card, &
+            'field DTMIN ('//rtoa(c%auto_dtmin)//') is larger than DTMAX ('// &
+            rtoa(c%auto_dtmax)//')')
+      end if
+    end associate
+    call skip_remaining(rd)
+  end subroutine read_control_implicit_auto
+
+  !> *DATABASE_BINARY_D3PLOT: DT LCDT BEAM NPLTC PSETID / [IOOPT ...]: the interval of
+  !> mefem's result states (VTK/HDF5). NPLTC > 0 overrides DT (= ENDTIM / NPLTC).
+  subroutine read_database_binary_d3plot(rd, model)
+    type(reader_t), intent(inout) :: rd      !< reading state
+    type(model_t), intent(inout) :: model    !< model receiving the controls
+    type(card_t) :: card
+    logical :: got
+    integer :: lcdt, beam, psetid
+    call next_card(rd, card, got, keep_blank=.true.)
+    if (.not. got) then
+      call keyword_error(rd, 'missing card 1 (DT LCDT BEAM NPLTC PSETID)')
+      return
+    end if
+    call split_card(rd, card, W_10)
+    associate (c => model%controls)
+      call get_real(card, 1, 'DT', c%plot_interval)
+      call get_int(card, 2, 'LCDT', lcdt)
+      call get_int(card, 3, 'BEAM', beam)
+      call get_int(card, 4, 'NPLTC', c%plot_count)
+      call get_int(card, 5, 'PSETID', psetid)
+      if (.not. card%bad) then
+        if (c%plot_interval < 0.0_wp .or. c%plot_count < 0) then
+          call card_error(card, 'fields DT and NPLTC must not be negative')
+        else if (c%plot_interval == 0.0_wp .and. c%plot_count == 0) then
+          call card_error(card, 'give the output interval DT > 0 or the number of states '// &
+              'NPLTC > 0')
+        end if
+        if (lcdt /= 0) call warn(location(card%file, card%line)//': *DATABASE_BINARY_D3PLOT: '// &
+            'LCDT (interval from a curve) ignored; DT or NPLTC is used')
+        if (psetid /= 0) call warn(location(card%file, card%line)// &
+            ': *DATABASE_BINARY_D3PLOT: PSETID ignored; all parts are written')
+      end if
+    end associate
+    call skip_remaining(rd)
+  end subroutine read_database_binary_d3plot
+
+  !> *DATABASE_GLSTAT / *DATABASE_RCFORC / *DATABASE_NODOUT: DT BINARY LCUR IOOPT ...
+  subroutine read_database_interval(rd, which, model)
+    type(reader_t), intent(inout) :: rd      !< reading state
+    integer, intent(in) :: which             !< DATABASE_GLSTAT, _RCFORC or _NODOUT
+    type(model_t), intent(inout) :: model    !< model receiving the controls
+    type(card_t) :: card
+    logical :: got
+    real(wp) :: dt
+    call next_card(rd, card, got, keep_blank=.true.)
+    if (.not. got) then
+      call keyword_error(rd, 'missing card 1 (DT BINARY LCUR IOOPT)')
+      return
+    end if
+    call split_card(rd, card, W_10)
+    call get_real(card, 1, 'DT', dt, required=.true.)
+    if (.not. card%bad) then
+      if (dt < 0.0_wp) then
+        call card_error(card, 'field DT must not be negative (got '//rtoa(dt)//')')
+      else
+        select case (which)
+        case (DATABASE_GLSTAT)
+          model%controls%glstat_interval = dt
+        case (DATABASE_RCFORC)
+          model%controls%rcforc_interval = dt
+        case (DATABASE_NODOUT)
+          model%controls%nodout_interval = dt
+        end select
+      end if
+    end if
+    call skip_remaining(rd)
+  end subroutine read_database_interval
+
+  !> *DATABASE_HISTORY_NODE (node ids) / *DATABASE_HISTORY_NODE_SET (node-set ids):
+  !> 8 x I10 per card, repeated; zeros and blanks ignored.
+  subroutine read_database_history_node(rd, sets, model)
+    type(reader_t), intent(inout) :: rd      !< reading state
+    logical, intent(in) :: sets              !< the ids are node-set ids
+    type(model_t), intent(inout) :: model    !< model receiving the controls
+    type(card_t) :: card
+    logical :: got
+    integer :: i, id
+    do
+      call next_card(rd, card, got)
+      if (.not. got) exit
+      call split_card(rd, card, W_10)
+      do i = 1, 8
+        call get_int(card, i, 'ID'//itoa(i), id)
+        if (card%bad .or. id == 0) cycle
+        if (id < 0) then
+          call card_error(card, 'field ID'//itoa(i)//' must be a positive '// &
+              trim(merge('node set', 'node    ', sets))//' id (got '//itoa(id)//')')
+          cycle
+        end if
+        associate (c => model%controls)
+          if (sets) then
+            call append_id(c%history_set_ids, c%history_set_src, c%n_history_sets, id, card)
+          else
+            call append_id(c%history_node_ids, c%history_node_src, c%n_history_nodes, id, card)
+          end if
+        end associate
+      end do
+    end do
+  end subroutine read_database_history_node
+
+  !> Append an id and where it was given to growing lists.
+  subroutine append_id(ids, src, n, id, card)
+    integer, allocatable, intent(inout) :: ids(:)           !< ids
+    type(source_t), allocatable, intent(inout) :: src(:)    !< their sources
+    integer, intent(inout) :: n                             !< entries used
+    integer, intent(in) :: id                               !< the new id
+    type(card_t), intent(in) :: card                        !< its card
+    integer, allocatable :: grown_ids(:)
+    type(source_t), allocatable :: grown_src(:)
+    if (.not. allocated(ids)) allocate(ids(16), src(16))
+    if (n == size(ids)) then
+      allocate(grown_ids(2*n), grown_src(2*n))
+      grown_ids(1:n) = ids(1:n)
+      grown_src(1:n) = src(1:n)
+      call move_alloc(grown_ids, ids)
+      call move_alloc(grown_src, src)
+    end if
+    n = n + 1
+    ids(n) = id
+    src(n) = source_t(card%file, card%line)
+  end subroutine append_id
+
+  !> *MEFEM_ENRICHMENT: SUPPORT BASIS. SUPPORT is the ratio a/L of the support radius of the
+  !> meshfree (GMF) enrichment to the element size (default 1.5; > 1 so that the support
+  !> reaches beyond the element, <= 3); BASIS 1 = atan GMF basis (default), 2 = exp.
+  subroutine read_mefem_enrichment(rd, model)
+    type(reader_t), intent(inout) :: rd      !< reading state
+    type(model_t), intent(inout) :: model    !< model receiving the controls
+    type(card_t) :: card
+    logical :: got
+    call next_card(rd, card, got, keep_blank=.true.)
+    if (.not. got) then
+      call keyword_error(rd, 'missing card 1 (SUPPORT BASIS)')
+      return
+    end if
+    call split_card(rd, card, W_10)
+    associate (c => model%controls)
+      call get_real(card, 1, 'SUPPORT', c%support_radius, default=1.5_wp)
+      call get_int(card, 2, 'BASIS', c%gmf_basis, default=1)
+      if (c%support_radius == 0.0_wp) c%support_radius = 1.5_wp
+      if (c%gmf_basis == 0) c%gmf_basis = 1
+      if (.not. card%bad) then
+        if (c%support_radius <= 1.0_wp .or. c%support_radius > 3.0_wp) call card_error(card, &
+            'field SUPPORT (a/L) must be > 1.0 and <= 3.0: the support must reach beyond '// &
+            'the element (got '//rtoa(c%support_radius)//')')
+        if (c%gmf_basis /= 1 .and. c%gmf_basis /= 2) call card_error(card, 'field BASIS '// &
+            'must be 1 (atan) or 2 (exp) (got '//itoa(c%gmf_basis)//')')
+      end if
+    end associate
+    call skip_remaining(rd)
+  end subroutine read_mefem_enrichment
+
+  !> Skip the further, optional cards of a control keyword (settings mefem does not use).
+  subroutine skip_remaining(rd)
+    type(reader_t), intent(inout) :: rd      !< reading state
+    type(card_t) :: card
+    logical :: got
+    do
+      call next_card(rd, card, got)
+      if (.not. got) exit
+    end do
+  end subroutine skip_remaining
 
 end module mefem_read_controls

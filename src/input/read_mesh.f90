@@ -17,6 +17,10 @@ module mefem_read_mesh
   integer, parameter :: W_NODE(6) = [8, 16, 16, 16, 8, 8]    !< *NODE field widths
   integer, parameter :: W_I8(10) = 8                          !< element cards: I8 fields
   integer, parameter :: W_10(8) = 10                          !< standard 8 x 10 card
+  !> Names of the node fields N1..N10 (constants: building them per card costs more than
+  !> reading the card; the trailing blank is dropped in messages)
+  character(len=3), parameter :: NODE_FIELD(10) = [character(len=3) :: 'N1', 'N2', 'N3', &
+      'N4', 'N5', 'N6', 'N7', 'N8', 'N9', 'N10']
 
 contains
 
@@ -93,7 +97,7 @@ contains
       nodes = 0
       if (one_line) then
         do i = 1, 8
-          call get_int(card, 2 + i, 'N'//achar(iachar('0') + i), nodes(i))
+          call get_int(card, 2 + i, NODE_FIELD(i), nodes(i))
         end do
       else
         call next_card(rd, nodes_card, got)
@@ -103,7 +107,7 @@ contains
         end if
         call split_card(rd, nodes_card, W_I8)
         do i = 1, 10
-          call get_int(nodes_card, i, 'N'//itoa(i), nodes(i))
+          call get_int(nodes_card, i, NODE_FIELD(i), nodes(i))
         end do
         if (nodes_card%bad) card%bad = .true.
         if (any(nodes(9:10) /= 0)) then
@@ -137,7 +141,7 @@ contains
       call get_int(card, 2, 'PID', pid, required=.true.)
       nodes = 0
       do i = 1, 8
-        call get_int(card, 2 + i, 'N'//achar(iachar('0') + i), nodes(i))
+        call get_int(card, 2 + i, NODE_FIELD(i), nodes(i))
       end do
       if (any(nodes(5:8) /= 0)) then
         call card_error(card, 'element '//itoa(eid)// &

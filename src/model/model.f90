@@ -177,6 +177,7 @@ module mefem_model
     real(wp) :: v_exempt(3) = 0.0_wp
     real(wp) :: omega = 0.0_wp               !< _GENERATION: angular velocity
     real(wp) :: center(3) = 0.0_wp, axis(3) = 0.0_wp
+    logical :: generation = .false.          !< from _GENERATION: v + omega axis x (x - center)
     type(source_t) :: src
   end type initial_velocity_t
 
@@ -216,6 +217,7 @@ module mefem_model
     ! *CONTROL_TIMESTEP
     real(wp) :: dt_init = 0.0_wp, tssfac = 0.9_wp, dt2ms = 0.0_wp, tslimt = 0.0_wp
     integer :: isdo = 0, lctm = 0, ms1st = 0
+    type(source_t) :: lctm_src                !< where LCTM was given
     ! *CONTROL_IMPLICIT_GENERAL
     integer :: imflag = 0, imform = 2, nsbs = 1, igs = 2
     real(wp) :: dt0 = 0.0_wp
@@ -234,7 +236,8 @@ module mefem_model
     integer :: n_history_nodes = 0
     integer, allocatable :: history_node_ids(:), history_nodes(:)
     integer :: n_history_sets = 0
-    integer, allocatable :: history_set_ids(:)
+    integer, allocatable :: history_set_ids(:), history_sets(:)   !< node-set ids, indices
+    type(source_t), allocatable :: history_node_src(:), history_set_src(:)  !< where given
     ! *MEFEM_ENRICHMENT
     real(wp) :: support_radius = 1.5_wp       !< a/L of the GMF approximation
     integer :: gmf_basis = 1                  !< 1 atan, 2 exp

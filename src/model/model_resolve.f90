@@ -96,7 +96,6 @@ contains
     type(id_map_t) :: element_map
     integer :: e, i, n_solid_deformable, n_shell_deformable, n_before
     logical :: ok
-    character(len=:), allocatable :: where
     associate (el => model%elements)
       allocate(el%part(el%n), el%topology(el%n), el%conn(8, el%n))
       call id_map_build(el%id, el%n, element_map)
@@ -104,8 +103,6 @@ contains
       n_solid_deformable = 0
       n_shell_deformable = 0
       do e = 1, el%n
-        where = location(el%src(e)%file, el%src(e)%line)//': '// &
-                merge('*ELEMENT_SOLID', '*ELEMENT_SHELL', el%keyword(e) == ELEM_SOLID)
         el%conn(:, e) = 0
         ok = .true.
         do i = 1, 8
@@ -113,28 +110,28 @@ contains
           el%conn(i, e) = id_map_find(node_map, el%node_ids(i, e))
           if (el%conn(i, e) == 0 .and. .not. any(el%node_ids(1:i-1, e) == el%node_ids(i, e))) &
             then
-            call input_error(where, 'element '//itoa(el%id(e))//': node '// &
+            call input_error(element_where(model, e), 'element '//itoa(el%id(e))//': node '// &
                 itoa(el%node_ids(i, e))//' (N'//itoa(i)//') is not defined')
             ok = .false.
           end if
         end do
         el%part(e) = id_map_find(part_map, el%part_id(e))
         if (el%part(e) == 0) then
-          call input_error(where, 'element '//itoa(el%id(e))//': part '// &
+          call input_error(element_where(model, e), 'element '//itoa(el%id(e))//': part '// &
               itoa(el%part_id(e))//' (PID) is not defined')
           ok = .false.
         end if
         call classify(el%keyword(e), el%conn(:, e), el%topology(e))
         if (el%topology(e) == 0) then
-          call input_error(where, 'element '//itoa(el%id(e))//': nodes '// &
+          call input_error(element_where(model, e), 'element '//itoa(el%id(e))//': nodes '// &
               node_list(el%node_ids(:, e))//' form no tetrahedron, pentahedron or hexahedron'// &
               ' (repeated nodes in unexpected places)')
           ok = .false.
         end if
         if (.not. ok) cycle
         n_before = n_shell_deformable
-        call check_formulation(model, e, where, n_solid_deformable, n_shell_deformable)
-        call check_measure(model, e, where, n_shell_deformable > n_before)
+        call check_formulation(model, e, n_solid_deformable, n_shell_deformable)
+        call check_measure(model, e, n_shell_deformable > n_before)
       end do
       if (n_solid_deformable > 0 .and. n_shell_deformable > 0) call input_error('', &
           'the model mixes deformable solids (3D) and plane-strain triangles (2D); '// &
@@ -185,11 +182,20 @@ contains
     end do
   end function distinct
 
+  !> "file:line: *ELEMENT_SOLID" (or _SHELL) of element e, for messages. Built only when a
+  !> message is given: building it for every element costs more than checking the element.
+  function element_where(model, e) result(s)
+    type(model_t), intent(in) :: model   !< the model
+    integer, intent(in) :: e             !< element index
+    character(len=:), allocatable :: s
+    s = location(model%elements%src(e)%file, model%elements%src(e)%line)//': '// &
+        merge('*ELEMENT_SOLID', '*ELEMENT_SHELL', model%elements%keyword(e) == ELEM_SOLID)
+  end function element_where
+
   !> The element's part uses a formulation mefem computes for its topology.
-  subroutine check_formulation(model, e, where, n_solid_deformable, n_shell_deformable)
+  subroutine check_formulation(model, e, n_solid_deformable, n_shell_deformable)
     type(model_t), intent(in) :: model          !< the model
     integer, intent(in) :: e                    !< element index
-    character(len=*), intent(in) :: where       !< location prefix
     integer, intent(inout) :: n_solid_deformable, n_shell_deformable  !< counters
     integer :: p, s, m, elform, topo
     p = model%elements%part(e)
@@ -200,13 +206,15 @@ contains
     elform = model%sections(s)%elform
     if (model%elements%keyword(e) == ELEM_SOLID .and. model%sections(s)%kind /= SECTION_SOLID) &
       then
-      call input_error(where, 'element '//itoa(model%elements%id(e))//': part '// &
+      call input_error(element_where(model, e), &
+          'element '//itoa(model%elements%id(e))//': part '// &
           itoa(model%parts(p)%id)//' has a *SECTION_SHELL but the element is a solid')
       return
     end if
     if (model%elements%keyword(e) == ELEM_SHELL .and. model%sections(s)%kind /= SECTION_SHELL) &
       then
-      call input_error(where, 'element '//itoa(model%elements%id(e))//': part '// &
+      call input_error(element_where(model, e), &
+          'element '//itoa(model%elements%id(e))//': part '// &
           itoa(model%parts(p)%id)//' has a *SECTION_SOLID but the element is a shell')
       return
     end if
@@ -214,23 +222,27 @@ contains
     if (model%elements%keyword(e) == ELEM_SOLID) then
       n_solid_deformable = n_solid_deformable + 1
       if (elform /= ELFORM_TET_STANDARD .and. elform /= ELFORM_MEFEM) then
-        call input_error(where, 'element '//itoa(model%elements%id(e))//': part '// &
+        call input_error(element_where(model, e), &
+            'element '//itoa(model%elements%id(e))//': part '// &
             itoa(model%parts(p)%id)//': solid ELFORM '//itoa(elform)//' is not supported '// &
             '(deformable solids: 43 ME-FEM tetrahedron, 10 standard linear tetrahedron)')
       else if (topo /= TOPO_TET4) then
-        call input_error(where, 'element '//itoa(model%elements%id(e))//': part '// &
+        call input_error(element_where(model, e), &
+            'element '//itoa(model%elements%id(e))//': part '// &
             itoa(model%parts(p)%id)//': ELFORM '//itoa(elform)// &
             ' needs tetrahedra; this element is not one')
       end if
     else
       n_shell_deformable = n_shell_deformable + 1
       if (elform /= ELFORM_TRI_PLANE_STRAIN .and. elform /= ELFORM_MEFEM) then
-        call input_error(where, 'element '//itoa(model%elements%id(e))//': part '// &
+        call input_error(element_where(model, e), &
+            'element '//itoa(model%elements%id(e))//': part '// &
             itoa(model%parts(p)%id)//': shell ELFORM '//itoa(elform)//' is not supported '// &
             'for deformable parts (43 ME-FEM plane-strain triangle, 13 standard plane-strain '// &
             'triangle; shells of *MAT_RIGID parts may be tool surfaces)')
       else if (topo /= TOPO_TRI3) then
-        call input_error(where, 'element '//itoa(model%elements%id(e))//': part '// &
+        call input_error(element_where(model, e), &
+            'element '//itoa(model%elements%id(e))//': part '// &
             itoa(model%parts(p)%id)//': plane-strain ELFORM '//itoa(elform)// &
             ' needs triangles; this element is a quadrilateral')
       end if
@@ -239,35 +251,39 @@ contains
 
   !> Volume (solids) or area (shells) must be positive; plane-strain triangles lie in z = 0
   !> and run counter-clockwise about +z.
-  subroutine check_measure(model, e, where, plane_strain)
+  subroutine check_measure(model, e, plane_strain)
     type(model_t), intent(in) :: model          !< the model
     integer, intent(in) :: e                    !< element index
-    character(len=*), intent(in) :: where       !< location prefix
     logical, intent(in) :: plane_strain         !< a deformable plane-strain triangle
     real(wp) :: measure, size_scale
     integer :: nn, i
     real(wp) :: xe(3, 8)
     nn = NODES_OF_TOPO(model%elements%topology(e))
-    xe(:, 1:nn) = model%nodes%x(:, model%elements%conn(1:nn, e))
+    do i = 1, nn      ! a loop: the vector-subscript form allocates a temporary per element
+      xe(:, i) = model%nodes%x(:, model%elements%conn(i, e))
+    end do
     measure = element_measure(model%elements%topology(e), xe(:, 1:nn))
     size_scale = 0.0_wp
     do i = 1, 3
       size_scale = max(size_scale, maxval(xe(i, 1:nn)) - minval(xe(i, 1:nn)))
     end do
     if (model%elements%keyword(e) == ELEM_SOLID) then
-      if (measure <= 1.0e-12_wp*size_scale**3) call input_error(where, 'element '// &
-          itoa(model%elements%id(e))//' has zero or negative volume ('//rtoa(measure)// &
+      if (measure <= 1.0e-12_wp*size_scale**3) call input_error(element_where(model, e), &
+          'element '//itoa(model%elements%id(e))//' has zero or negative volume ('// &
+          rtoa(measure)// &
           '): check its node order (N1-N2-N3 counter-clockwise seen from N4 for a tet)')
     else if (plane_strain) then
       if (any(xe(3, 1:nn) /= 0.0_wp)) then
-        call input_error(where, 'element '//itoa(model%elements%id(e))//': plane-strain '// &
+        call input_error(element_where(model, e), &
+            'element '//itoa(model%elements%id(e))//': plane-strain '// &
             'triangles must lie in the x-y plane (z = 0)')
       else if (measure <= 1.0e-12_wp*size_scale**2) then
-        call input_error(where, 'element '//itoa(model%elements%id(e))//' has zero or '// &
+        call input_error(element_where(model, e), &
+            'element '//itoa(model%elements%id(e))//' has zero or '// &
             'negative area ('//rtoa(measure)//'): N1-N2-N3 must run counter-clockwise about +z')
       end if
     else if (abs(measure) <= 1.0e-12_wp*size_scale**2) then
-      call input_error(where, 'element '//itoa(model%elements%id(e))// &
+      call input_error(element_where(model, e), 'element '//itoa(model%elements%id(e))// &
           ' has zero area (its nodes are collinear or repeated)')
     end if
   end subroutine check_measure

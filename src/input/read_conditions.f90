@@ -1,0 +1,721 @@
+!> Keyword handlers for boundary conditions, curves, loads and initial conditions:
+!> *BOUNDARY_SPC_NODE/_SET, *BOUNDARY_PRESCRIBED_MOTION_NODE/_SET/_RIGID, *DEFINE_CURVE,
+!> *LOAD_NODE_POINT/_SET, *LOAD_SEGMENT(_SET), *INITIAL_VELOCITY(_NODE, _GENERATION).
+!>
+!> Targets (nodes, sets, parts) and curves are stored as user ids and resolved by
+!> resolve_conditions. Following LS-DYNA, a scale factor SF given as 0 means 1, and a DEATH
+!> time given as 0 means "never".
+module mefem_read_conditions
+  use mefem_kinds, only: wp
+  use mefem_strings, only: itoa, rtoa
+  use mefem_cards, only: reader_t, card_t, next_card, split_card, get_int, get_real, &
+                         card_error, keyword_error
+  use mefem_card_helpers, only: has_option, read_title_card, read_id_card, quoted_real, &
+                                skip_extra_cards
+  use mefem_deck_source, only: location
+  use mefem_model, only: model_t, source_t, spc_t, prescribed_motion_t, curve_t, &
+                         nodal_load_t, pressure_load_t, initial_velocity_t, ON_NODE, &
+                         ON_NODE_SET, ON_PART, ON_ALL_NODES, ON_PART_SET
+  implicit none
+  private
+
+  public :: read_boundary_spc, read_prescribed_motion, read_define_curve, read_load_node, &
+            read_load_segment, read_load_segment_set, read_initial_velocity, &
+            read_initial_velocity_node, read_initial_velocity_generation
+
+  integer, parameter :: W_10(8) = 10          !< standard 8 x 10 card
+  integer, parameter :: W_POINT(2) = 20       !< *DEFINE_CURVE point: 2 x E20
+  real(wp), parameter :: NEVER = 1.0e28_wp    !< DEATH of a prescribed motion by default
+  real(wp), parameter :: SPC_NEVER = 1.0e20_wp  !< DEATH of an SPC by default
+
+contains
+
+  !> *BOUNDARY_SPC_NODE / *BOUNDARY_SPC_SET (options ID, BIRTH_DEATH):
+  !> NID|NSID CID DOFX DOFY DOFZ DOFRX DOFRY DOFRZ [/ BIRTH DEATH], repeated.
+  subroutine read_boundary_spc(rd, options, on_set, model)
+    type(reader_t), intent(inout) :: rd          !< reading state
+    character(len=*), intent(in) :: options      !< keyword options
+    logical, intent(in) :: on_set                !< _SET (node set) rather than _NODE
+    type(model_t), intent(inout) :: model        !< model appended to
+    type(card_t) :: card, card2
+    type(spc_t) :: spc
+    logical :: got, ok, birth_death
+    integer :: flags(6), i, id
+    character(len=80) :: heading
+    character(len=5), parameter :: DOF_NAMES(6) = ['DOFX ', 'DOFY ', 'DOFZ ', 'DOFRX', &
+                                                   'DOFRY', 'DOFRZ']
+    if (has_option(options, 'ID')) then
+      call read_id_card(rd, id, heading, ok)
+      if (.not. ok) then
+        call skip_extra_cards(rd)
+        return
+      end if
+    end if
+    birth_death = has_option(options, 'BIRTH') .or. has_option(options, 'DEATH')
+    if (birth_death .and. .not. (has_option(options, 'BIRTH') .and. &
+                                 has_option(options, 'DEATH'))) then
+      call keyword_error(rd, 'the option is _BIRTH_DEATH (both words)')
+      call skip_extra_cards(rd)
+      return
+    end if
+    do
+      call next_card(rd, card, got)
+      if (.not. got) exit
+      call split_card(rd, card, W_10)
+      spc = spc_t()
+      spc%target_kind = merge(ON_NODE_SET, ON_NODE, on_set)
+      call get_int(card, 1, trim(merge('NSID', 'NID ', on_set)), spc%target_id, required=.true.)
+      call get_int(card, 2, 'CID', spc%cid)
+      do i = 1, 6
+        call get_int(card, 2 + i, trim(DOF_NAMES(i)), flags(i))
+      end do
+      spc%src = source_t(card%file, card%line)
+      if (birth_death) then
+        call next_card(rd, card2, got, keep_blank=.true.)
+        if (.not. got) then
+          call card_error(card, 'missing the card BIRTH DEATH of the _BIRTH_DEATH option')
+          exit
+        end if
+        call split_card(rd, card2, W_10)
+        call get_real(card2, 1, 'BIRTH', spc%birth)
+        call get_real(card2, 2, 'DEATH', spc%death, default=SPC_NEVER)
+        if (spc%death == 0.0_wp) spc%death = SPC_NEVER
+        if (card2%bad) cycle
+        if (spc%birth >= spc%death) then
+          call card_error(card2, 'field BIRTH ('//rtoa(spc%birth)//') must be before DEATH ('// &
+              rtoa(spc%death)//')')
+          cycle
+        end if
+      end if
+      if (card%bad) cycle
+      if (spc%target_id <= 0) then
+        call card_error(card, 'field '//trim(merge('NSID', 'NID ', on_set))// &
+            ' must be a positive id (got '//itoa(spc%target_id)//')')
+        cycle
+      end if
+      if (spc%cid /= 0) then
+        call card_error(card, 'field CID = '//itoa(spc%cid)//': constraints in a local '// &
+            'coordinate system are not supported (use CID = 0)')
+        cycle
+      end if
+      ok = .true.
+      do i = 1, 6
+        if (flags(i) /= 0 .and. flags(i) /= 1) then
+          call card_error(card, 'field '//trim(DOF_NAMES(i))//' must be 0 (free) or 1 '// &
+              '(fixed) (got '//itoa(flags(i))//')')
+          ok = .false.
+        end if
+      end do
+      if (.not. ok) cycle
+      spc%dof = flags == 1
+      call add_spc(model, spc)
+    end do
+  end subroutine read_boundary_spc
+
+  !> *BOUNDARY_PRESCRIBED_MOTION_NODE/_SET/_RIGID (option ID):
+  !> NID|NSID|PID DOF VAD LCID SF VID DEATH BIRTH, repeated.
+  subroutine read_prescribed_motion(rd, options, target_kind, model)
+    type(reader_t), intent(inout) :: rd          !< reading state
+    character(len=*), intent(in) :: options      !< keyword options
+    integer, intent(in) :: target_kind           !< ON_NODE, ON_NODE_SET or ON_PART
+    type(model_t), intent(inout) :: model        !< model appended to
+    type(card_t) :: card
+    type(prescribed_motion_t) :: motion
+    logical :: got, ok
+    integer :: id
+    character(len=80) :: heading
+    character(len=:), allocatable :: target_name
+    select case (target_kind)
+    case (ON_NODE)
+      target_name = 'NID'
+    case (ON_NODE_SET)
+      target_name = 'NSID'
+    case default
+      target_name = 'PID'
+    end select
+    if (has_option(options, 'ID')) then
+      call read_id_card(rd, id, heading, ok)
+      if (.not. ok) then
+        call skip_extra_cards(rd)
+        return
+      end if
+    end if
+    do
+      call next_card(rd, card, got)
+      if (.not. got) exit
+      call split_card(rd, card, W_10)
+      motion = prescribed_motion_t()
+      motion%target_kind = target_kind
+      call get_int(card, 1, target_name, motion%target_id, required=.true.)
+      call get_int(card, 2, 'DOF', motion%dof, required=.true.)
+      call get_int(card, 3, 'VAD', motion%vad)
+      call get_int(card, 4, 'LCID', motion%curve_id, required=.true.)
+      call get_real(card, 5, 'SF', motion%scale, default=1.0_wp)
+      call get_int(card, 6, 'VID', motion%vector_id)
+      call get_real(card, 7, 'DEATH', motion%death, default=NEVER)
+      call get_real(card, 8, 'BIRTH', motion%birth)
+      motion%src = source_t(card%file, card%line)
+      if (card%bad) cycle
+      if (motion%scale == 0.0_wp) motion%scale = 1.0_wp
+      if (motion%death == 0.0_wp) motion%death = NEVER
+      if (motion%target_id <= 0) then
+        call card_error(card, 'field '//target_name//' must be a positive id (got '// &
+            itoa(motion%target_id)//')')
+      else if (.not. valid_motion_dof(card, motion, target_kind)) then
+        continue
+      else if (motion%vad < 0 .or. motion%vad > 4) then
+        call card_error(card, 'field VAD must be 0 (velocity), 1 (acceleration) or 2 '// &
+            '(displacement) (got '//itoa(motion%vad)//')')
+      else if (motion%vad > 2) then
+        call card_error(card, 'field VAD = '//itoa(motion%vad)//' is not supported (0 '// &
+            'velocity, 1 acceleration, 2 displacement)')
+      else if (motion%curve_id <= 0) then
+        call card_error(card, 'field LCID must be a positive curve id (got '// &
+            itoa(motion%curve_id)//')')
+      else if (motion%birth >= motion%death) then
+        call card_error(card, 'field BIRTH ('//rtoa(motion%birth)//') must be before DEATH ('// &
+            rtoa(motion%death)//')')
+      else
+        call add_motion(model, motion)
+      end if
+    end do
+  end subroutine read_prescribed_motion
+
+  !> DOF of a prescribed motion: 1-3 translations, +-4 along vector VID, 5-7 rotations,
+  !> +-8 rotation about vector VID (rigid bodies only for rotations); 9-12 and the other
+  !> manual values are not supported. Reports and returns false when not valid.
+  logical function valid_motion_dof(card, motion, target_kind)
+    type(card_t), intent(in) :: card                  !< the card
+    type(prescribed_motion_t), intent(in) :: motion   !< the motion read
+    integer, intent(in) :: target_kind                !< ON_NODE, ON_NODE_SET or ON_PART
+    valid_motion_dof = .false.
+    select case (motion%dof)
+    case (1:3)
+      valid_motion_dof = .true.
+    case (4, -4, 8, -8)
+      if (motion%vector_id <= 0) then
+        call card_error(card, 'field DOF = '//itoa(motion%dof)//' (along/about a vector) '// &
+            'needs a vector id VID > 0 (got '//itoa(motion%vector_id)//')')
+      else if (abs(motion%dof) == 8 .and. target_kind /= ON_PART) then
+        call card_error(card, 'field DOF = '//itoa(motion%dof)//': rotations apply to '// &
+            'rigid parts only (*BOUNDARY_PRESCRIBED_MOTION_RIGID); nodes of solids have no '// &
+            'rotational degrees of freedom')
+      else
+        valid_motion_dof = .true.
+      end if
+    case (5:7)
+      if (target_kind /= ON_PART) then
+        call card_error(card, 'field DOF = '//itoa(motion%dof)//': rotations apply to '// &
+            'rigid parts only (*BOUNDARY_PRESCRIBED_MOTION_RIGID); nodes of solids have no '// &
+            'rotational degrees of freedom')
+      else
+        valid_motion_dof = .true.
+      end if
+    case (9:12, -11:-9)
+      call card_error(card, 'field DOF = '//itoa(motion%dof)//' (rotation about offset '// &
+          'axes or segment normal) is not supported (use 1-8 or -4, -8)')
+    case default
+      call card_error(card, 'field DOF = '//itoa(motion%dof)//' is not a valid degree of '// &
+          'freedom (1-3 translation, 4/-4 along VID, 5-7 rotation, 8/-8 about VID)')
+    end select
+  end function valid_motion_dof
+
+  !> *DEFINE_CURVE(_TITLE): LCID SIDR SFA SFO OFFA OFFO DATTYP / A O (2 x E20) repeated.
+  !> Stored with scale and offset applied: t = SFA (A + OFFA), f = SFO (O + OFFO).
+  subroutine read_define_curve(rd, options, model)
+    type(reader_t), intent(inout) :: rd          !< reading state
+    character(len=*), intent(in) :: options      !< keyword options
+    type(model_t), intent(inout) :: model        !< model appended to
+    type(card_t) :: card, point
+    type(curve_t) :: curve
+    logical :: got, bad
+    real(wp) :: sfa, sfo, offa, offo, a, o, previous
+    integer :: dattyp, previous_line, n
+    real(wp), allocatable :: t(:), f(:), grown(:)
+    call read_title_card(rd, options, curve%title)
+    call next_card(rd, card, got)
+    if (.not. got) then
+      call keyword_error(rd, 'missing card 1 (LCID SIDR SFA SFO OFFA OFFO DATTYP)')
+      return
+    end if
+    call split_card(rd, card, W_10)
+    call get_int(card, 1, 'LCID', curve%id, required=.true.)
+    call get_int(card, 2, 'SIDR', curve%sidr)
+    call get_real(card, 3, 'SFA', sfa, default=1.0_wp)
+    call get_real(card, 4, 'SFO', sfo, default=1.0_wp)
+    call get_real(card, 5, 'OFFA', offa)
+    call get_real(card, 6, 'OFFO', offo)
+    call get_int(card, 7, 'DATTYP', dattyp)
+    curve%src = source_t(card%file, card%line)
+    bad = card%bad
+    if (sfa == 0.0_wp) sfa = 1.0_wp
+    if (sfo == 0.0_wp) sfo = 1.0_wp
+    if (.not. bad) then
+      if (curve%id <= 0) then
+        call card_error(card, 'field LCID: curve id must be positive (got '//itoa(curve%id)//')')
+        bad = .true.
+      else if (curve%sidr < 0 .or. curve%sidr > 2) then
+        call card_error(card, 'curve '//itoa(curve%id)//': field SIDR must be 0, 1 or 2 '// &
+            '(got '//itoa(curve%sidr)//')')
+        bad = .true.
+      else if (sfa < 0.0_wp) then
+        call card_error(card, 'curve '//itoa(curve%id)//': field SFA must be > 0 '// &
+            quoted_real(sfa))
+        bad = .true.
+      else if (dattyp /= 0 .and. dattyp /= 1) then
+        call card_error(card, 'curve '//itoa(curve%id)//': field DATTYP = '//itoa(dattyp)// &
+            ' is not supported (0 or 1: tabulated points with increasing abscissas)')
+        bad = .true.
+      end if
+    end if
+    allocate(t(16), f(16))
+    n = 0
+    previous = 0.0_wp
+    previous_line = 0
+    do
+      call next_card(rd, point, got)
+      if (.not. got) exit
+      call split_card(rd, point, W_POINT)
+      call get_real(point, 1, 'A', a, required=.true.)
+      call get_real(point, 2, 'O', o, required=.true.)
+      if (point%bad) then
+        bad = .true.
+        cycle
+      end if
+      a = sfa*(a + offa)
+      o = sfo*(o + offo)
+      if (n > 0 .and. a <= previous) then
+        call card_error(point, 'curve '//itoa(curve%id)//': abscissa '//rtoa(a)// &
+            ' of point '//itoa(n + 1)//' does not increase (previous point: '//rtoa(previous)// &
+            ' at '//location(point%file, previous_line)//'); abscissas must be strictly '// &
+            'increasing')
+        bad = .true.
+      end if
+      if (n == size(t)) then
+        allocate(grown(2*n))
+        grown(1:n) = t
+        call move_alloc(grown, t)
+        allocate(grown(2*n))
+        grown(1:n) = f
+        call move_alloc(grown, f)
+      end if
+      n = n + 1
+      t(n) = a
+      f(n) = o
+      previous = a
+      previous_line = point%line
+    end do
+    if (n == 0 .and. .not. card%bad) then
+      call card_error(card, 'curve '//itoa(curve%id)//' has no points (give A O pairs, one '// &
+          'per card, after card 1)')
+      bad = .true.
+    end if
+    if (bad) return
+    curve%n = n
+    curve%t = t(1:n)
+    curve%f = f(1:n)
+    call add_curve(model, curve)
+  end subroutine read_define_curve
+
+  !> *LOAD_NODE_POINT / *LOAD_NODE_SET: NID|NSID DOF LCID SF CID M1 M2 M3, repeated.
+  subroutine read_load_node(rd, on_set, model)
+    type(reader_t), intent(inout) :: rd          !< reading state
+    logical, intent(in) :: on_set                !< _SET (node set) rather than _POINT
+    type(model_t), intent(inout) :: model        !< model appended to
+    type(card_t) :: card
+    type(nodal_load_t) :: load
+    logical :: got
+    character(len=:), allocatable :: target_name
+    target_name = trim(merge('NSID', 'NID ', on_set))
+    do
+      call next_card(rd, card, got)
+      if (.not. got) exit
+      call split_card(rd, card, W_10)
+      load = nodal_load_t()
+      load%target_kind = merge(ON_NODE_SET, ON_NODE, on_set)
+      call get_int(card, 1, target_name, load%target_id, required=.true.)
+      call get_int(card, 2, 'DOF', load%dof, required=.true.)
+      call get_int(card, 3, 'LCID', load%curve_id, required=.true.)
+      call get_real(card, 4, 'SF', load%scale, default=1.0_wp)
+      call get_int(card, 5, 'CID', load%cid)
+      load%src = source_t(card%file, card%line)
+      if (card%bad) cycle
+      if (load%scale == 0.0_wp) load%scale = 1.0_wp
+      if (load%target_id <= 0) then
+        call card_error(card, 'field '//target_name//' must be a positive id (got '// &
+            itoa(load%target_id)//')')
+      else if (load%dof >= 4 .and. load%dof <= 8) then
+        call card_error(card, 'field DOF = '//itoa(load%dof)//' is not supported: '// &
+            'follower forces and moments need rotational degrees of freedom (use 1-3)')
+      else if (load%dof < 1 .or. load%dof > 3) then
+        call card_error(card, 'field DOF must be 1, 2 or 3 (force in x, y, z) (got '// &
+            itoa(load%dof)//')')
+      else if (load%curve_id <= 0) then
+        call card_error(card, 'field LCID must be a positive curve id (got '// &
+            itoa(load%curve_id)//')')
+      else if (load%cid /= 0) then
+        call card_error(card, 'field CID = '//itoa(load%cid)//': forces in a local '// &
+            'coordinate system are not supported (use CID = 0)')
+      else
+        call add_nodal_load(model, load)
+      end if
+    end do
+  end subroutine read_load_node
+
+  !> *LOAD_SEGMENT (option ID): LCID SF AT N1 N2 N3 N4 N5, repeated (triangle: N4 = N3).
+  subroutine read_load_segment(rd, options, model)
+    type(reader_t), intent(inout) :: rd          !< reading state
+    character(len=*), intent(in) :: options      !< keyword options
+    type(model_t), intent(inout) :: model        !< model appended to
+    type(card_t) :: card
+    type(pressure_load_t) :: load
+    logical :: got, ok
+    integer :: i, n5, id
+    character(len=80) :: heading
+    if (has_option(options, 'ID')) then
+      call read_id_card(rd, id, heading, ok)
+      if (.not. ok) then
+        call skip_extra_cards(rd)
+        return
+      end if
+    end if
+    do
+      call next_card(rd, card, got)
+      if (.not. got) exit
+      call split_card(rd, card, W_10)
+      load = pressure_load_t()
+      call get_int(card, 1, 'LCID', load%curve_id, required=.true.)
+      call get_real(card, 2, 'SF', load%scale, default=1.0_wp)
+      call get_real(card, 3, 'AT', load%arrival)
+      do i = 1, 4
+        call get_int(card, 3 + i, 'N'//itoa(i), load%node_ids(i))
+      end do
+      call get_int(card, 8, 'N5', n5)
+      load%src = source_t(card%file, card%line)
+      if (card%bad) cycle
+      if (load%scale == 0.0_wp) load%scale = 1.0_wp
+      if (load%node_ids(4) == 0) load%node_ids(4) = load%node_ids(3)
+      if (load%curve_id <= 0) then
+        call card_error(card, 'field LCID must be a positive curve id (got '// &
+            itoa(load%curve_id)//')')
+      else if (any(load%node_ids <= 0)) then
+        call card_error(card, 'fields N1-N3: a segment needs three or four positive node ids')
+      else if (n5 /= 0) then
+        call card_error(card, 'field N5: higher-order (8-node) segments are not supported')
+      else
+        call add_pressure_load(model, load)
+      end if
+    end do
+  end subroutine read_load_segment
+
+  !> *LOAD_SEGMENT_SET (option ID): SSID LCID SF AT, repeated.
+  subroutine read_load_segment_set(rd, options, model)
+    type(reader_t), intent(inout) :: rd          !< reading state
+    character(len=*), intent(in) :: options      !< keyword options
+    type(model_t), intent(inout) :: model        !< model appended to
+    type(card_t) :: card
+    type(pressure_load_t) :: load
+    logical :: got, ok
+    integer :: id
+    character(len=80) :: heading
+    if (has_option(options, 'ID')) then
+      call read_id_card(rd, id, heading, ok)
+      if (.not. ok) then
+        call skip_extra_cards(rd)
+        return
+      end if
+    end if
+    do
+      call next_card(rd, card, got)
+      if (.not. got) exit
+      call split_card(rd, card, W_10)
+      load = pressure_load_t()
+      call get_int(card, 1, 'SSID', load%set_id, required=.true.)
+      call get_int(card, 2, 'LCID', load%curve_id, required=.true.)
+      call get_real(card, 3, 'SF', load%scale, default=1.0_wp)
+      call get_real(card, 4, 'AT', load%arrival)
+      load%src = source_t(card%file, card%line)
+      if (card%bad) cycle
+      if (load%scale == 0.0_wp) load%scale = 1.0_wp
+      if (load%set_id <= 0) then
+        call card_error(card, 'field SSID must be a positive segment set id (got '// &
+            itoa(load%set_id)//')')
+      else if (load%curve_id <= 0) then
+        call card_error(card, 'field LCID must be a positive curve id (got '// &
+            itoa(load%curve_id)//')')
+      else
+        call add_pressure_load(model, load)
+      end if
+    end do
+  end subroutine read_load_segment_set
+
+  !> *INITIAL_VELOCITY: NSID NSIDEX BOXID IRIGID ICID / VX VY VZ VXR VYR VZR /
+  !> [NSIDEX > 0: VXE VYE VZE VXRE VYRE VZRE], repeated. NSID = 0: all nodes.
+  subroutine read_initial_velocity(rd, model)
+    type(reader_t), intent(inout) :: rd          !< reading state
+    type(model_t), intent(inout) :: model        !< model appended to
+    type(card_t) :: card, card2, card3
+    type(initial_velocity_t) :: iv
+    logical :: got, bad
+    integer :: boxid, irigid, icid
+    do
+      call next_card(rd, card, got)
+      if (.not. got) exit
+      call split_card(rd, card, W_10)
+      iv = initial_velocity_t()
+      call get_int(card, 1, 'NSID', iv%target_id)
+      call get_int(card, 2, 'NSIDEX', iv%exempt_set_id)
+      call get_int(card, 3, 'BOXID', boxid)
+      call get_int(card, 4, 'IRIGID', irigid)
+      call get_int(card, 5, 'ICID', icid)
+      iv%src = source_t(card%file, card%line)
+      bad = card%bad
+      call next_card(rd, card2, got, keep_blank=.true.)
+      if (.not. got) then
+        call card_error(card, 'missing card 2 (VX VY VZ VXR VYR VZR)')
+        exit
+      end if
+      call read_velocities(rd, card2, iv%v, iv%omega_vector, 'V')
+      bad = bad .or. card2%bad
+      if (iv%exempt_set_id > 0) then
+        call next_card(rd, card3, got, keep_blank=.true.)
+        if (.not. got) then
+          call card_error(card, 'missing card 3 (VXE VYE VZE ...) of the exempted nodes NSIDEX')
+          exit
+        end if
+        call split_card(rd, card3, W_10)
+        call get_real(card3, 1, 'VXE', iv%v_exempt(1))
+        call get_real(card3, 2, 'VYE', iv%v_exempt(2))
+        call get_real(card3, 3, 'VZE', iv%v_exempt(3))
+        bad = bad .or. card3%bad
+      end if
+      if (bad) cycle
+      iv%target_kind = merge(ON_NODE_SET, ON_ALL_NODES, iv%target_id /= 0)
+      if (iv%target_id < 0 .or. iv%exempt_set_id < 0) then
+        call card_error(card, 'fields NSID/NSIDEX must not be negative')
+      else if (boxid /= 0) then
+        call card_error(card, 'field BOXID = '//itoa(boxid)//': boxes (*DEFINE_BOX) are '// &
+            'not supported')
+      else if (icid /= 0) then
+        call card_error(card, 'field ICID = '//itoa(icid)//': velocities in a local '// &
+            'coordinate system are not supported')
+      else
+        call add_initial_velocity(model, iv)
+      end if
+    end do
+  end subroutine read_initial_velocity
+
+  !> *INITIAL_VELOCITY_NODE: NID VX VY VZ VXR VYR VZR ICID, repeated.
+  subroutine read_initial_velocity_node(rd, model)
+    type(reader_t), intent(inout) :: rd          !< reading state
+    type(model_t), intent(inout) :: model        !< model appended to
+    type(card_t) :: card
+    type(initial_velocity_t) :: iv
+    logical :: got
+    integer :: i, icid
+    character(len=3), parameter :: NAMES(6) = ['VX ', 'VY ', 'VZ ', 'VXR', 'VYR', 'VZR']
+    real(wp) :: values(6)
+    do
+      call next_card(rd, card, got)
+      if (.not. got) exit
+      call split_card(rd, card, W_10)
+      iv = initial_velocity_t()
+      iv%target_kind = ON_NODE
+      call get_int(card, 1, 'NID', iv%target_id, required=.true.)
+      do i = 1, 6
+        call get_real(card, 1 + i, trim(NAMES(i)), values(i))
+      end do
+      call get_int(card, 8, 'ICID', icid)
+      iv%v = values(1:3)
+      iv%omega_vector = values(4:6)
+      iv%src = source_t(card%file, card%line)
+      if (card%bad) cycle
+      if (iv%target_id <= 0) then
+        call card_error(card, 'field NID must be a positive node id (got '// &
+            itoa(iv%target_id)//')')
+      else if (icid /= 0) then
+        call card_error(card, 'field ICID = '//itoa(icid)//': velocities in a local '// &
+            'coordinate system are not supported')
+      else
+        call add_initial_velocity(model, iv)
+      end if
+    end do
+  end subroutine read_initial_velocity_node
+
+  !> *INITIAL_VELOCITY_GENERATION: ID STYP OMEGA VX VY VZ IVATN ICID /
+  !> XC YC ZC NX NY NZ PHASE IRIGID, repeated. STYP 1 part set, 2 part, 3 node set.
+  subroutine read_initial_velocity_generation(rd, model)
+    type(reader_t), intent(inout) :: rd          !< reading state
+    type(model_t), intent(inout) :: model        !< model appended to
+    type(card_t) :: card, card2
+    type(initial_velocity_t) :: iv
+    logical :: got
+    integer :: styp, ivatn, icid, phase, irigid
+    do
+      call next_card(rd, card, got)
+      if (.not. got) exit
+      call split_card(rd, card, W_10)
+      iv = initial_velocity_t()
+      iv%generation = .true.
+      call get_int(card, 1, 'ID', iv%target_id, required=.true.)
+      call get_int(card, 2, 'STYP', styp, required=.true.)
+      call get_real(card, 3, 'OMEGA', iv%omega)
+      call get_real(card, 4, 'VX', iv%v(1))
+      call get_real(card, 5, 'VY', iv%v(2))
+      call get_real(card, 6, 'VZ', iv%v(3))
+      call get_int(card, 7, 'IVATN', ivatn)
+      call get_int(card, 8, 'ICID', icid)
+      iv%src = source_t(card%file, card%line)
+      call next_card(rd, card2, got, keep_blank=.true.)
+      if (.not. got) then
+        call card_error(card, 'missing card 2 (XC YC ZC NX NY NZ PHASE IRIGID)')
+        exit
+      end if
+      call split_card(rd, card2, W_10)
+      call get_real(card2, 1, 'XC', iv%center(1))
+      call get_real(card2, 2, 'YC', iv%center(2))
+      call get_real(card2, 3, 'ZC', iv%center(3))
+      call get_real(card2, 4, 'NX', iv%axis(1))
+      call get_real(card2, 5, 'NY', iv%axis(2))
+      call get_real(card2, 6, 'NZ', iv%axis(3))
+      call get_int(card2, 7, 'PHASE', phase)
+      call get_int(card2, 8, 'IRIGID', irigid)
+      if (card%bad .or. card2%bad) cycle
+      select case (styp)
+      case (1)
+        iv%target_kind = ON_PART_SET
+      case (2)
+        iv%target_kind = ON_PART
+      case (3)
+        iv%target_kind = ON_NODE_SET
+      case default
+        call card_error(card, 'field STYP must be 1 (part set), 2 (part) or 3 (node set) '// &
+            '(got '//itoa(styp)//')')
+        cycle
+      end select
+      if (iv%target_id <= 0) then
+        call card_error(card, 'field ID must be a positive set or part id (got '// &
+            itoa(iv%target_id)//')')
+      else if (icid /= 0) then
+        call card_error(card, 'field ICID = '//itoa(icid)//': velocities in a local '// &
+            'coordinate system are not supported')
+      else if (iv%omega /= 0.0_wp .and. norm2(iv%axis) == 0.0_wp) then
+        call card_error(card2, 'fields NX NY NZ: the rotation axis is zero but OMEGA = '// &
+            rtoa(iv%omega)//' is given')
+      else if (phase /= 0 .and. phase /= 1) then
+        call card_error(card2, 'field PHASE must be 0 or 1 (got '//itoa(phase)//')')
+      else
+        if (norm2(iv%axis) > 0.0_wp) iv%axis = iv%axis/norm2(iv%axis)
+        call add_initial_velocity(model, iv)
+      end if
+    end do
+  end subroutine read_initial_velocity_generation
+
+  !> Six velocities VX VY VZ VXR VYR VZR of a card (prefix 'V' names the fields).
+  subroutine read_velocities(rd, card, v, vr, prefix)
+    type(reader_t), intent(in) :: rd             !< reading state
+    type(card_t), intent(inout) :: card          !< the card
+    real(wp), intent(out) :: v(3), vr(3)         !< translational and rotational velocities
+    character(len=*), intent(in) :: prefix       !< field-name prefix
+    call split_card(rd, card, W_10)
+    call get_real(card, 1, prefix//'X', v(1))
+    call get_real(card, 2, prefix//'Y', v(2))
+    call get_real(card, 3, prefix//'Z', v(3))
+    call get_real(card, 4, prefix//'XR', vr(1))
+    call get_real(card, 5, prefix//'YR', vr(2))
+    call get_real(card, 6, prefix//'ZR', vr(3))
+  end subroutine read_velocities
+
+  !> Append an SPC.
+  subroutine add_spc(model, item)
+    type(model_t), intent(inout) :: model      !< model appended to
+    type(spc_t), intent(in) :: item            !< the record
+    type(spc_t), allocatable :: grown(:)
+    if (.not. allocated(model%spcs)) allocate(model%spcs(0))
+    if (model%n_spcs == size(model%spcs)) then
+      allocate(grown(max(8, 2*model%n_spcs)))
+      grown(1:model%n_spcs) = model%spcs(1:model%n_spcs)
+      call move_alloc(grown, model%spcs)
+    end if
+    model%n_spcs = model%n_spcs + 1
+    model%spcs(model%n_spcs) = item
+  end subroutine add_spc
+
+  !> Append a prescribed motion.
+  subroutine add_motion(model, item)
+    type(model_t), intent(inout) :: model            !< model appended to
+    type(prescribed_motion_t), intent(in) :: item    !< the record
+    type(prescribed_motion_t), allocatable :: grown(:)
+    if (.not. allocated(model%motions)) allocate(model%motions(0))
+    if (model%n_motions == size(model%motions)) then
+      allocate(grown(max(8, 2*model%n_motions)))
+      grown(1:model%n_motions) = model%motions(1:model%n_motions)
+      call move_alloc(grown, model%motions)
+    end if
+    model%n_motions = model%n_motions + 1
+    model%motions(model%n_motions) = item
+  end subroutine add_motion
+
+  !> Append a curve.
+  subroutine add_curve(model, item)
+    type(model_t), intent(inout) :: model      !< model appended to
+    type(curve_t), intent(in) :: item          !< the record
+    type(curve_t), allocatable :: grown(:)
+    if (.not. allocated(model%curves)) allocate(model%curves(0))
+    if (model%n_curves == size(model%curves)) then
+      allocate(grown(max(8, 2*model%n_curves)))
+      grown(1:model%n_curves) = model%curves(1:model%n_curves)
+      call move_alloc(grown, model%curves)
+    end if
+    model%n_curves = model%n_curves + 1
+    model%curves(model%n_curves) = item
+  end subroutine add_curve
+
+  !> Append a nodal load.
+  subroutine add_nodal_load(model, item)
+    type(model_t), intent(inout) :: model      !< model appended to
+    type(nodal_load_t), intent(in) :: item     !< the record
+    type(nodal_load_t), allocatable :: grown(:)
+    if (.not. allocated(model%nodal_loads)) allocate(model%nodal_loads(0))
+    if (model%n_nodal_loads == size(model%nodal_loads)) then
+      allocate(grown(max(8, 2*model%n_nodal_loads)))
+      grown(1:model%n_nodal_loads) = model%nodal_loads(1:model%n_nodal_loads)
+      call move_alloc(grown, model%nodal_loads)
+    end if
+    model%n_nodal_loads = model%n_nodal_loads + 1
+    model%nodal_loads(model%n_nodal_loads) = item
+  end subroutine add_nodal_load
+
+  !> Append a pressure load.
+  subroutine add_pressure_load(model, item)
+    type(model_t), intent(inout) :: model         !< model appended to
+    type(pressure_load_t), intent(in) :: item     !< the record
+    type(pressure_load_t), allocatable :: grown(:)
+    if (.not. allocated(model%pressure_loads)) allocate(model%pressure_loads(0))
+    if (model%n_pressure_loads == size(model%pressure_loads)) then
+      allocate(grown(max(8, 2*model%n_pressure_loads)))
+      grown(1:model%n_pressure_loads) = model%pressure_loads(1:model%n_pressure_loads)
+      call move_alloc(grown, model%pressure_loads)
+    end if
+    model%n_pressure_loads = model%n_pressure_loads + 1
+    model%pressure_loads(model%n_pressure_loads) = item
+  end subroutine add_pressure_load
+
+  !> Append an initial velocity.
+  subroutine add_initial_velocity(model, item)
+    type(model_t), intent(inout) :: model            !< model appended to
+    type(initial_velocity_t), intent(in) :: item     !< the record
+    type(initial_velocity_t), allocatable :: grown(:)
+    integer :: n
+    n = model%n_initial_velocities
+    if (.not. allocated(model%initial_velocities)) allocate(model%initial_velocities(0))
+    if (n == size(model%initial_velocities)) then
+      allocate(grown(max(8, 2*n)))
+      grown(1:n) = model%initial_velocities(1:n)
+      call move_alloc(grown, model%initial_velocities)
+    end if
+    model%n_initial_velocities = n + 1
+    model%initial_velocities(n + 1) = item
+  end subroutine add_initial_velocity
+
+end module mefem_read_conditions

@@ -1,0 +1,331 @@
+!> Keyword handlers for contact and rigid walls: *CONTACT_AUTOMATIC_SURFACE_TO_SURFACE (options
+!> MORTAR, ID, TITLE, MPP) and *RIGIDWALL_PLANAR (option ID).
+!>
+!> Contact card order (LS-DYNA manual): [_ID/_TITLE: CID HEADING] [_MPP: IGNORE BCKT LCBCKT
+!> NS2TRK INITITR PARMAX - CPARM8, and an optional second card starting with '&'] / card 1
+!> SURFA SURFB SURFATYP SURFBTYP SABOXID SBBOXID SAPR SBPR / card 2 FS FD DC VC VDC PENCHK BT
+!> DT / card 3 SFSA SFSB SAST SBST SFSAT SFSBT FSF VSF / optional cards A-F, of which SOFT and
+!> SOFSCL (A), PENMAX (B) and IGAP and IGNORE (C) are used.
+module mefem_read_contact
+  use mefem_kinds, only: wp
+  use mefem_strings, only: itoa, rtoa
+  use mefem_cards, only: reader_t, card_t, next_card, split_card, get_int, get_real, &
+                         card_error, keyword_error
+  use mefem_card_helpers, only: has_option, read_id_card, quoted_real, reject_extra_cards, &
+                                skip_extra_cards
+  use mefem_deck_source, only: deck_push_back
+  use mefem_model, only: model_t, contact_t, rigid_wall_t, source_t
+  implicit none
+  private
+
+  public :: read_contact_surface_to_surface, read_rigidwall_planar
+
+  integer, parameter :: W_10(8) = 10          !< standard 8 x 10 card
+  integer, parameter :: N_OPTIONAL = 6        !< optional cards A to F
+
+contains
+
+  !> *CONTACT_AUTOMATIC_SURFACE_TO_SURFACE(_MORTAR)(_ID|_TITLE)(_MPP): one interface.
+  subroutine read_contact_surface_to_surface(rd, options, model)
+    type(reader_t), intent(inout) :: rd          !< reading state
+    character(len=*), intent(in) :: options      !< keyword options
+    type(model_t), intent(inout) :: model        !< model appended to
+    type(contact_t) :: contact
+    type(card_t) :: card, card1, card2, card3, mpp
+    logical :: got, ok, bad
+    integer :: k, sapr, sbpr, saboxid, sbboxid, penchk
+    character(len=:), allocatable :: who
+    contact%mortar = has_option(options, 'MORTAR')
+    if (has_option(options, 'ID') .or. has_option(options, 'TITLE')) then
+      call read_id_card(rd, contact%id, contact%title, ok)
+      if (.not. ok) then
+        call skip_extra_cards(rd)
+        return
+      end if
+    end if
+    if (has_option(options, 'MPP')) then
+      call next_card(rd, mpp, got, keep_blank=.true.)
+      if (got) then
+        ! the optional second MPP card starts with '&'
+        call next_card(rd, mpp, got, keep_blank=.true.)
+        if (got) then
+          if (mpp%length == 0 .or. mpp%text(1:1) /= '&') call push_back_card(rd)
+        end if
+      end if
+    end if
+    bad = .false.
+    ! card 1
+    call next_card(rd, card1, got)
+    if (.not. got) then
+      call keyword_error(rd, 'missing card 1 (SURFA SURFB SURFATYP SURFBTYP ...)')
+      return
+    end if
+    call split_card(rd, card1, W_10)
+    call get_int(card1, 1, 'SURFA', contact%surf_a_id, required=.true.)
+    call get_int(card1, 2, 'SURFB', contact%surf_b_id, required=.true.)
+    call get_int(card1, 3, 'SURFATYP', contact%surf_a_type)
+    call get_int(card1, 4, 'SURFBTYP', contact%surf_b_type)
+    call get_int(card1, 5, 'SABOXID', saboxid)
+    call get_int(card1, 6, 'SBBOXID', sbboxid)
+    call get_int(card1, 7, 'SAPR', sapr)
+    call get_int(card1, 8, 'SBPR', sbpr)
+    contact%src = source_t(card1%file, card1%line)
+    bad = card1%bad
+    who = 'contact'
+    if (contact%id /= 0) who = 'contact '//itoa(contact%id)
+    ! card 2
+    call next_card(rd, card2, got, keep_blank=.true.)
+    if (.not. got) then
+      call card_error(card1, who//': missing card 2 (FS FD DC VC VDC PENCHK BT DT)')
+      return
+    end if
+    call split_card(rd, card2, W_10)
+    call get_real(card2, 1, 'FS', contact%fs)
+    call get_real(card2, 2, 'FD', contact%fd)
+    call get_real(card2, 3, 'DC', contact%dc)
+    call get_real(card2, 4, 'VC', contact%vc)
+    call get_real(card2, 5, 'VDC', contact%vdc)
+    call get_int(card2, 6, 'PENCHK', penchk)
+    call get_real(card2, 7, 'BT', contact%birth)
+    call get_real(card2, 8, 'DT', contact%death, default=1.0e20_wp)
+    if (contact%death == 0.0_wp) contact%death = 1.0e20_wp
+    bad = bad .or. card2%bad
+    ! card 3 (required, may be blank)
+    call next_card(rd, card3, got, keep_blank=.true.)
+    if (.not. got) then
+      call card_error(card2, who//': missing card 3 (SFSA SFSB SAST SBST SFSAT SFSBT FSF '// &
+          'VSF; a blank line gives the defaults)')
+      return
+    end if
+    call split_card(rd, card3, W_10)
+    call get_real(card3, 1, 'SFSA', contact%sfsa, default=1.0_wp)
+    call get_real(card3, 2, 'SFSB', contact%sfsb, default=1.0_wp)
+    call get_real(card3, 3, 'SAST', contact%sast)
+    call get_real(card3, 4, 'SBST', contact%sbst)
+    call get_real(card3, 5, 'SFSAT', contact%sfsat, default=1.0_wp)
+    call get_real(card3, 6, 'SFSBT', contact%sfsbt, default=1.0_wp)
+    call get_real(card3, 7, 'FSF', contact%fsf, default=1.0_wp)
+    call get_real(card3, 8, 'VSF', contact%vsf, default=1.0_wp)
+    call zero_means_one(contact%sfsa)
+    call zero_means_one(contact%sfsb)
+    call zero_means_one(contact%sfsat)
+    call zero_means_one(contact%sfsbt)
+    call zero_means_one(contact%fsf)
+    call zero_means_one(contact%vsf)
+    bad = bad .or. card3%bad
+    ! optional cards A, B, C (D, E, F accepted and not used)
+    do k = 1, N_OPTIONAL
+      call next_card(rd, card, got, keep_blank=.true.)
+      if (.not. got) exit
+      call split_card(rd, card, W_10)
+      select case (k)
+      case (1)
+        call get_int(card, 1, 'SOFT', contact%soft)
+        call get_real(card, 2, 'SOFSCL', contact%sofscl, default=0.1_wp)
+        if (contact%sofscl == 0.0_wp) contact%sofscl = 0.1_wp
+      case (2)
+        call get_real(card, 1, 'PENMAX', contact%penmax)
+      case (3)
+        call get_int(card, 1, 'IGAP', contact%igap, default=1)
+        call get_int(card, 2, 'IGNORE', contact%ignore)
+      end select
+      bad = bad .or. card%bad
+      if (k <= 3 .and. .not. card%bad) call check_optional(card, k, contact, who, bad)
+    end do
+    call reject_extra_cards(rd, who)
+    if (bad) return
+    call check_contact(card1, card2, card3, contact, who, saboxid, sbboxid, bad)
+    if (.not. bad) call add_contact(model, contact)
+  end subroutine read_contact_surface_to_surface
+
+  !> Values of cards 1-3 that mefem cannot honour or that make no sense.
+  subroutine check_contact(card1, card2, card3, contact, who, saboxid, sbboxid, bad)
+    type(card_t), intent(in) :: card1, card2, card3  !< the cards
+    type(contact_t), intent(in) :: contact           !< the contact read
+    character(len=*), intent(in) :: who              !< 'contact 5'
+    integer, intent(in) :: saboxid, sbboxid          !< box ids
+    logical, intent(inout) :: bad                    !< set on any error
+    if (contact%surf_a_id <= 0 .or. contact%surf_b_id <= 0) call fail(card1, who// &
+        ': fields SURFA and SURFB must be positive ids (got '//itoa(contact%surf_a_id)// &
+        ' and '//itoa(contact%surf_b_id)//')')
+    if (.not. any(contact%surf_a_type == [0, 2, 3])) call fail(card1, who// &
+        ': field SURFATYP = '//itoa(contact%surf_a_type)//' is not supported '// &
+        '(0 segment set, 2 part set, 3 part)')
+    if (.not. any(contact%surf_b_type == [0, 2, 3])) call fail(card1, who// &
+        ': field SURFBTYP = '//itoa(contact%surf_b_type)//' is not supported '// &
+        '(0 segment set, 2 part set, 3 part)')
+    if (saboxid /= 0 .or. sbboxid /= 0) call fail(card1, who// &
+        ': fields SABOXID/SBBOXID: boxes (*DEFINE_BOX) are not supported')
+    if (contact%fs < 0.0_wp) call fail(card2, who//': field FS must not be negative '// &
+        quoted_real(contact%fs))
+    if (contact%fd < 0.0_wp) call fail(card2, who//': field FD must not be negative '// &
+        quoted_real(contact%fd))
+    if (contact%dc < 0.0_wp) call fail(card2, who//': field DC must not be negative '// &
+        quoted_real(contact%dc))
+    if (contact%birth >= contact%death) call fail(card2, who//': field BT ('// &
+        rtoa(contact%birth)//') must be before DT ('//rtoa(contact%death)//')')
+    if (contact%sfsa < 0.0_wp .or. contact%sfsb < 0.0_wp) call fail(card3, who// &
+        ': fields SFSA/SFSB must be > 0 (got '//rtoa(contact%sfsa)//' and '// &
+        rtoa(contact%sfsb)//')')
+  contains
+    !> Report and remember an error.
+    subroutine fail(where_card, message)
+      type(card_t), intent(in) :: where_card     !< the card with the field
+      character(len=*), intent(in) :: message    !< what is wrong
+      call card_error(where_card, message)
+      bad = .true.
+    end subroutine fail
+  end subroutine check_contact
+
+  !> Values of optional cards A-C.
+  subroutine check_optional(card, k, contact, who, bad)
+    type(card_t), intent(in) :: card                 !< optional card k
+    integer, intent(in) :: k                         !< 1 = A, 2 = B, 3 = C
+    type(contact_t), intent(in) :: contact           !< the contact read
+    character(len=*), intent(in) :: who              !< 'contact 5'
+    logical, intent(inout) :: bad                    !< set on any error
+    select case (k)
+    case (1)
+      if (contact%soft < 0 .or. contact%soft > 2) then
+        call card_error(card, who//': field SOFT must be 0, 1 or 2 (got '// &
+            itoa(contact%soft)//')')
+        bad = .true.
+      else if (contact%sofscl < 0.0_wp) then
+        call card_error(card, who//': field SOFSCL must be > 0 '//quoted_real(contact%sofscl))
+        bad = .true.
+      end if
+    case (2)
+      if (contact%penmax < 0.0_wp) then
+        call card_error(card, who//': field PENMAX must not be negative '// &
+            quoted_real(contact%penmax))
+        bad = .true.
+      end if
+    case (3)
+      if (contact%igap < 0 .or. contact%ignore < -2 .or. contact%ignore > 2) then
+        call card_error(card, who//': fields IGAP >= 0 and IGNORE in -2..2 expected (got '// &
+            itoa(contact%igap)//' and '//itoa(contact%ignore)//')')
+        bad = .true.
+      end if
+    end select
+  end subroutine check_optional
+
+  !> *RIGIDWALL_PLANAR (option ID): NSID NSIDEX BOXID OFFSET BIRTH DEATH RWKSF /
+  !> XT YT ZT XH YH ZH FRIC WVEL, repeated. NSID = 0: all nodes.
+  subroutine read_rigidwall_planar(rd, options, model)
+    type(reader_t), intent(inout) :: rd          !< reading state
+    character(len=*), intent(in) :: options      !< keyword options
+    type(model_t), intent(inout) :: model        !< model appended to
+    type(rigid_wall_t) :: wall
+    type(card_t) :: card, card2
+    logical :: got, ok
+    integer :: boxid, id
+    character(len=80) :: heading
+    id = 0
+    if (has_option(options, 'ID')) then
+      call read_id_card(rd, id, heading, ok)
+      if (.not. ok) then
+        call skip_extra_cards(rd)
+        return
+      end if
+    end if
+    do
+      call next_card(rd, card, got)
+      if (.not. got) exit
+      call split_card(rd, card, W_10)
+      wall = rigid_wall_t()
+      wall%id = id
+      call get_int(card, 1, 'NSID', wall%node_set_id)
+      call get_int(card, 2, 'NSIDEX', wall%exempt_set_id)
+      call get_int(card, 3, 'BOXID', boxid)
+      call get_real(card, 4, 'OFFSET', wall%offset)
+      call get_real(card, 5, 'BIRTH', wall%birth)
+      call get_real(card, 6, 'DEATH', wall%death, default=1.0e20_wp)
+      call get_real(card, 7, 'RWKSF', wall%stiffness_scale, default=1.0_wp)
+      if (wall%death == 0.0_wp) wall%death = 1.0e20_wp
+      call zero_means_one(wall%stiffness_scale)
+      wall%src = source_t(card%file, card%line)
+      call next_card(rd, card2, got, keep_blank=.true.)
+      if (.not. got) then
+        call card_error(card, 'missing card 2 (XT YT ZT XH YH ZH FRIC WVEL)')
+        exit
+      end if
+      call split_card(rd, card2, W_10)
+      call get_real(card2, 1, 'XT', wall%tail(1))
+      call get_real(card2, 2, 'YT', wall%tail(2))
+      call get_real(card2, 3, 'ZT', wall%tail(3))
+      call get_real(card2, 4, 'XH', wall%head(1))
+      call get_real(card2, 5, 'YH', wall%head(2))
+      call get_real(card2, 6, 'ZH', wall%head(3))
+      call get_real(card2, 7, 'FRIC', wall%friction)
+      call get_real(card2, 8, 'WVEL', wall%weld_velocity)
+      if (card%bad .or. card2%bad) cycle
+      if (wall%node_set_id < 0 .or. wall%exempt_set_id < 0) then
+        call card_error(card, 'fields NSID/NSIDEX must not be negative')
+      else if (boxid /= 0) then
+        call card_error(card, 'field BOXID = '//itoa(boxid)//': boxes (*DEFINE_BOX) are '// &
+            'not supported')
+      else if (wall%birth >= wall%death) then
+        call card_error(card, 'field BIRTH ('//rtoa(wall%birth)//') must be before DEATH ('// &
+            rtoa(wall%death)//')')
+      else if (wall%stiffness_scale < 0.0_wp) then
+        call card_error(card, 'field RWKSF must be > 0 '//quoted_real(wall%stiffness_scale))
+      else if (all(wall%head == wall%tail)) then
+        call card_error(card2, 'the head (XH YH ZH) equals the tail (XT YT ZT): the wall '// &
+            'normal is undefined')
+      else if (wall%friction < 0.0_wp .or. wall%friction > 1.0_wp) then
+        if (wall%friction == 2.0_wp .or. wall%friction == 3.0_wp) then
+          call card_error(card2, 'field FRIC = '//rtoa(wall%friction)//' (welding) is not '// &
+              'supported')
+        else
+          call card_error(card2, 'field FRIC must be between 0 and 1 '// &
+              quoted_real(wall%friction))
+        end if
+      else
+        call add_rigid_wall(model, wall)
+      end if
+    end do
+  end subroutine read_rigidwall_planar
+
+  !> LS-DYNA reads a zero scale factor as its default, 1.
+  subroutine zero_means_one(x)
+    real(wp), intent(inout) :: x   !< the factor
+    if (x == 0.0_wp) x = 1.0_wp
+  end subroutine zero_means_one
+
+  !> Return the card just read to the deck (it belongs to the next reader).
+  subroutine push_back_card(rd)
+    type(reader_t), intent(inout) :: rd          !< reading state
+    call deck_push_back(rd%deck)
+  end subroutine push_back_card
+
+  !> Append a contact.
+  subroutine add_contact(model, item)
+    type(model_t), intent(inout) :: model      !< model appended to
+    type(contact_t), intent(in) :: item        !< the record
+    type(contact_t), allocatable :: grown(:)
+    if (.not. allocated(model%contacts)) allocate(model%contacts(0))
+    if (model%n_contacts == size(model%contacts)) then
+      allocate(grown(max(8, 2*model%n_contacts)))
+      grown(1:model%n_contacts) = model%contacts(1:model%n_contacts)
+      call move_alloc(grown, model%contacts)
+    end if
+    model%n_contacts = model%n_contacts + 1
+    model%contacts(model%n_contacts) = item
+  end subroutine add_contact
+
+  !> Append a rigid wall.
+  subroutine add_rigid_wall(model, item)
+    type(model_t), intent(inout) :: model      !< model appended to
+    type(rigid_wall_t), intent(in) :: item     !< the record
+    type(rigid_wall_t), allocatable :: grown(:)
+    if (.not. allocated(model%rigid_walls)) allocate(model%rigid_walls(0))
+    if (model%n_rigid_walls == size(model%rigid_walls)) then
+      allocate(grown(max(8, 2*model%n_rigid_walls)))
+      grown(1:model%n_rigid_walls) = model%rigid_walls(1:model%n_rigid_walls)
+      call move_alloc(grown, model%rigid_walls)
+    end if
+    model%n_rigid_walls = model%n_rigid_walls + 1
+    model%rigid_walls(model%n_rigid_walls) = item
+  end subroutine add_rigid_wall
+
+end module mefem_read_contact

@@ -1,0 +1,438 @@
+!> Keyword handlers for materials: *MAT_ELASTIC (*MAT_001), *MAT_PIECEWISE_LINEAR_PLASTICITY
+!> (*MAT_024), *MAT_POWER_LAW_PLASTICITY (*MAT_018), *MAT_MOONEY-RIVLIN_RUBBER (*MAT_027) and
+!> *MAT_RIGID (*MAT_020), each with the _TITLE option. One material per keyword occurrence.
+!>
+!> Every value that would make the analysis meaningless is an error naming the field and
+!> quoting the value. Curve references (LCSS, LCSR) and duplicate ids are checked later by
+!> resolve_conditions.
+module mefem_read_materials
+  use mefem_kinds, only: wp
+  use mefem_strings, only: itoa, rtoa
+  use mefem_cards, only: reader_t, card_t, next_card, split_card, get_int, get_real, &
+                         card_error, keyword_error
+  use mefem_card_helpers, only: read_title_card, reject_extra_cards, quoted_real
+  use mefem_model, only: model_t, material_t, source_t, MAT_ELASTIC, MAT_PIECEWISE_LINEAR, &
+                         MAT_POWER_LAW, MAT_RIGID, MAT_MOONEY_RIVLIN
+  implicit none
+  private
+
+  public :: read_mat_elastic, read_mat_piecewise_linear, read_mat_power_law, &
+            read_mat_mooney_rivlin, read_mat_rigid, material_keyword
+
+  integer, parameter :: W_10(8) = 10   !< standard 8 x 10 card
+  real(wp), parameter :: NO_FAILURE = 1.0e21_wp   !< FAIL default of *MAT_024
+
+contains
+
+  !> Keyword name of a material kind, for messages.
+  function material_keyword(kind) result(s)
+    integer, intent(in) :: kind   !< MAT_* code
+    character(len=:), allocatable :: s
+    select case (kind)
+    case (MAT_ELASTIC)
+      s = '*MAT_ELASTIC'
+    case (MAT_PIECEWISE_LINEAR)
+      s = '*MAT_PIECEWISE_LINEAR_PLASTICITY'
+    case (MAT_POWER_LAW)
+      s = '*MAT_POWER_LAW_PLASTICITY'
+    case (MAT_MOONEY_RIVLIN)
+      s = '*MAT_MOONEY-RIVLIN_RUBBER'
+    case (MAT_RIGID)
+      s = '*MAT_RIGID'
+    case default
+      s = '*MAT'
+    end select
+  end function material_keyword
+
+  !> *MAT_ELASTIC: MID RO E PR DA DB K.
+  subroutine read_mat_elastic(rd, options, model)
+    type(reader_t), intent(inout) :: rd          !< reading state
+    character(len=*), intent(in) :: options      !< keyword options
+    type(model_t), intent(inout) :: model        !< model appended to
+    type(material_t) :: mat
+    type(card_t) :: card
+    logical :: got
+    mat%kind = MAT_ELASTIC
+    call read_title_card(rd, options, mat%title)
+    call first_card(rd, card, got, 'MID RO E PR DA DB K')
+    if (.not. got) return
+    call read_mid_ro(card, mat)
+    call get_real(card, 3, 'E', mat%young, required=.true.)
+    call get_real(card, 4, 'PR', mat%poisson)
+    if (.not. card%bad) call check_elastic(card, mat, .true.)
+    if (.not. card%bad) call add_material(model, mat)
+    call reject_extra_cards(rd, 'material '//itoa(mat%id))
+  end subroutine read_mat_elastic
+
+  !> *MAT_PIECEWISE_LINEAR_PLASTICITY: MID RO E PR SIGY ETAN FAIL TDEL / C P LCSS LCSR VP /
+  !> EPS1-8 / ES1-8. Missing EPS/ES cards count as blank.
+  subroutine read_mat_piecewise_linear(rd, options, model)
+    type(reader_t), intent(inout) :: rd          !< reading state
+    character(len=*), intent(in) :: options      !< keyword options
+    type(model_t), intent(inout) :: model        !< model appended to
+    type(material_t) :: mat
+    type(card_t) :: card, card2, card3, card4
+    logical :: got, bad
+    integer :: i
+    mat%kind = MAT_PIECEWISE_LINEAR
+    call read_title_card(rd, options, mat%title)
+    call first_card(rd, card, got, 'MID RO E PR SIGY ETAN FAIL TDEL')
+    if (.not. got) return
+    call read_mid_ro(card, mat)
+    call get_real(card, 3, 'E', mat%young, required=.true.)
+    call get_real(card, 4, 'PR', mat%poisson)
+    call get_real(card, 5, 'SIGY', mat%yield_stress)
+    call get_real(card, 6, 'ETAN', mat%tangent_modulus)
+    call get_real(card, 7, 'FAIL', mat%failure_strain, default=NO_FAILURE)
+    bad = card%bad
+    if (.not. bad) call check_elastic(card, mat, .true.)
+    bad = bad .or. card%bad
+    ! card 2: C P LCSS LCSR VP
+    call next_card(rd, card2, got, keep_blank=.true.)
+    if (.not. got) then
+      call card_error(card, 'material '//itoa(mat%id)//': missing card 2 (C P LCSS LCSR VP)')
+      return
+    end if
+    call split_card(rd, card2, W_10)
+    call get_real(card2, 1, 'C', mat%cowper_c)
+    call get_real(card2, 2, 'P', mat%cowper_p)
+    call get_int(card2, 3, 'LCSS', mat%lcss)
+    call get_int(card2, 4, 'LCSR', mat%lcsr)
+    call get_real(card2, 5, 'VP', mat%vp)
+    ! cards 3 and 4: EPS1-8 and ES1-8 (LS-DYNA wants them, blank or not; missing = blank)
+    call next_card(rd, card3, got, keep_blank=.true.)
+    if (got) then
+      call split_card(rd, card3, W_10)
+      do i = 1, 8
+        call get_real(card3, i, 'EPS'//itoa(i), mat%eps(i))
+      end do
+      call next_card(rd, card4, got, keep_blank=.true.)
+      if (got) then
+        call split_card(rd, card4, W_10)
+        do i = 1, 8
+          call get_real(card4, i, 'ES'//itoa(i), mat%es(i))
+        end do
+        bad = bad .or. card4%bad
+      end if
+      bad = bad .or. card3%bad
+    else
+      card3 = card2
+      card4 = card2
+    end if
+    bad = bad .or. card2%bad
+    if (.not. bad) call check_piecewise_linear(card, card2, card3, card4, mat, bad)
+    if (.not. bad) call add_material(model, mat)
+    call reject_extra_cards(rd, 'material '//itoa(mat%id))
+  end subroutine read_mat_piecewise_linear
+
+  !> Checks of *MAT_024 beyond the elastic constants: yield, hardening, failure, rate
+  !> parameters and the EPS/ES table (points are the leading ES values that are nonzero).
+  subroutine check_piecewise_linear(card, card2, card3, card4, mat, bad)
+    type(card_t), intent(in) :: card, card2, card3, card4   !< the four cards
+    type(material_t), intent(inout) :: mat                  !< the material
+    logical, intent(inout) :: bad                           !< set on any error
+    character(len=:), allocatable :: who
+    integer :: i, n
+    who = 'material '//itoa(mat%id)//': '
+    if (mat%yield_stress < 0.0_wp) call fail(card, who//'field SIGY must not be negative '// &
+        quoted_real(mat%yield_stress))
+    if (mat%tangent_modulus < 0.0_wp .or. mat%tangent_modulus >= mat%young) &
+      call fail(card, who//'field ETAN must be >= 0 and < E = '//rtoa(mat%young)//' '// &
+                quoted_real(mat%tangent_modulus))
+    if (mat%failure_strain < 0.0_wp) then
+      call fail(card, who//'field FAIL < 0 (user failure subroutine) is not supported '// &
+                quoted_real(mat%failure_strain))
+    else if (mat%failure_strain == 0.0_wp) then
+      mat%failure_strain = NO_FAILURE
+    end if
+    if (mat%cowper_c < 0.0_wp) call fail(card2, who//'field C must not be negative '// &
+        quoted_real(mat%cowper_c))
+    if (mat%cowper_p < 0.0_wp .or. (mat%cowper_c > 0.0_wp .and. mat%cowper_p == 0.0_wp)) &
+      call fail(card2, who//'field P must be > 0 when C is given '//quoted_real(mat%cowper_p))
+    if (mat%lcss < 0) call fail(card2, who//'field LCSS must not be negative (got '// &
+        itoa(mat%lcss)//')')
+    if (mat%lcsr < 0) call fail(card2, who//'field LCSR must not be negative (got '// &
+        itoa(mat%lcsr)//')')
+    if (mat%vp /= 0.0_wp .and. mat%vp /= 1.0_wp .and. mat%vp /= -1.0_wp) &
+      call fail(card2, who//'field VP must be -1, 0 or 1 '//quoted_real(mat%vp))
+    ! the EPS/ES table
+    n = 0
+    do i = 8, 1, -1
+      if (mat%es(i) /= 0.0_wp) then
+        n = i
+        exit
+      end if
+    end do
+    mat%n_points = n
+    if (n == 1) call fail(card4, who//'EPS/ES table: give at least 2 points (only ES1 is set)')
+    do i = 1, n
+      if (mat%es(i) <= 0.0_wp) call fail(card4, who//'field ES'//itoa(i)// &
+          ' must be > 0 '//quoted_real(mat%es(i)))
+      if (mat%eps(i) < 0.0_wp) call fail(card3, who//'field EPS'//itoa(i)// &
+          ' must not be negative '//quoted_real(mat%eps(i)))
+      if (i > 1) then
+        if (mat%eps(i) <= mat%eps(i-1)) call fail(card3, who//'field EPS'//itoa(i)// &
+            ' must be greater than EPS'//itoa(i-1)//' = '//rtoa(mat%eps(i-1))//' '// &
+            quoted_real(mat%eps(i)))
+      end if
+    end do
+    if (mat%lcss == 0 .and. n == 0 .and. mat%yield_stress <= 0.0_wp) call fail(card, who// &
+        'field SIGY must be > 0 when neither LCSS nor an EPS/ES table is given '// &
+        quoted_real(mat%yield_stress))
+  contains
+    !> Report and remember an error.
+    subroutine fail(where_card, message)
+      type(card_t), intent(in) :: where_card     !< the card with the field
+      character(len=*), intent(in) :: message    !< what is wrong
+      call card_error(where_card, message)
+      bad = .true.
+    end subroutine fail
+  end subroutine check_piecewise_linear
+
+  !> *MAT_POWER_LAW_PLASTICITY: MID RO E PR K N SRC SRP / SIGY VP EPSF.
+  subroutine read_mat_power_law(rd, options, model)
+    type(reader_t), intent(inout) :: rd          !< reading state
+    character(len=*), intent(in) :: options      !< keyword options
+    type(model_t), intent(inout) :: model        !< model appended to
+    type(material_t) :: mat
+    type(card_t) :: card, card2
+    logical :: got, bad
+    character(len=:), allocatable :: who
+    mat%kind = MAT_POWER_LAW
+    call read_title_card(rd, options, mat%title)
+    call first_card(rd, card, got, 'MID RO E PR K N SRC SRP')
+    if (.not. got) return
+    call read_mid_ro(card, mat)
+    call get_real(card, 3, 'E', mat%young, required=.true.)
+    call get_real(card, 4, 'PR', mat%poisson)
+    call get_real(card, 5, 'K', mat%k_strength, required=.true.)
+    call get_real(card, 6, 'N', mat%n_exponent)
+    call get_real(card, 7, 'SRC', mat%cowper_c)
+    call get_real(card, 8, 'SRP', mat%cowper_p)
+    bad = card%bad
+    if (.not. bad) call check_elastic(card, mat, .true.)
+    bad = bad .or. card%bad
+    who = 'material '//itoa(mat%id)//': '
+    call next_card(rd, card2, got, keep_blank=.true.)
+    if (got) then
+      call split_card(rd, card2, W_10)
+      call get_real(card2, 1, 'SIGY', mat%yield_stress)
+      call get_real(card2, 2, 'VP', mat%vp)
+      call get_real(card2, 3, 'EPSF', mat%failure_strain)
+      bad = bad .or. card2%bad
+    else
+      card2 = card
+    end if
+    if (.not. bad) then
+      if (mat%k_strength <= 0.0_wp) call fail(card, who//'field K must be > 0 '// &
+          quoted_real(mat%k_strength))
+      if (mat%n_exponent < 0.0_wp .or. mat%n_exponent >= 1.0_wp) call fail(card, who// &
+          'field N must be >= 0 and < 1 '//quoted_real(mat%n_exponent))
+      if (mat%cowper_c < 0.0_wp) call fail(card, who//'field SRC must not be negative '// &
+          quoted_real(mat%cowper_c))
+      if (mat%cowper_p < 0.0_wp .or. (mat%cowper_c > 0.0_wp .and. mat%cowper_p == 0.0_wp)) &
+        call fail(card, who//'field SRP must be > 0 when SRC is given '// &
+                  quoted_real(mat%cowper_p))
+      if (mat%yield_stress < 0.0_wp) call fail(card2, who//'field SIGY must not be '// &
+          'negative '//quoted_real(mat%yield_stress))
+      if (mat%vp /= 0.0_wp .and. mat%vp /= 1.0_wp) call fail(card2, who// &
+          'field VP must be 0 or 1 '//quoted_real(mat%vp))
+      if (mat%failure_strain < 0.0_wp) call fail(card2, who//'field EPSF must not be '// &
+          'negative '//quoted_real(mat%failure_strain))
+    end if
+    if (.not. bad) call add_material(model, mat)
+    call reject_extra_cards(rd, 'material '//itoa(mat%id))
+  contains
+    !> Report and remember an error.
+    subroutine fail(where_card, message)
+      type(card_t), intent(in) :: where_card     !< the card with the field
+      character(len=*), intent(in) :: message    !< what is wrong
+      call card_error(where_card, message)
+      bad = .true.
+    end subroutine fail
+  end subroutine read_mat_power_law
+
+  !> *MAT_MOONEY-RIVLIN_RUBBER: MID RO PR A B REF / SGL SW ST LCID. PR is Poisson's ratio
+  !> (near 0.5 for rubber); E is not an input: the small-strain equivalent
+  !> E = 2 G (1 + PR) with G = 2 (A + B) is stored for time-step and contact estimates.
+  subroutine read_mat_mooney_rivlin(rd, options, model)
+    type(reader_t), intent(inout) :: rd          !< reading state
+    character(len=*), intent(in) :: options      !< keyword options
+    type(model_t), intent(inout) :: model        !< model appended to
+    type(material_t) :: mat
+    type(card_t) :: card, card2
+    logical :: got, bad
+    real(wp) :: ref
+    integer :: lcid
+    character(len=:), allocatable :: who
+    mat%kind = MAT_MOONEY_RIVLIN
+    call read_title_card(rd, options, mat%title)
+    call first_card(rd, card, got, 'MID RO PR A B REF')
+    if (.not. got) return
+    call read_mid_ro(card, mat)
+    call get_real(card, 3, 'PR', mat%poisson, required=.true.)
+    call get_real(card, 4, 'A', mat%mr_a)
+    call get_real(card, 5, 'B', mat%mr_b)
+    call get_real(card, 6, 'REF', ref)
+    bad = card%bad
+    who = 'material '//itoa(mat%id)//': '
+    lcid = 0
+    call next_card(rd, card2, got, keep_blank=.true.)
+    if (got) then
+      call split_card(rd, card2, W_10)
+      call get_int(card2, 4, 'LCID', lcid)
+      bad = bad .or. card2%bad
+      if (.not. bad .and. lcid /= 0) then
+        call card_error(card2, who//'field LCID: fitting A and B to test data (LCID = '// &
+            itoa(lcid)//') is not supported; give A and B')
+        bad = .true.
+      end if
+    end if
+    if (.not. bad) then
+      mat%young = 4.0_wp*(mat%mr_a + mat%mr_b)*(1.0_wp + mat%poisson)
+      call check_elastic(card, mat, .false.)
+      bad = card%bad
+    end if
+    if (.not. bad) then
+      if (mat%mr_a + mat%mr_b <= 0.0_wp) then
+        call card_error(card, who//'the shear modulus 2(A+B) must be > 0 (got A = '// &
+            rtoa(mat%mr_a)//', B = '//rtoa(mat%mr_b)//')')
+        bad = .true.
+      end if
+      if (ref /= 0.0_wp) then
+        call card_error(card, who//'field REF: a reference geometry '// &
+            '(*INITIAL_FOAM_REFERENCE_GEOMETRY) is not supported '//quoted_real(ref))
+        bad = .true.
+      end if
+    end if
+    if (.not. bad) call add_material(model, mat)
+    call reject_extra_cards(rd, 'material '//itoa(mat%id))
+  end subroutine read_mat_mooney_rivlin
+
+  !> *MAT_RIGID: MID RO E PR N COUPLE M ALIAS / CMO CON1 CON2 / [LCO or A1 A2 A3 V1 V2 V3].
+  !> Card 3 (output axes) is accepted and not used.
+  subroutine read_mat_rigid(rd, options, model)
+    type(reader_t), intent(inout) :: rd          !< reading state
+    character(len=*), intent(in) :: options      !< keyword options
+    type(model_t), intent(inout) :: model        !< model appended to
+    type(material_t) :: mat
+    type(card_t) :: card, card2, card3
+    logical :: got, bad
+    real(wp) :: coupling_n, couple
+    real(wp) :: cmo
+    character(len=:), allocatable :: who
+    mat%kind = MAT_RIGID
+    call read_title_card(rd, options, mat%title)
+    call first_card(rd, card, got, 'MID RO E PR N COUPLE M ALIAS')
+    if (.not. got) return
+    call read_mid_ro(card, mat)
+    call get_real(card, 3, 'E', mat%young, required=.true.)
+    call get_real(card, 4, 'PR', mat%poisson)
+    call get_real(card, 5, 'N', coupling_n)
+    call get_real(card, 6, 'COUPLE', couple)
+    bad = card%bad
+    if (.not. bad) call check_elastic(card, mat, .true.)
+    bad = bad .or. card%bad
+    who = 'material '//itoa(mat%id)//': '
+    if (.not. bad .and. coupling_n /= 0.0_wp) then
+      call card_error(card, who//'field N: coupling with MADYMO/CAL3D is not supported '// &
+          quoted_real(coupling_n))
+      bad = .true.
+    end if
+    call next_card(rd, card2, got, keep_blank=.true.)
+    if (got) then
+      call split_card(rd, card2, W_10)
+      call get_real(card2, 1, 'CMO', cmo)
+      call get_int(card2, 2, 'CON1', mat%con1)
+      call get_int(card2, 3, 'CON2', mat%con2)
+      bad = bad .or. card2%bad
+      if (.not. card2%bad) then
+        mat%cmo = nint(cmo)
+        if (cmo == -1.0_wp) then
+          call card_error(card2, who//'field CMO = -1 (constraints in a local coordinate '// &
+              'system) is not supported; use CMO = 1 (global directions)')
+          bad = .true.
+        else if (cmo /= 0.0_wp .and. cmo /= 1.0_wp) then
+          call card_error(card2, who//'field CMO must be -1, 0 or 1 '//quoted_real(cmo))
+          bad = .true.
+        else if (mat%cmo == 1 .and. (mat%con1 < 0 .or. mat%con1 > 7 .or. mat%con2 < 0 .or. &
+                 mat%con2 > 7)) then
+          call card_error(card2, who//'fields CON1/CON2 must be constraint codes 0 to 7 '// &
+              '(got '//itoa(mat%con1)//' and '//itoa(mat%con2)//')')
+          bad = .true.
+        else if (mat%cmo == 0) then
+          mat%con1 = 0
+          mat%con2 = 0
+        end if
+      end if
+      call next_card(rd, card3, got, keep_blank=.true.)   ! card 3: output axes, unused
+    end if
+    if (.not. bad) call add_material(model, mat)
+    call reject_extra_cards(rd, 'material '//itoa(mat%id))
+  end subroutine read_mat_rigid
+
+  !> The first card of a material; a missing card is reported.
+  subroutine first_card(rd, card, got, layout)
+    type(reader_t), intent(inout) :: rd          !< reading state
+    type(card_t), intent(inout) :: card          !< the card
+    logical, intent(out) :: got                  !< the card exists
+    character(len=*), intent(in) :: layout       !< field names, for the message
+    call next_card(rd, card, got)
+    if (.not. got) then
+      call keyword_error(rd, 'missing card 1 ('//layout//')')
+      return
+    end if
+    call split_card(rd, card, W_10)
+  end subroutine first_card
+
+  !> MID (field 1, positive) and RO (field 2, positive) of a material card; sets the source.
+  subroutine read_mid_ro(card, mat)
+    type(card_t), intent(inout) :: card          !< card 1 of the material
+    type(material_t), intent(inout) :: mat       !< the material
+    call get_int(card, 1, 'MID', mat%id, required=.true.)
+    call get_real(card, 2, 'RO', mat%density, required=.true.)
+    mat%src = source_t(card%file, card%line)
+    if (card%bad) return
+    if (mat%id <= 0) then
+      call card_error(card, 'field MID: material id must be positive (got '//itoa(mat%id)//')')
+      card%bad = .true.
+    else if (mat%density <= 0.0_wp) then
+      call card_error(card, 'material '//itoa(mat%id)//': field RO (density) must be > 0 '// &
+          quoted_real(mat%density))
+      card%bad = .true.
+    end if
+  end subroutine read_mid_ro
+
+  !> E > 0 (when it is an input) and -1 < PR < 0.5.
+  subroutine check_elastic(card, mat, e_given)
+    type(card_t), intent(inout) :: card          !< card holding E and PR
+    type(material_t), intent(in) :: mat          !< the material
+    logical, intent(in) :: e_given               !< E is a field of the card
+    if (e_given .and. mat%young <= 0.0_wp) then
+      call card_error(card, 'material '//itoa(mat%id)//': field E (Young''s modulus) must '// &
+          'be > 0 '//quoted_real(mat%young))
+      card%bad = .true.
+    end if
+    if (mat%poisson <= -1.0_wp .or. mat%poisson >= 0.5_wp) then
+      call card_error(card, 'material '//itoa(mat%id)//': field PR (Poisson''s ratio) must '// &
+          'be > -1 and < 0.5 '//quoted_real(mat%poisson))
+      card%bad = .true.
+    end if
+  end subroutine check_elastic
+
+  !> Append a material.
+  subroutine add_material(model, mat)
+    type(model_t), intent(inout) :: model      !< model appended to
+    type(material_t), intent(in) :: mat        !< the material
+    type(material_t), allocatable :: grown(:)
+    if (.not. allocated(model%materials)) allocate(model%materials(0))
+    if (model%n_materials == size(model%materials)) then
+      allocate(grown(max(8, 2*model%n_materials)))
+      grown(1:model%n_materials) = model%materials(1:model%n_materials)
+      call move_alloc(grown, model%materials)
+    end if
+    model%n_materials = model%n_materials + 1
+    model%materials(model%n_materials) = mat
+  end subroutine add_material
+
+end module mefem_read_materials

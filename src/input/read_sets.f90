@@ -1,0 +1,283 @@
+!> Keyword handlers for sets: *SET_NODE_LIST (*SET_NODE), *SET_NODE_LIST_GENERATE,
+!> *SET_PART_LIST (*SET_PART) and *SET_SEGMENT, each with the _TITLE option.
+!>
+!> Card 1 is SID DA1-DA4 SOLVER; member cards follow until the next keyword (8 x I10 ids,
+!> zeros and blanks ignored; GENERATE: ranges B1 E1 B2 E2 ...; segments: N1 N2 N3 N4 A1-A4).
+!> Members are stored as user ids and resolved by resolve_conditions.
+module mefem_read_sets
+  use mefem_kinds, only: wp
+  use mefem_strings, only: itoa
+  use mefem_cards, only: reader_t, card_t, next_card, split_card, get_int, get_real, &
+                         get_text, card_error, keyword_error
+  use mefem_card_helpers, only: has_option, read_title_card
+  use mefem_model, only: model_t, set_t, source_t, SET_NODE, SET_PART, SET_SEGMENT
+  implicit none
+  private
+
+  public :: read_set_node, read_set_part, read_set_segment, set_keyword
+
+  integer, parameter :: W_10(8) = 10                       !< standard 8 x 10 card
+  integer, parameter :: W_HEADER(6) = [10, 10, 10, 10, 10, 10]   !< SID DA1-DA4 SOLVER
+  integer, parameter :: MAX_RANGE = 10000000               !< ids in one GENERATE range at most
+
+contains
+
+  !> Keyword name of a set kind, for messages.
+  function set_keyword(kind) result(s)
+    integer, intent(in) :: kind   !< SET_* code
+    character(len=:), allocatable :: s
+    select case (kind)
+    case (SET_NODE)
+      s = '*SET_NODE_LIST'
+    case (SET_PART)
+      s = '*SET_PART_LIST'
+    case default
+      s = '*SET_SEGMENT'
+    end select
+  end function set_keyword
+
+  !> *SET_NODE(_LIST)(_GENERATE)(_TITLE).
+  subroutine read_set_node(rd, options, model)
+    type(reader_t), intent(inout) :: rd          !< reading state
+    character(len=*), intent(in) :: options      !< keyword options
+    type(model_t), intent(inout) :: model        !< model appended to
+    type(set_t) :: set
+    set%kind = SET_NODE
+    if (has_option(options, 'GENERATE')) then
+      call read_set(rd, options, model, set, 'node', generate=.true.)
+    else
+      call read_set(rd, options, model, set, 'node', generate=.false.)
+    end if
+  end subroutine read_set_node
+
+  !> *SET_PART(_LIST)(_TITLE).
+  subroutine read_set_part(rd, options, model)
+    type(reader_t), intent(inout) :: rd          !< reading state
+    character(len=*), intent(in) :: options      !< keyword options
+    type(model_t), intent(inout) :: model        !< model appended to
+    type(set_t) :: set
+    set%kind = SET_PART
+    call read_set(rd, options, model, set, 'part', generate=.false.)
+  end subroutine read_set_part
+
+  !> *SET_SEGMENT(_TITLE): N1 N2 N3 N4 per card (triangle: N4 = N3 or blank).
+  subroutine read_set_segment(rd, options, model)
+    type(reader_t), intent(inout) :: rd          !< reading state
+    character(len=*), intent(in) :: options      !< keyword options
+    type(model_t), intent(inout) :: model        !< model appended to
+    type(set_t) :: set
+    type(card_t) :: card
+    logical :: got, bad
+    integer :: nodes(4), i
+    set%kind = SET_SEGMENT
+    if (.not. read_header(rd, options, set)) then
+      call skip_members(rd)
+      return
+    end if
+    bad = .false.
+    allocate(set%member_ids(64))
+    do
+      call next_card(rd, card, got)
+      if (.not. got) exit
+      call split_card(rd, card, W_10)
+      do i = 1, 4
+        call get_int(card, i, 'N'//itoa(i), nodes(i))
+      end do
+      if (card%bad) then
+        bad = .true.
+        cycle
+      end if
+      if (nodes(4) == 0) nodes(4) = nodes(3)
+      if (any(nodes(1:3) <= 0) .or. nodes(4) < 0) then
+        call card_error(card, 'segment set '//itoa(set%id)//': a segment needs positive '// &
+            'node ids N1 N2 N3 (and N4, or N4 = N3 for a triangle)')
+        bad = .true.
+        cycle
+      end if
+      if (nodes(1) == nodes(2) .or. nodes(2) == nodes(3) .or. nodes(1) == nodes(3) .or. &
+          nodes(4) == nodes(1) .or. (nodes(4) == nodes(2))) then
+        call card_error(card, 'segment set '//itoa(set%id)//': segment '//itoa(nodes(1))// &
+            ' '//itoa(nodes(2))//' '//itoa(nodes(3))//' '//itoa(nodes(4))// &
+            ' repeats a node (only N4 = N3 is allowed, for a triangle)')
+        bad = .true.
+        cycle
+      end if
+      call ensure_room(set%member_ids, 4*set%n + 4)
+      set%member_ids(4*set%n+1:4*set%n+4) = nodes
+      set%n = set%n + 1
+    end do
+    if (bad) return
+    call finish_set(rd, model, set, 'segment')
+  end subroutine read_set_segment
+
+  !> Common reader of node and part sets: a header and cards of 8 ids or of ranges.
+  subroutine read_set(rd, options, model, set, what, generate)
+    type(reader_t), intent(inout) :: rd          !< reading state
+    character(len=*), intent(in) :: options      !< keyword options
+    type(model_t), intent(inout) :: model        !< model appended to
+    type(set_t), intent(inout) :: set            !< the set (kind given)
+    character(len=*), intent(in) :: what         !< 'node' or 'part'
+    logical, intent(in) :: generate              !< cards hold ranges B1 E1 B2 E2 ...
+    type(card_t) :: card
+    logical :: got, bad
+    integer :: i, ids(8), first_id, last_id, k
+    if (.not. read_header(rd, options, set)) then
+      call skip_members(rd)
+      return
+    end if
+    bad = .false.
+    allocate(set%member_ids(64))
+    do
+      call next_card(rd, card, got)
+      if (.not. got) exit
+      call split_card(rd, card, W_10)
+      do i = 1, 8
+        if (generate) then
+          call get_int(card, i, merge('B', 'E', mod(i, 2) == 1)//itoa((i + 1)/2), ids(i))
+        else
+          call get_int(card, i, trim(merge('NID', 'PID', what == 'node'))//itoa(i), ids(i))
+        end if
+      end do
+      if (card%bad) then
+        bad = .true.
+        cycle
+      end if
+      if (generate) then
+        do i = 1, 4
+          first_id = ids(2*i - 1)
+          last_id = ids(2*i)
+          if (first_id == 0 .and. last_id == 0) cycle
+          if (first_id <= 0 .or. last_id < first_id) then
+            call card_error(card, what//' set '//itoa(set%id)//': range B'//itoa(i)//' E'// &
+                itoa(i)//' = '//itoa(first_id)//' '//itoa(last_id)//' is not a range of '// &
+                'positive ids with E >= B')
+            bad = .true.
+            cycle
+          end if
+          if (last_id - first_id >= MAX_RANGE) then
+            call card_error(card, what//' set '//itoa(set%id)//': range '//itoa(first_id)// &
+                ' to '//itoa(last_id)//' holds more than '//itoa(MAX_RANGE)//' ids')
+            bad = .true.
+            cycle
+          end if
+          call ensure_room(set%member_ids, set%n + (last_id - first_id + 1))
+          do k = first_id, last_id
+            set%n = set%n + 1
+            set%member_ids(set%n) = k
+          end do
+        end do
+      else
+        do i = 1, 8
+          if (ids(i) == 0) cycle
+          if (ids(i) < 0) then
+            call card_error(card, what//' set '//itoa(set%id)//': field '// &
+                trim(merge('NID', 'PID', what == 'node'))//itoa(i)// &
+                ' must be a positive id (got '//itoa(ids(i))//')')
+            bad = .true.
+            cycle
+          end if
+          call ensure_room(set%member_ids, set%n + 1)
+          set%n = set%n + 1
+          set%member_ids(set%n) = ids(i)
+        end do
+      end if
+    end do
+    if (bad) return
+    call finish_set(rd, model, set, what)
+  end subroutine read_set
+
+  !> Title (when _TITLE) and card 1 SID DA1-DA4 SOLVER; false when the set cannot be read.
+  logical function read_header(rd, options, set)
+    type(reader_t), intent(inout) :: rd          !< reading state
+    character(len=*), intent(in) :: options      !< keyword options
+    type(set_t), intent(inout) :: set            !< the set
+    type(card_t) :: card
+    logical :: got
+    real(wp) :: attribute
+    character(len=:), allocatable :: solver
+    integer :: i
+    read_header = .false.
+    call read_title_card(rd, options, set%title)
+    call next_card(rd, card, got)
+    if (.not. got) then
+      call keyword_error(rd, 'missing card 1 (SID DA1 DA2 DA3 DA4 SOLVER)')
+      return
+    end if
+    call split_card(rd, card, W_HEADER)
+    call get_int(card, 1, 'SID', set%id, required=.true.)
+    do i = 1, 4
+      call get_real(card, 1 + i, 'DA'//itoa(i), attribute)
+    end do
+    call get_text(card, 6, solver)
+    set%src = source_t(card%file, card%line)
+    if (card%bad) return
+    if (set%id <= 0) then
+      call card_error(card, 'field SID: set id must be positive (got '//itoa(set%id)//')')
+      return
+    end if
+    if (len(solver) > 0 .and. solver /= 'MECH') then
+      call card_error(card, 'set '//itoa(set%id)//': field SOLVER = "'//solver// &
+          '" is not supported (only MECH, the default)')
+      return
+    end if
+    read_header = .true.
+  end function read_header
+
+  !> Skip the member cards of a set whose header was bad.
+  subroutine skip_members(rd)
+    type(reader_t), intent(inout) :: rd          !< reading state
+    type(card_t) :: card
+    logical :: got
+    do
+      call next_card(rd, card, got)
+      if (.not. got) exit
+    end do
+  end subroutine skip_members
+
+  !> An empty set is an error (it is only ever defined to be referenced); else append.
+  subroutine finish_set(rd, model, set, what)
+    type(reader_t), intent(inout) :: rd          !< reading state
+    type(model_t), intent(inout) :: model        !< model appended to
+    type(set_t), intent(inout) :: set            !< the set
+    character(len=*), intent(in) :: what         !< 'node', 'part' or 'segment'
+    integer, allocatable :: exact(:)
+    if (set%n == 0) then
+      call keyword_error(rd, what//' set '//itoa(set%id)//' has no members')
+      return
+    end if
+    if (set%kind == SET_SEGMENT) then
+      exact = set%member_ids(1:4*set%n)
+    else
+      exact = set%member_ids(1:set%n)
+    end if
+    call move_alloc(exact, set%member_ids)
+    call add_set(model, set)
+  end subroutine finish_set
+
+  !> Make an id list hold at least n entries (capacity doubles).
+  subroutine ensure_room(list, n)
+    integer, allocatable, intent(inout) :: list(:)   !< the list
+    integer, intent(in) :: n                         !< entries needed
+    integer, allocatable :: grown(:)
+    if (size(list) >= n) return
+    allocate(grown(max(n, 2*size(list))))
+    grown(1:size(list)) = list
+    call move_alloc(grown, list)
+  end subroutine ensure_room
+
+  !> Append a set.
+  subroutine add_set(model, set)
+    type(model_t), intent(inout) :: model      !< model appended to
+    type(set_t), intent(in) :: set             !< the set
+    type(set_t), allocatable :: grown(:)
+    if (.not. allocated(model%sets)) allocate(model%sets(0))
+    if (model%n_sets == size(model%sets)) then
+      allocate(grown(max(8, 2*model%n_sets)))
+      grown(1:model%n_sets) = model%sets(1:model%n_sets)
+      call move_alloc(grown, model%sets)
+    end if
+    model%n_sets = model%n_sets + 1
+    model%sets(model%n_sets) = set
+  end subroutine add_set
+
+end module mefem_read_sets

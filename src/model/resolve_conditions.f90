@@ -1,0 +1,439 @@
+!> Resolves the references of materials, sets, curves, boundary conditions, loads, initial
+!> velocities, contacts, rigid walls and history outputs from user ids to 1-based indices,
+!> and reports duplicate ids (materials, curves, sets of one kind).
+!>
+!> Every problem is reported as `file:line: *KEYWORD: message` at the record that holds the
+!> reference, e.g. `deck.k:57: *BOUNDARY_SPC_SET: node set 12 is not defined`, all in one
+!> pass. The maps of material and curve ids are returned for the part and output checks
+!> done by the caller (model_resolve).
+module mefem_resolve_conditions
+  use mefem_errors, only: input_error
+  use mefem_strings, only: itoa
+  use mefem_deck_source, only: location
+  use mefem_id_map, only: id_map_t, id_map_build, id_map_find
+  use mefem_model, only: model_t, source_t, ON_NODE, ON_NODE_SET, ON_PART, ON_ALL_NODES, &
+                         ON_PART_SET, ON_SEGMENT_SET, SET_NODE, SET_SEGMENT, SET_PART, &
+                         MAT_PIECEWISE_LINEAR, MAT_RIGID
+  use mefem_read_materials, only: material_keyword
+  use mefem_read_sets, only: set_keyword
+  implicit none
+  private
+
+  public :: resolve_conditions
+
+  !> Map of the ids of the sets of one kind to their positions in model%sets.
+  type :: set_lookup_t
+    type(id_map_t) :: map                  !< ids of the sets of this kind
+    integer, allocatable :: position(:)    !< (n) index in model%sets of the k-th such set
+  end type set_lookup_t
+
+  !> Everything a reference may point to.
+  type :: lookup_t
+    type(id_map_t) :: nodes, parts, curves, materials
+    type(set_lookup_t) :: sets(3)          !< by SET_NODE, SET_SEGMENT, SET_PART
+  end type lookup_t
+
+contains
+
+  !> Resolve all references of the conditions; build the material and curve id maps.
+  subroutine resolve_conditions(model, node_map, part_map, material_map, curve_map)
+    type(model_t), intent(inout) :: model          !< the model read from the deck
+    type(id_map_t), intent(in) :: node_map         !< node ids -> node indices
+    type(id_map_t), intent(in) :: part_map         !< part ids -> part indices
+    type(id_map_t), intent(out) :: material_map    !< material ids -> material indices
+    type(id_map_t), intent(out) :: curve_map       !< curve ids -> curve indices
+    type(lookup_t) :: look
+    integer :: k
+    integer, allocatable :: ids(:)
+    call allocate_empty(model)
+    ! curves and materials: maps and duplicates
+    ids = [(model%curves(k)%id, k = 1, model%n_curves)]
+    call id_map_build(ids, model%n_curves, curve_map)
+    do k = 2, curve_map%n
+      if (curve_map%ids(k) == curve_map%ids(k-1)) call report_duplicate( &
+          model%curves(curve_map%index(k))%src, model%curves(curve_map%index(k-1))%src, &
+          '*DEFINE_CURVE', 'curve', curve_map%ids(k))
+    end do
+    ids = [(model%materials(k)%id, k = 1, model%n_materials)]
+    call id_map_build(ids, model%n_materials, material_map)
+    do k = 2, material_map%n
+      if (material_map%ids(k) == material_map%ids(k-1)) call report_duplicate( &
+          model%materials(material_map%index(k))%src, &
+          model%materials(material_map%index(k-1))%src, &
+          material_keyword(model%materials(material_map%index(k))%kind), 'material', &
+          material_map%ids(k))
+    end do
+    look%nodes = node_map
+    look%parts = part_map
+    look%curves = curve_map
+    look%materials = material_map
+    call build_set_lookups(model, look)
+    call resolve_materials(model, look)
+    call resolve_sets(model, look)
+    call resolve_constraints(model, look)
+    call resolve_loads(model, look)
+    call resolve_initial_velocities(model, look)
+    call resolve_contacts(model, look)
+    call resolve_outputs(model, look)
+  end subroutine resolve_conditions
+
+  !> Give every entity array a size so that empty models need no special cases.
+  subroutine allocate_empty(model)
+    type(model_t), intent(inout) :: model   !< the model
+    if (.not. allocated(model%materials)) allocate(model%materials(0))
+    if (.not. allocated(model%curves)) allocate(model%curves(0))
+    if (.not. allocated(model%sets)) allocate(model%sets(0))
+    if (.not. allocated(model%parts)) allocate(model%parts(0))
+    if (.not. allocated(model%spcs)) allocate(model%spcs(0))
+    if (.not. allocated(model%motions)) allocate(model%motions(0))
+    if (.not. allocated(model%nodal_loads)) allocate(model%nodal_loads(0))
+    if (.not. allocated(model%pressure_loads)) allocate(model%pressure_loads(0))
+    if (.not. allocated(model%initial_velocities)) allocate(model%initial_velocities(0))
+    if (.not. allocated(model%contacts)) allocate(model%contacts(0))
+    if (.not. allocated(model%rigid_walls)) allocate(model%rigid_walls(0))
+  end subroutine allocate_empty
+
+  !> "file:line: KEYWORD" of a record.
+  function where_is(src, keyword) result(s)
+    type(source_t), intent(in) :: src         !< where the record was read
+    character(len=*), intent(in) :: keyword   !< its keyword
+    character(len=:), allocatable :: s
+    s = location(src%file, src%line)//': '//keyword
+  end function where_is
+
+  !> Report an id defined twice.
+  subroutine report_duplicate(src, first_src, keyword, what, id)
+    type(source_t), intent(in) :: src, first_src   !< this and the first definition
+    character(len=*), intent(in) :: keyword        !< keyword of this definition
+    character(len=*), intent(in) :: what           !< 'curve', 'node set' ...
+    integer, intent(in) :: id                      !< the id
+    call input_error(where_is(src, keyword), what//' id '//itoa(id)// &
+        ' is defined twice (first at '//location(first_src%file, first_src%line)//')')
+  end subroutine report_duplicate
+
+  !> Per-kind maps of set ids, with duplicate ids reported.
+  subroutine build_set_lookups(model, look)
+    type(model_t), intent(in) :: model        !< the model
+    type(lookup_t), intent(inout) :: look     !< lookups, sets filled in
+    integer :: kind, s, n, k
+    integer, allocatable :: ids(:)
+    do kind = 1, 3
+      n = count(model%sets(1:model%n_sets)%kind == kind)
+      allocate(ids(n), look%sets(kind)%position(n))
+      n = 0
+      do s = 1, model%n_sets
+        if (model%sets(s)%kind /= kind) cycle
+        n = n + 1
+        ids(n) = model%sets(s)%id
+        look%sets(kind)%position(n) = s
+      end do
+      call id_map_build(ids, n, look%sets(kind)%map)
+      associate (map => look%sets(kind)%map, position => look%sets(kind)%position)
+        do k = 2, map%n
+          if (map%ids(k) == map%ids(k-1)) call report_duplicate( &
+              model%sets(position(map%index(k)))%src, model%sets(position(map%index(k-1)))%src, &
+              set_keyword(kind), set_name(kind), map%ids(k))
+        end do
+      end associate
+      deallocate(ids)
+    end do
+  end subroutine build_set_lookups
+
+  !> Index in model%sets of the set of a kind with an id (0 if none).
+  integer function find_set(look, kind, id)
+    type(lookup_t), intent(in) :: look   !< lookups
+    integer, intent(in) :: kind, id      !< SET_* kind and set id
+    integer :: k
+    find_set = 0
+    k = id_map_find(look%sets(kind)%map, id)
+    if (k > 0) find_set = look%sets(kind)%position(k)
+  end function find_set
+
+  !> 'node set', 'part set' or 'segment set'.
+  function set_name(kind) result(s)
+    integer, intent(in) :: kind   !< SET_* kind
+    character(len=:), allocatable :: s
+    select case (kind)
+    case (SET_NODE)
+      s = 'node set'
+    case (SET_PART)
+      s = 'part set'
+    case default
+      s = 'segment set'
+    end select
+  end function set_name
+
+  !> Index of a target of an ON_* kind (0 when undefined; ON_ALL_NODES gives 0 too).
+  integer function find_target(look, kind, id)
+    type(lookup_t), intent(in) :: look   !< lookups
+    integer, intent(in) :: kind, id      !< ON_* kind and id
+    select case (kind)
+    case (ON_NODE)
+      find_target = id_map_find(look%nodes, id)
+    case (ON_NODE_SET)
+      find_target = find_set(look, SET_NODE, id)
+    case (ON_PART)
+      find_target = id_map_find(look%parts, id)
+    case (ON_PART_SET)
+      find_target = find_set(look, SET_PART, id)
+    case (ON_SEGMENT_SET)
+      find_target = find_set(look, SET_SEGMENT, id)
+    case default
+      find_target = 0
+    end select
+  end function find_target
+
+  !> 'node', 'node set', 'part', 'part set' or 'segment set' for an ON_* kind.
+  function target_name(kind) result(s)
+    integer, intent(in) :: kind   !< ON_* kind
+    character(len=:), allocatable :: s
+    select case (kind)
+    case (ON_NODE)
+      s = 'node'
+    case (ON_NODE_SET)
+      s = 'node set'
+    case (ON_PART)
+      s = 'part'
+    case (ON_PART_SET)
+      s = 'part set'
+    case (ON_SEGMENT_SET)
+      s = 'segment set'
+    case default
+      s = 'all nodes'
+    end select
+  end function target_name
+
+  !> Resolve a target reference; report it when undefined.
+  subroutine resolve_target(look, kind, id, index, where, prefix)
+    type(lookup_t), intent(in) :: look              !< lookups
+    integer, intent(in) :: kind, id                 !< ON_* kind and id
+    integer, intent(out) :: index                   !< its index (0 when undefined)
+    character(len=*), intent(in) :: where           !< "file:line: *KEYWORD"
+    character(len=*), intent(in), optional :: prefix  !< text before the message
+    index = 0
+    if (kind == ON_ALL_NODES) return
+    index = find_target(look, kind, id)
+    if (index > 0) return
+    if (present(prefix)) then
+      call input_error(where, prefix//target_name(kind)//' '//itoa(id)//' is not defined')
+    else
+      call input_error(where, target_name(kind)//' '//itoa(id)//' is not defined')
+    end if
+  end subroutine resolve_target
+
+  !> Resolve a curve reference; report it when undefined.
+  subroutine resolve_curve(look, id, index, where, field)
+    type(lookup_t), intent(in) :: look              !< lookups
+    integer, intent(in) :: id                       !< curve id
+    integer, intent(out) :: index                   !< its index (0 when undefined)
+    character(len=*), intent(in) :: where           !< "file:line: *KEYWORD"
+    character(len=*), intent(in) :: field           !< prefix naming the field
+    index = id_map_find(look%curves, id)
+    if (index == 0) call input_error(where, field//'curve '//itoa(id)//' is not defined')
+  end subroutine resolve_curve
+
+  !> Curves of *MAT_024 (LCSS, LCSR).
+  subroutine resolve_materials(model, look)
+    type(model_t), intent(inout) :: model     !< the model
+    type(lookup_t), intent(in) :: look        !< lookups
+    integer :: m, index
+    character(len=:), allocatable :: where
+    do m = 1, model%n_materials
+      associate (mat => model%materials(m))
+        if (mat%kind /= MAT_PIECEWISE_LINEAR) cycle
+        where = where_is(mat%src, material_keyword(mat%kind))
+        if (mat%lcss > 0) call resolve_curve(look, mat%lcss, mat%lcss_curve, where, &
+            'material '//itoa(mat%id)//': LCSS ')
+        if (mat%lcsr > 0) call resolve_curve(look, mat%lcsr, index, where, &
+            'material '//itoa(mat%id)//': LCSR ')
+      end associate
+    end do
+    if (model%controls%lctm > 0) call resolve_curve(look, model%controls%lctm, index, &
+        where_is(model%controls%lctm_src, '*CONTROL_TIMESTEP'), 'LCTM ')
+  end subroutine resolve_materials
+
+  !> Members of every set: node ids, part ids, segment node ids -> indices.
+  subroutine resolve_sets(model, look)
+    type(model_t), intent(inout) :: model     !< the model
+    type(lookup_t), intent(in) :: look        !< lookups
+    integer :: s, i
+    character(len=:), allocatable :: where, member
+    do s = 1, model%n_sets
+      associate (set => model%sets(s))
+        if (.not. allocated(set%member_ids)) allocate(set%member_ids(0))
+        if (allocated(set%members)) deallocate(set%members)
+        allocate(set%members(size(set%member_ids)))
+        set%members = 0
+        where = where_is(set%src, set_keyword(set%kind))
+        member = merge('part', 'node', set%kind == SET_PART)
+        do i = 1, size(set%member_ids)
+          if (set%kind == SET_PART) then
+            set%members(i) = id_map_find(look%parts, set%member_ids(i))
+          else
+            set%members(i) = id_map_find(look%nodes, set%member_ids(i))
+          end if
+          if (set%members(i) == 0) call input_error(where, set_name(set%kind)//' '// &
+              itoa(set%id)//': '//member//' '//itoa(set%member_ids(i))//' is not defined')
+        end do
+      end associate
+    end do
+  end subroutine resolve_sets
+
+  !> SPCs and prescribed motions: targets, curves, rigid parts.
+  subroutine resolve_constraints(model, look)
+    type(model_t), intent(inout) :: model     !< the model
+    type(lookup_t), intent(in) :: look        !< lookups
+    integer :: k, m
+    character(len=:), allocatable :: where
+    do k = 1, model%n_spcs
+      associate (spc => model%spcs(k))
+        where = where_is(spc%src, trim(merge('*BOUNDARY_SPC_SET ', '*BOUNDARY_SPC_NODE', &
+                                             spc%target_kind == ON_NODE_SET)))
+        call resolve_target(look, spc%target_kind, spc%target_id, spc%target, where)
+      end associate
+    end do
+    do k = 1, model%n_motions
+      associate (motion => model%motions(k))
+        select case (motion%target_kind)
+        case (ON_NODE)
+          where = where_is(motion%src, '*BOUNDARY_PRESCRIBED_MOTION_NODE')
+        case (ON_NODE_SET)
+          where = where_is(motion%src, '*BOUNDARY_PRESCRIBED_MOTION_SET')
+        case default
+          where = where_is(motion%src, '*BOUNDARY_PRESCRIBED_MOTION_RIGID')
+        end select
+        call resolve_target(look, motion%target_kind, motion%target_id, motion%target, where)
+        call resolve_curve(look, motion%curve_id, motion%curve, where, '')
+        if (motion%target_kind == ON_PART .and. motion%target > 0) then
+          m = id_map_find(look%materials, model%parts(motion%target)%material_id)
+          if (m > 0) then
+            if (model%materials(m)%kind /= MAT_RIGID) call input_error(where, 'part '// &
+                itoa(motion%target_id)//' is not rigid (its material '// &
+                itoa(model%materials(m)%id)//' is not *MAT_RIGID); prescribe the motion of '// &
+                'its nodes with _NODE or _SET')
+          end if
+        end if
+        if (motion%vector_id > 0 .and. (abs(motion%dof) == 4 .or. abs(motion%dof) == 8)) &
+          call input_error(where, 'vector '//itoa(motion%vector_id)//' (VID) is not '// &
+              'defined (*DEFINE_VECTOR is not supported)')
+      end associate
+    end do
+  end subroutine resolve_constraints
+
+  !> Nodal and pressure loads: targets, segments, curves.
+  subroutine resolve_loads(model, look)
+    type(model_t), intent(inout) :: model     !< the model
+    type(lookup_t), intent(in) :: look        !< lookups
+    integer :: k, i
+    character(len=:), allocatable :: where
+    do k = 1, model%n_nodal_loads
+      associate (load => model%nodal_loads(k))
+        where = where_is(load%src, trim(merge('*LOAD_NODE_SET  ', '*LOAD_NODE_POINT', &
+                                              load%target_kind == ON_NODE_SET)))
+        call resolve_target(look, load%target_kind, load%target_id, load%target, where)
+        call resolve_curve(look, load%curve_id, load%curve, where, '')
+      end associate
+    end do
+    do k = 1, model%n_pressure_loads
+      associate (load => model%pressure_loads(k))
+        if (load%set_id > 0) then
+          where = where_is(load%src, '*LOAD_SEGMENT_SET')
+          call resolve_target(look, ON_SEGMENT_SET, load%set_id, load%set, where)
+        else
+          where = where_is(load%src, '*LOAD_SEGMENT')
+          do i = 1, 4
+            load%nodes(i) = id_map_find(look%nodes, load%node_ids(i))
+            if (load%nodes(i) == 0 .and. (i < 4 .or. load%node_ids(4) /= load%node_ids(3))) &
+              call input_error(where, 'node '//itoa(load%node_ids(i))//' (N'//itoa(i)// &
+                  ') is not defined')
+          end do
+        end if
+        call resolve_curve(look, load%curve_id, load%curve, where, '')
+      end associate
+    end do
+  end subroutine resolve_loads
+
+  !> Initial velocities: targets and exempted node sets.
+  subroutine resolve_initial_velocities(model, look)
+    type(model_t), intent(inout) :: model     !< the model
+    type(lookup_t), intent(in) :: look        !< lookups
+    integer :: k
+    character(len=:), allocatable :: where
+    do k = 1, model%n_initial_velocities
+      associate (iv => model%initial_velocities(k))
+        if (iv%generation) then
+          where = where_is(iv%src, '*INITIAL_VELOCITY_GENERATION')
+        else if (iv%target_kind == ON_NODE) then
+          where = where_is(iv%src, '*INITIAL_VELOCITY_NODE')
+        else
+          where = where_is(iv%src, '*INITIAL_VELOCITY')
+        end if
+        call resolve_target(look, iv%target_kind, iv%target_id, iv%target, where)
+        if (iv%exempt_set_id > 0) call resolve_target(look, ON_NODE_SET, iv%exempt_set_id, &
+            iv%exempt_set, where, 'NSIDEX: ')
+      end associate
+    end do
+  end subroutine resolve_initial_velocities
+
+  !> Contact surfaces (by SURFATYP/SURFBTYP) and rigid-wall node sets.
+  subroutine resolve_contacts(model, look)
+    type(model_t), intent(inout) :: model     !< the model
+    type(lookup_t), intent(in) :: look        !< lookups
+    integer :: k
+    character(len=:), allocatable :: where, who
+    do k = 1, model%n_contacts
+      associate (contact => model%contacts(k))
+        where = where_is(contact%src, '*CONTACT_AUTOMATIC_SURFACE_TO_SURFACE')
+        who = 'contact: '
+        if (contact%id /= 0) who = 'contact '//itoa(contact%id)//': '
+        call resolve_target(look, surface_kind(contact%surf_a_type), contact%surf_a_id, &
+                            contact%surf_a, where, who//'SURFA ')
+        call resolve_target(look, surface_kind(contact%surf_b_type), contact%surf_b_id, &
+                            contact%surf_b, where, who//'SURFB ')
+      end associate
+    end do
+    do k = 1, model%n_rigid_walls
+      associate (wall => model%rigid_walls(k))
+        where = where_is(wall%src, '*RIGIDWALL_PLANAR')
+        if (wall%node_set_id > 0) call resolve_target(look, ON_NODE_SET, wall%node_set_id, &
+            wall%node_set, where)
+        if (wall%exempt_set_id > 0) call resolve_target(look, ON_NODE_SET, &
+            wall%exempt_set_id, wall%exempt_set, where, 'NSIDEX: ')
+      end associate
+    end do
+  end subroutine resolve_contacts
+
+  !> ON_* kind of a contact surface type (0 segment set, 2 part set, 3 part).
+  pure integer function surface_kind(surface_type)
+    integer, intent(in) :: surface_type   !< SURFATYP or SURFBTYP
+    select case (surface_type)
+    case (2)
+      surface_kind = ON_PART_SET
+    case (3)
+      surface_kind = ON_PART
+    case default
+      surface_kind = ON_SEGMENT_SET
+    end select
+  end function surface_kind
+
+  !> History nodes and node sets of *DATABASE_HISTORY_NODE(_SET).
+  subroutine resolve_outputs(model, look)
+    type(model_t), intent(inout) :: model     !< the model
+    type(lookup_t), intent(in) :: look        !< lookups
+    integer :: k
+    associate (c => model%controls)
+      if (allocated(c%history_nodes)) deallocate(c%history_nodes)
+      if (allocated(c%history_sets)) deallocate(c%history_sets)
+      allocate(c%history_nodes(c%n_history_nodes), c%history_sets(c%n_history_sets))
+      do k = 1, c%n_history_nodes
+        call resolve_target(look, ON_NODE, c%history_node_ids(k), c%history_nodes(k), &
+            where_is(c%history_node_src(k), '*DATABASE_HISTORY_NODE'))
+      end do
+      do k = 1, c%n_history_sets
+        call resolve_target(look, ON_NODE_SET, c%history_set_ids(k), c%history_sets(k), &
+            where_is(c%history_set_src(k), '*DATABASE_HISTORY_NODE_SET'))
+      end do
+    end associate
+  end subroutine resolve_outputs
+
+end module mefem_resolve_conditions
