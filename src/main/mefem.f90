@@ -5,7 +5,7 @@ program mefem
   use mefem_kinds, only: wp
   use mefem_comm, only: comm_init, comm_size, comm_wtime
   use mefem_errors, only: say, terminate
-  use mefem_strings, only: itoa
+  use mefem_strings, only: itoa, rtoa
   use mefem_command_line, only: run_options_t, parse_command_line, MEFEM_VERSION
   use mefem_model, only: model_t
   use mefem_keyword_reader, only: read_deck
@@ -16,6 +16,7 @@ program mefem
   use mefem_output_mesh, only: output_field_t
   use mefem_results, only: results_open, results_write_state, results_close, node_set_fields
   use mefem_progress, only: peak_memory_mib
+  use mefem_linear_static, only: linear_static_run
   use mefem_errors, only: input_error_count
   implicit none
 
@@ -55,9 +56,18 @@ program mefem
   call node_set_fields(model, decomp, point_fields)
   allocate(cell_fields(0))
   call results_write_state(0, 0.0_wp, point_fields, cell_fields)
+
+  ! the analysis the deck asks for
+  if (model%controls%imflag == 1 .and. model%controls%nsolvr == 1) then
+    call linear_static_run(model, decomp)
+  else
+    call say('the analysis this deck asks for (explicit, or nonlinear implicit) is not '// &
+             'available yet: the model was read, checked and written')
+  end if
   call results_close()
   call say('results: '//options%output_dir//'/'//deck_stem(options%deck)//'.pvd (ParaView), '// &
            options%output_dir//'/'//deck_stem(options%deck)//'.h5 (HDF5)')
-  call say('no analysis solver is available yet: the model was read, checked and written')
+  call say('wall time '//rtoa(comm_wtime() - t_start)//' s, peak memory '// &
+           rtoa(peak_memory_mib())//' MiB per rank')
   call terminate(0)
 end program mefem

@@ -1,0 +1,268 @@
+!> Linear static analysis (*CONTROL_IMPLICIT_GENERAL IMFLAG=1 with *CONTROL_IMPLICIT_SOLUTION
+!> NSOLVR=1): small strain, isotropic elasticity, one solve with MUMPS.
+!>
+!>   K u = f,  K = sum_cells w G^T C G,  f from nodal loads and pressures at the end time,
+!> with fixed and prescribed displacements eliminated (their columns moved to the right-hand
+!> side). Loads and prescribed motions are evaluated at the end time of
+!> *CONTROL_TERMINATION (LS-DYNA's linear implicit step). Every rank assembles the cells of
+!> its own elements; MUMPS solves on all ranks; every rank receives the whole solution.
+module mefem_linear_static
+  use mefem_kinds, only: wp
+  use mefem_comm, only: comm_sum, comm_is_root, comm_wtime
+  use mefem_errors, only: status_t, fatal, say
+  use mefem_strings, only: itoa, rtoa
+  use mefem_model, only: model_t, MAT_ELASTIC, ON_PART
+  use mefem_decomposition, only: decomposition_t
+  use mefem_cells, only: cells_t, cells_build, CELL_MAX_NODES
+  use mefem_cell_linear, only: lame_parameters, cell_strain, isotropic_stress, cell_stiffness
+  use mefem_boundary_conditions, only: fixed_dofs, prescribed_displacements, external_forces
+  use mefem_sparse_assembly, only: coo_matrix_t, coo_init, coo_add_block, coo_free
+  use mefem_mumps, only: mumps_solver_t, mumps_init, mumps_analyse, mumps_factorise, &
+                         mumps_solve, mumps_free, MUMPS_SPD
+  use mefem_output_mesh, only: output_field_t
+  use mefem_results, only: results_write_state
+  implicit none
+  private
+
+  public :: linear_static_run, cell_stresses
+
+contains
+
+  !> Run the linear static analysis and write its results as output state 1.
+  subroutine linear_static_run(model, decomp)
+    type(model_t), intent(in) :: model              !< resolved model
+    type(decomposition_t), intent(in) :: decomp     !< this rank's share
+    type(cells_t) :: cells
+    type(status_t) :: status
+    type(coo_matrix_t) :: stiffness
+    type(mumps_solver_t) :: solver
+    integer, allocatable :: equation(:,:)
+    logical, allocatable :: fixed(:,:), owned_element(:)
+    real(wp), allocatable :: prescribed(:,:), force(:,:), rhs(:), solution(:), u(:,:)
+    real(wp) :: t_end, t0, t_assembly
+    integer :: dim, n_all, n_equations, i, n
+
+    t0 = comm_wtime()
+    call cells_build(model, cells, status)
+    if (.not. status%ok) call fatal('element set-up: '//status%message)
+    call check_supported(model, cells)
+    dim = cells%dim
+    n_all = cells%n_mesh_nodes + cells%n_enriched
+    if (cells%n_enriched > 0) call say('ME-FEM enrichment: a/L = '// &
+        rtoa(cells%enrichment%support_ratio)//', kappa = '//rtoa(cells%enrichment%kappa)// &
+        ', mass fraction = '//rtoa(cells%enrichment%mass_fraction)//', '// &
+        itoa(cells%n_enriched)//' enriched nodes, '//itoa(cells%n)//' smoothing domains')
+
+    ! boundary conditions and loads at the end time
+    t_end = model%controls%end_time
+    allocate(fixed(dim, n_all), prescribed(dim, n_all), force(dim, n_all))
+    fixed = .false.
+    prescribed = 0.0_wp
+    force = 0.0_wp
+    call fixed_dofs(model, t_end, fixed(:, 1:cells%n_mesh_nodes))
+    call prescribed_displacements(model, t_end, fixed(:, 1:cells%n_mesh_nodes), &
+                                  prescribed(:, 1:cells%n_mesh_nodes))
+    call external_forces(model, t_end, force(:, 1:cells%n_mesh_nodes))
+    call number_equations(cells, fixed, equation, n_equations)
+    call say('linear static: '//itoa(n_equations)//' equations')
+    if (n_equations == 0) call fatal('linear static: every degree of freedom is fixed')
+
+    ! assembly of this rank's cells: K_ff, and -K_fp u_p into the right-hand side
+    allocate(owned_element(model%elements%n))
+    owned_element = .false.
+    owned_element(decomp%elem_global(1:decomp%nelem_local)) = .true.
+    allocate(rhs(n_equations))
+    rhs = 0.0_wp
+    call assemble(model, cells, owned_element, equation, prescribed, stiffness, rhs)
+    if (comm_is_root()) then      ! the loads once, on rank 0
+      do n = 1, n_all
+        do i = 1, dim
+          if (equation(i, n) > 0) rhs(equation(i, n)) = rhs(equation(i, n)) + force(i, n)
+        end do
+      end do
+    end if
+    call comm_sum(rhs)
+    t_assembly = comm_wtime() - t0
+
+    ! solve
+    call mumps_init(solver, MUMPS_SPD, status)
+    if (status%ok) call mumps_analyse(solver, stiffness, status)
+    if (status%ok) call mumps_factorise(solver, stiffness, status)
+    allocate(solution(n_equations))
+    if (status%ok) call mumps_solve(solver, rhs, solution, status)
+    if (.not. status%ok) call fatal('linear static: '//status%message)
+    call say('linear static: set-up and assembly '//rtoa(t_assembly)//' s; MUMPS analysis '// &
+             rtoa(solver%stats%time_analysis)//' s, factorisation '// &
+             rtoa(solver%stats%time_factorisation)//' s, solve '// &
+             rtoa(solver%stats%time_solve)//' s, factor memory '// &
+             itoa(solver%stats%memory_total_mb)//' MB')
+    call mumps_free(solver)
+    call coo_free(stiffness)
+
+    allocate(u(dim, n_all))
+    u = prescribed
+    do n = 1, n_all
+      do i = 1, dim
+        if (equation(i, n) > 0) u(i, n) = solution(equation(i, n))
+      end do
+    end do
+    call write_results(model, decomp, cells, u, t_end)
+  end subroutine linear_static_run
+
+  !> Linear static analysis takes *MAT_ELASTIC parts, displacement-type prescribed motions
+  !> on nodes, and no contact (stopped with a message otherwise).
+  subroutine check_supported(model, cells)
+    type(model_t), intent(in) :: model    !< resolved model
+    type(cells_t), intent(in) :: cells    !< cells
+    integer :: c, k
+    do c = 1, cells%n
+      if (model%materials(cells%material(c))%kind /= MAT_ELASTIC) call fatal( &
+          'linear static analysis (NSOLVR=1) needs *MAT_ELASTIC for every deformable part; '// &
+          'material '//itoa(model%materials(cells%material(c))%id)//' is not')
+    end do
+    do k = 1, model%n_motions
+      if (model%motions(k)%vad /= 2 .or. model%motions(k)%target_kind == ON_PART) call fatal( &
+          'linear static analysis takes prescribed displacements (VAD=2) on nodes and node '// &
+          'sets only; see *BOUNDARY_PRESCRIBED_MOTION at line '//itoa(model%motions(k)%src%line))
+    end do
+    if (model%n_contacts > 0 .or. model%n_rigid_walls > 0) call fatal( &
+        'linear static analysis does not take contact or rigid walls')
+  end subroutine check_supported
+
+  !> Equation numbers of the free degrees of freedom of the nodes that cells use (0 = fixed
+  !> or unused), in node order.
+  subroutine number_equations(cells, fixed, equation, n_equations)
+    type(cells_t), intent(in) :: cells                   !< cells
+    logical, intent(in) :: fixed(:,:)                    !< (dim, nodes) fixed dofs
+    integer, allocatable, intent(out) :: equation(:,:)   !< (dim, nodes) equation numbers
+    integer, intent(out) :: n_equations                  !< number of equations
+    logical, allocatable :: used(:)
+    integer :: c, n, i
+    allocate(used(size(fixed, 2)), equation(size(fixed, 1), size(fixed, 2)))
+    used = .false.
+    do c = 1, cells%n
+      used(cells%nodes(1:cells%nnodes(c), c)) = .true.
+    end do
+    equation = 0
+    n_equations = 0
+    do n = 1, size(fixed, 2)
+      if (.not. used(n)) cycle
+      do i = 1, size(fixed, 1)
+        if (fixed(i, n)) cycle
+        n_equations = n_equations + 1
+        equation(i, n) = n_equations
+      end do
+    end do
+  end subroutine number_equations
+
+  !> Assemble the stiffness of the cells whose first element this rank owns.
+  subroutine assemble(model, cells, owned_element, equation, prescribed, stiffness, rhs)
+    type(model_t), intent(in) :: model                !< resolved model
+    type(cells_t), intent(in) :: cells                !< cells
+    logical, intent(in) :: owned_element(:)           !< element on this rank
+    integer, intent(in) :: equation(:,:)              !< equation numbers
+    real(wp), intent(in) :: prescribed(:,:)           !< prescribed displacements
+    type(coo_matrix_t), intent(out) :: stiffness      !< this rank's entries (lower triangle)
+    real(wp), intent(inout) :: rhs(:)                 !< -K_fp u_p added
+    real(wp) :: ke(3*CELL_MAX_NODES, 3*CELL_MAX_NODES), up(3*CELL_MAX_NODES), lambda, mu
+    integer :: dofs(3*CELL_MAX_NODES), c, nn, nd, dim, a, i, k
+    integer :: n_owned
+    dim = cells%dim
+    n_owned = count(owned_element(cells%elements(1, 1:cells%n)))
+    call coo_init(stiffness, maxval(equation), int(n_owned, kind(1))*((dim*5)**2/2 + dim*5))
+    do c = 1, cells%n
+      if (.not. owned_element(cells%elements(1, c))) cycle
+      nn = cells%nnodes(c)
+      nd = dim*nn
+      call lame_parameters(model%materials(cells%material(c))%young, &
+                           model%materials(cells%material(c))%poisson, lambda, mu)
+      call cell_stiffness(dim, nn, cells%grad(:, :, c), cells%weight(c), lambda, mu, &
+                          ke(1:nd, 1:nd))
+      do a = 1, nn
+        do i = 1, dim
+          dofs(dim*(a-1) + i) = equation(i, cells%nodes(a, c))
+          up(dim*(a-1) + i) = prescribed(i, cells%nodes(a, c))
+        end do
+      end do
+      call coo_add_block(stiffness, dofs(1:nd), ke(1:nd, 1:nd), .true.)
+      ! prescribed columns to the right-hand side
+      if (any(up(1:nd) /= 0.0_wp)) then
+        do k = 1, nd
+          if (dofs(k) > 0) rhs(dofs(k)) = rhs(dofs(k)) - dot_product(ke(k, 1:nd), &
+              merge(up(1:nd), 0.0_wp, dofs(1:nd) <= 0))
+        end do
+      end if
+    end do
+  end subroutine assemble
+
+  !> Strain and stress of every cell (Voigt, stress xx yy zz xy yz zx).
+  subroutine cell_stresses(model, cells, u, strain, stress)
+    type(model_t), intent(in) :: model                 !< resolved model
+    type(cells_t), intent(in) :: cells                 !< cells
+    real(wp), intent(in) :: u(:,:)                     !< (dim, nodes) displacements
+    real(wp), allocatable, intent(out) :: strain(:,:)  !< (6, cells) engineering shears
+    real(wp), allocatable, intent(out) :: stress(:,:)  !< (6, cells)
+    real(wp) :: lambda, mu
+    integer :: c, nn
+    allocate(strain(6, cells%n), stress(6, cells%n))
+    do c = 1, cells%n
+      nn = cells%nnodes(c)
+      call lame_parameters(model%materials(cells%material(c))%young, &
+                           model%materials(cells%material(c))%poisson, lambda, mu)
+      call cell_strain(cells%dim, nn, cells%grad(:, :, c), u(:, cells%nodes(1:nn, c)), &
+                       strain(:, c))
+      call isotropic_stress(lambda, mu, strain(:, c), stress(:, c))
+    end do
+  end subroutine cell_stresses
+
+  !> Output state 1: displacements at the deck's nodes, element stress (the mean of the
+  !> element's cells), pressure and von Mises stress.
+  subroutine write_results(model, decomp, cells, u, time)
+    type(model_t), intent(in) :: model              !< resolved model
+    type(decomposition_t), intent(in) :: decomp     !< this rank's share
+    type(cells_t), intent(in) :: cells              !< cells
+    real(wp), intent(in) :: u(:,:)                  !< (dim, nodes) displacements
+    real(wp), intent(in) :: time                    !< analysis time of the state
+    real(wp), allocatable :: strain(:,:), stress(:,:), element_stress(:,:), element_count(:)
+    type(output_field_t) :: point_fields(1), cell_fields(3)
+    integer :: c, slot, e, i, local
+    real(wp) :: s(6)
+    call cell_stresses(model, cells, u, strain, stress)
+    allocate(element_stress(6, model%elements%n), element_count(model%elements%n))
+    element_stress = 0.0_wp
+    element_count = 0.0_wp
+    do c = 1, cells%n
+      do slot = 1, 2
+        e = cells%elements(slot, c)
+        if (e == 0) cycle
+        element_stress(:, e) = element_stress(:, e) + stress(:, c)
+        element_count(e) = element_count(e) + 1.0_wp
+      end do
+    end do
+    point_fields(1)%name = 'displacement'
+    point_fields(1)%ncomp = 3
+    allocate(point_fields(1)%values(3, decomp%nnode_local))
+    point_fields(1)%values = 0.0_wp
+    do local = 1, decomp%nnode_local
+      point_fields(1)%values(1:cells%dim, local) = u(:, decomp%node_global(local))
+    end do
+    cell_fields(1)%name = 'stress'
+    cell_fields(1)%ncomp = 6
+    cell_fields(2)%name = 'pressure'
+    cell_fields(3)%name = 'von_mises'
+    allocate(cell_fields(1)%values(6, decomp%nelem_local), &
+             cell_fields(2)%values(1, decomp%nelem_local), &
+             cell_fields(3)%values(1, decomp%nelem_local))
+    do local = 1, decomp%nelem_local
+      e = decomp%elem_global(local)
+      s = 0.0_wp
+      if (element_count(e) > 0.0_wp) s = element_stress(:, e)/element_count(e)
+      cell_fields(1)%values(:, local) = s
+      cell_fields(2)%values(1, local) = -(s(1) + s(2) + s(3))/3.0_wp
+      cell_fields(3)%values(1, local) = sqrt(0.5_wp*((s(1) - s(2))**2 + (s(2) - s(3))**2 + &
+          (s(3) - s(1))**2) + 3.0_wp*sum([(s(i)**2, i = 4, 6)]))
+    end do
+    call results_write_state(1, time, point_fields, cell_fields)
+  end subroutine write_results
+
+end module mefem_linear_static
