@@ -5,7 +5,7 @@
 #   make DEBUG=1    debug build (bounds checks, FPE traps): bin/mefem_debug
 #   make run        install, build, run the main example deck
 #   make test       install, build (release + debug), run every test; last line "N passed, N failed"
-#   make bench      reader benchmark (and later solver benchmarks); prints figures
+#   make bench      benchmarks: deck reading, linear static (ME-FEM vs standard tets); figures
 #   make deps       install the Debian packages that are missing (no-op when all present)
 #   make clean
 
@@ -13,7 +13,7 @@ SHELL := /bin/bash
 
 # ---- packages -------------------------------------------------------------------------
 DEB_BUILD := gfortran make openmpi-bin libopenmpi-dev libmumps-dev libmetis-dev \
-             libhdf5-openmpi-dev hdf5-tools liblapack-dev libblas-dev
+             libhdf5-openmpi-dev hdf5-tools liblapack-dev libblas-dev libopenblas-dev
 DEB_TEST  := python3 python3-numpy python3-h5py python3-vtk9 python3-matplotlib
 DEB_ALL   := $(DEB_BUILD) $(DEB_TEST)
 SUDO      := $(if $(filter 0,$(shell id -u)),,sudo)
@@ -109,6 +109,7 @@ test: deps
 bench: deps
 	@$(MAKE) --no-print-directory bin/mefem
 	@bash tests/bench/run_bench.sh
+	@bash tests/bench/run_linear_static_bench.sh
 
 lint:
 	@bash tests/lint.sh
