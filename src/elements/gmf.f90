@@ -76,6 +76,8 @@ contains
     real(wp) :: lambda(size(x)), trial(size(x)), step(size(x)), r(size(x)), rtrial(size(x))
     real(wp) :: amat(size(x), size(x)), drdx(size(x), size(x)), dlambda(size(x), size(x))
     real(wp) :: c(size(x), size(psi)), csum(size(x)), radius, dphi, tau, tau_floor, s
+    real(wp) :: beta(size(x))
+    integer :: j
     dim = size(x)
     np = size(psi)
     do i = 1, np
@@ -128,7 +130,10 @@ contains
       drdx(i, i) = 1.0_wp
     end do
     do i = 1, np
-      drdx = drdx + spread(d(:, i), 2, dim)*spread(gv(i)*gphi(:, i)/s + psi(i)*gr(i)*lambda, 1, dim)
+      beta = gv(i)*gphi(:, i)/s + psi(i)*gr(i)*lambda
+      do j = 1, dim
+        drdx(:, j) = drdx(:, j) + d(:, i)*beta(j)
+      end do
     end do
     do i = 1, dim
       call solve_small(amat, -drdx(:, i), dlambda(:, i), dim)
@@ -167,15 +172,18 @@ contains
       real(wp), intent(in) :: psi_in(:), ratio_in(:), r_in(:)
       real(wp), intent(out) :: a_out(:,:)
       real(wp) :: w(size(r_in))
-      integer :: k
+      integer :: k, l
       a_out = 0.0_wp
       w = 0.0_wp
       do k = 1, size(psi_in)
-        a_out = a_out + psi_in(k)*ratio_in(k)*spread(d(:, k), 2, size(r_in)) &
-                *spread(d(:, k), 1, size(r_in))
+        do l = 1, size(r_in)
+          a_out(:, l) = a_out(:, l) + psi_in(k)*ratio_in(k)*d(:, k)*d(l, k)
+        end do
         w = w + psi_in(k)*ratio_in(k)*d(:, k)
       end do
-      a_out = a_out - spread(r_in, 2, size(r_in))*spread(w, 1, size(r_in))
+      do l = 1, size(r_in)
+        a_out(:, l) = a_out(:, l) - r_in*w(l)
+      end do
     end subroutine jacobian
 
   end subroutine gmf_shape

@@ -18,7 +18,7 @@ module mefem_linear_static
   use mefem_boundary_conditions, only: fixed_dofs, prescribed_displacements, external_forces
   use mefem_sparse_assembly, only: coo_matrix_t, coo_init, coo_add_block, coo_free
   use mefem_mumps, only: mumps_solver_t, mumps_init, mumps_analyse, mumps_factorise, &
-                         mumps_solve, mumps_free, MUMPS_SPD
+                         mumps_solve, mumps_free, mumps_stats, mumps_stats_t, MUMPS_SPD
   use mefem_output_mesh, only: output_field_t
   use mefem_results, only: results_write_state
   implicit none
@@ -36,6 +36,7 @@ contains
     type(status_t) :: status
     type(coo_matrix_t) :: stiffness
     type(mumps_solver_t) :: solver
+    type(mumps_stats_t) :: stats
     integer, allocatable :: equation(:,:)
     logical, allocatable :: fixed(:,:), owned_element(:)
     real(wp), allocatable :: prescribed(:,:), force(:,:), rhs(:), solution(:), u(:,:)
@@ -91,11 +92,12 @@ contains
     allocate(solution(n_equations))
     if (status%ok) call mumps_solve(solver, rhs, solution, status)
     if (.not. status%ok) call fatal('linear static: '//status%message)
+    stats = mumps_stats(solver)
     call say('linear static: set-up and assembly '//rtoa(t_assembly)//' s; MUMPS analysis '// &
-             rtoa(solver%stats%time_analysis)//' s, factorisation '// &
-             rtoa(solver%stats%time_factorisation)//' s, solve '// &
-             rtoa(solver%stats%time_solve)//' s, factor memory '// &
-             itoa(solver%stats%memory_total_mb)//' MB')
+             rtoa(stats%time_analysis)//' s, factorisation '// &
+             rtoa(stats%time_factorisation)//' s, solve '// &
+             rtoa(stats%time_solve)//' s, factor memory '// &
+             itoa(stats%memory_total_mb)//' MB')
     call mumps_free(solver)
     call coo_free(stiffness)
 
