@@ -394,12 +394,18 @@ contains
       load%src = source_t(card%file, card%line)
       if (card%bad) cycle
       if (load%scale == 0.0_wp) load%scale = 1.0_wp
+      ! 2D line segment: N1 N2 with N3 (and N4) blank or repeating N2 -> N1 N2 N2 N2
+      if (load%node_ids(3) == 0 .or. load%node_ids(3) == load%node_ids(2)) then
+        if (all(load%node_ids(3:4) == 0 .or. load%node_ids(3:4) == load%node_ids(2))) &
+          load%node_ids(3:4) = load%node_ids(2)
+      end if
       if (load%node_ids(4) == 0) load%node_ids(4) = load%node_ids(3)
       if (load%curve_id <= 0) then
         call card_error(card, 'field LCID must be a positive curve id (got '// &
             itoa(load%curve_id)//')')
       else if (any(load%node_ids <= 0)) then
-        call card_error(card, 'fields N1-N3: a segment needs three or four positive node ids')
+        call card_error(card, 'fields N1-N4: a segment needs two (2D line), three or four '// &
+            'positive node ids')
       else if (n5 /= 0) then
         call card_error(card, 'field N5: higher-order (8-node) segments are not supported')
       else

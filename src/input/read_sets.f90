@@ -87,15 +87,19 @@ contains
         bad = .true.
         cycle
       end if
+      ! 2D line segment: N1 N2 with N3 (and N4) blank or repeating N2 -> stored N1 N2 N2 N2
+      if (nodes(3) == 0 .or. nodes(3) == nodes(2)) then
+        if (all(nodes(3:4) == 0 .or. nodes(3:4) == nodes(2))) nodes(3:4) = nodes(2)
+      end if
       if (nodes(4) == 0) nodes(4) = nodes(3)
       if (any(nodes(1:3) <= 0) .or. nodes(4) < 0) then
         call card_error(card, 'segment set '//itoa(set%id)//': a segment needs positive '// &
-            'node ids N1 N2 N3 (and N4, or N4 = N3 for a triangle)')
+            'node ids N1 N2 (2D line) or N1 N2 N3 (and N4, or N4 = N3 for a triangle)')
         bad = .true.
         cycle
       end if
-      if (nodes(1) == nodes(2) .or. nodes(2) == nodes(3) .or. nodes(1) == nodes(3) .or. &
-          nodes(4) == nodes(1) .or. (nodes(4) == nodes(2))) then
+      if (nodes(1) == nodes(2) .or. (nodes(2) /= nodes(3) .and. (nodes(1) == nodes(3) .or. &
+          nodes(4) == nodes(1) .or. nodes(4) == nodes(2)))) then
         call card_error(card, 'segment set '//itoa(set%id)//': segment '//itoa(nodes(1))// &
             ' '//itoa(nodes(2))//' '//itoa(nodes(3))//' '//itoa(nodes(4))// &
             ' repeats a node (only N4 = N3 is allowed, for a triangle)')
