@@ -47,6 +47,7 @@ module mefem_cards
     integer :: nfields = 0                   !< fields laid out
     integer :: first(MAX_FIELDS) = 1         !< first column of each field
     integer :: last(MAX_FIELDS) = 0          !< last column of each field (< first: empty)
+    integer :: nominal_last(MAX_FIELDS) = 0  !< last column of each field's full width
   end type card_t
 
 contains
@@ -132,6 +133,7 @@ contains
       if (rd%long) w = LONG_WIDTH
       card%first(i) = col
       card%last(i) = min(col + w - 1, card%length)
+      card%nominal_last(i) = col + w - 1
       col = col + w
     end do
   end subroutine split_card
@@ -215,7 +217,7 @@ contains
       s = 'field '//trim(name)//' (entry '//itoa(i)//')'
     else
       s = 'field '//trim(name)//' (columns '//itoa(card%first(i))//'-'// &
-          itoa(card%first(i) + max(card%last(i) - card%first(i), 0))//')'
+          itoa(card%nominal_last(i))//')'
     end if
   end function field_label
 

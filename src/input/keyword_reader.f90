@@ -270,9 +270,19 @@ contains
         rest = rest(k+1:)
       end if
       if (index(REGISTRY(best)%options, ' '//opt//' ') == 0) then
-        call keyword_error(rd, 'option _'//opt//' of *'//trim(REGISTRY(best)%base)// &
-            ' is not supported (accepted:'//trim(REGISTRY(best)%options)//')')
-        call skip_cards(rd)
+        ! not a variant mefem reads: an output-only keyword is skipped, anything else an error
+        if (is_skipped(name)) then
+          call skip_or_reject(rd, name)
+        else if (len_trim(REGISTRY(best)%options) == 0) then
+          call keyword_error(rd, 'keyword not supported by mefem (*'// &
+              trim(REGISTRY(best)%base)//' is, without options); it could change the '// &
+              'analysis, so it is not ignored')
+          call skip_cards(rd)
+        else
+          call keyword_error(rd, 'option _'//opt//' of *'//trim(REGISTRY(best)%base)// &
+              ' is not supported (accepted:'//trim(REGISTRY(best)%options)//')')
+          call skip_cards(rd)
+        end if
         return
       end if
       options = options//opt//' '
@@ -387,6 +397,16 @@ contains
         'so it is not ignored (see doc/keywords.md for the supported keywords)')
     call skip_cards(rd)
   end subroutine skip_or_reject
+
+  !> True when a keyword name starts with one of the skipped (output/cosmetic) prefixes.
+  logical function is_skipped(name)
+    character(len=*), intent(in) :: name     !< keyword name, upper case, no '*'
+    integer :: k
+    is_skipped = .false.
+    do k = 1, N_SKIPPED
+      if (starts_with(name, trim(SKIPPED(k)%prefix))) is_skipped = .true.
+    end do
+  end function is_skipped
 
   !> Skip the data cards of the current keyword.
   subroutine skip_cards(rd)

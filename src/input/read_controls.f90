@@ -84,15 +84,16 @@ contains
         call get_text(card, 2*pair - 1, spec)
         call get_text(card, 2*pair, value)
         if (len(spec) == 0 .and. len(value) == 0) cycle
-        kind = 'R'
-        name = spec
-        if (len(spec) > 2) then
-          if (index('RICricn', spec(1:1)) > 0 .and. spec(2:2) == ' ') then
+        ! the first character is the type (R, I, C), the other nine the name ('R tmax', 'Rtmax')
+        kind = ' '
+        name = ''
+        if (len(spec) > 1) then
+          if (index('RICric', spec(1:1)) > 0) then
             kind = to_upper(spec(1:1))
-            name = trim(adjustl(spec(3:)))
+            name = trim(adjustl(spec(2:)))
           end if
         end if
-        if (len(name) == 0 .or. scan(name, ' &') > 0) then
+        if (kind == ' ' .or. len(name) == 0 .or. scan(name, ' &') > 0) then
           call card_error(card, 'parameter '//itoa(pair)//': "'//spec// &
               '" is not "R name", "I name" or "C name"')
           cycle

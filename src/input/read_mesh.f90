@@ -4,7 +4,7 @@
 module mefem_read_mesh
   use mefem_kinds, only: wp
   use mefem_strings, only: itoa
-  use mefem_cards, only: reader_t, card_t, next_card, split_card, get_int, get_real, &
+  use mefem_cards, only: LONG_WIDTH, reader_t, card_t, next_card, split_card, get_int, get_real, &
                          card_error, keyword_error
   use mefem_model, only: model_t, nodes_t, elements_t, part_t, section_t, source_t, &
                          ELEM_SOLID, ELEM_SHELL, SECTION_SOLID, SECTION_SHELL
@@ -89,7 +89,7 @@ contains
         nfield = count_commas(card%text(1:card%length)) + 1
         one_line = nfield > 2
       else
-        one_line = len_trim(card%text(1:card%length)) > 16
+        one_line = len_trim(card%text(1:card%length)) > 2*merge(LONG_WIDTH, 8, rd%long)
       end if
       call split_card(rd, card, W_I8)
       call get_int(card, 1, 'EID', eid, required=.true.)

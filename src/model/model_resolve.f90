@@ -95,6 +95,7 @@ contains
     type(id_map_t), intent(in) :: node_map, part_map  !< id maps
     type(id_map_t) :: element_map
     integer :: e, i, n_solid_deformable, n_shell_deformable, n_before
+    logical :: part_reported(model%n_parts)
     logical :: ok
     associate (el => model%elements)
       allocate(el%part(el%n), el%topology(el%n), el%conn(8, el%n))
@@ -102,6 +103,7 @@ contains
       call report_duplicates(element_map, el%src, '*ELEMENT', 'element')
       n_solid_deformable = 0
       n_shell_deformable = 0
+      part_reported = .false.
       do e = 1, el%n
         el%conn(:, e) = 0
         ok = .true.
@@ -130,7 +132,7 @@ contains
         end if
         if (.not. ok) cycle
         n_before = n_shell_deformable
-        call check_formulation(model, e, n_solid_deformable, n_shell_deformable)
+        call check_formulation(model, e, n_solid_deformable, n_shell_deformable, part_reported)
         call check_measure(model, e, n_shell_deformable > n_before)
       end do
       if (n_solid_deformable > 0 .and. n_shell_deformable > 0) call input_error('', &
@@ -193,10 +195,11 @@ contains
   end function element_where
 
   !> The element's part uses a formulation mefem computes for its topology.
-  subroutine check_formulation(model, e, n_solid_deformable, n_shell_deformable)
+  subroutine check_formulation(model, e, n_solid_deformable, n_shell_deformable, part_reported)
     type(model_t), intent(in) :: model          !< the model
     integer, intent(in) :: e                    !< element index
     integer, intent(inout) :: n_solid_deformable, n_shell_deformable  !< counters
+    logical, intent(inout) :: part_reported(:)  !< an unsupported ELFORM was reported per part
     integer :: p, s, m, elform, topo
     p = model%elements%part(e)
     s = model%parts(p)%section
@@ -222,10 +225,12 @@ contains
     if (model%elements%keyword(e) == ELEM_SOLID) then
       n_solid_deformable = n_solid_deformable + 1
       if (elform /= ELFORM_TET_STANDARD .and. elform /= ELFORM_MEFEM) then
-        call input_error(element_where(model, e), &
+        ! once per part: the section is wrong, not each element
+        if (.not. part_reported(p)) call input_error(element_where(model, e), &
             'element '//itoa(model%elements%id(e))//': part '// &
             itoa(model%parts(p)%id)//': solid ELFORM '//itoa(elform)//' is not supported '// &
             '(deformable solids: 43 ME-FEM tetrahedron, 10 standard linear tetrahedron)')
+        part_reported(p) = .true.
       else if (topo /= TOPO_TET4) then
         call input_error(element_where(model, e), &
             'element '//itoa(model%elements%id(e))//': part '// &
@@ -235,11 +240,12 @@ contains
     else
       n_shell_deformable = n_shell_deformable + 1
       if (elform /= ELFORM_TRI_PLANE_STRAIN .and. elform /= ELFORM_MEFEM) then
-        call input_error(element_where(model, e), &
+        if (.not. part_reported(p)) call input_error(element_where(model, e), &
             'element '//itoa(model%elements%id(e))//': part '// &
             itoa(model%parts(p)%id)//': shell ELFORM '//itoa(elform)//' is not supported '// &
             'for deformable parts (43 ME-FEM plane-strain triangle, 13 standard plane-strain '// &
             'triangle; shells of *MAT_RIGID parts may be tool surfaces)')
+        part_reported(p) = .true.
       else if (topo /= TOPO_TRI3) then
         call input_error(element_where(model, e), &
             'element '//itoa(model%elements%id(e))//': part '// &
@@ -309,7 +315,9 @@ contains
       end if
       return
     case (TOPO_TET4)
-      map = [1, 2, 3, 4, 4, 4, 4, 4]
+      element_measure = dot_product(cross(xe(:, 2) - xe(:, 1), xe(:, 3) - xe(:, 1)), &
+                                    xe(:, 4) - xe(:, 1))/6.0_wp
+      return
     case (TOPO_PENTA6)
       map = [1, 2, 5, 4, 3, 3, 6, 6]
     case default

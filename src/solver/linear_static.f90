@@ -56,6 +56,10 @@ contains
 
     ! boundary conditions and loads at the end time
     t_end = model%controls%end_time
+    if (t_end <= 0.0_wp) t_end = model%controls%dt0
+    if (t_end <= 0.0_wp) call fatal('linear static analysis needs *CONTROL_TERMINATION ENDTIM '// &
+        '(or *CONTROL_IMPLICIT_GENERAL DT0): the time at which loads and prescribed '// &
+        'displacements are evaluated')
     allocate(fixed(dim, n_all), prescribed(dim, n_all), force(dim, n_all))
     fixed = .false.
     prescribed = 0.0_wp
