@@ -230,10 +230,22 @@ contains
     real(wp), intent(in) :: u(:,:)                  !< (dim, nodes) displacements
     real(wp), intent(in) :: time                    !< analysis time of the state
     real(wp), allocatable :: strain(:,:), stress(:,:), element_stress(:,:), element_count(:)
-    type(output_field_t) :: point_fields(1), cell_fields(3)
-    integer :: c, slot, e, i, local
-    real(wp) :: s(6)
+    type(output_field_t) :: point_fields(4), cell_fields(3)
+    real(wp), allocatable :: nodal_stress(:,:), nodal_weight(:)
+    integer :: c, slot, e, local, a, node
     call cell_stresses(model, cells, u, strain, stress)
+    ! nodal values: the weight-averaged stress of the cells around each deck node
+    allocate(nodal_stress(6, cells%n_mesh_nodes), nodal_weight(cells%n_mesh_nodes))
+    nodal_stress = 0.0_wp
+    nodal_weight = 0.0_wp
+    do c = 1, cells%n
+      do a = 1, cells%nnodes(c)
+        node = cells%nodes(a, c)
+        if (node > cells%n_mesh_nodes) cycle
+        nodal_stress(:, node) = nodal_stress(:, node) + cells%weight(c)*stress(:, c)
+        nodal_weight(node) = nodal_weight(node) + cells%weight(c)
+      end do
+    end do
     allocate(element_stress(6, model%elements%n), element_count(model%elements%n))
     element_stress = 0.0_wp
     element_count = 0.0_wp
@@ -252,23 +264,35 @@ contains
     do local = 1, decomp%nnode_local
       point_fields(1)%values(1:cells%dim, local) = u(:, decomp%node_global(local))
     end do
-    cell_fields(1)%name = 'stress'
-    cell_fields(1)%ncomp = 6
-    cell_fields(2)%name = 'pressure'
-    cell_fields(3)%name = 'von_mises'
-    allocate(cell_fields(1)%values(6, decomp%nelem_local), &
-             cell_fields(2)%values(1, decomp%nelem_local), &
-             cell_fields(3)%values(1, decomp%nelem_local))
-    do local = 1, decomp%nelem_local
-      e = decomp%elem_global(local)
-      s = 0.0_wp
-      if (element_count(e) > 0.0_wp) s = element_stress(:, e)/element_count(e)
-      cell_fields(1)%values(:, local) = s
-      cell_fields(2)%values(1, local) = -(s(1) + s(2) + s(3))/3.0_wp
-      cell_fields(3)%values(1, local) = sqrt(0.5_wp*((s(1) - s(2))**2 + (s(2) - s(3))**2 + &
-          (s(3) - s(1))**2) + 3.0_wp*sum([(s(i)**2, i = 4, 6)]))
-    end do
+    call stress_fields(nodal_stress(:, decomp%node_global(1:decomp%nnode_local)), &
+                       nodal_weight(decomp%node_global(1:decomp%nnode_local)), point_fields(2:4))
+    call stress_fields(element_stress(:, decomp%elem_global(1:decomp%nelem_local)), &
+                       element_count(decomp%elem_global(1:decomp%nelem_local)), cell_fields)
     call results_write_state(1, time, point_fields, cell_fields)
   end subroutine write_results
+
+  !> Output fields 'stress' (6), 'pressure' = -tr/3 and 'von_mises' from summed stresses and
+  !> their weights (entities with zero weight get zeros).
+  subroutine stress_fields(stress_sum, weight, fields)
+    real(wp), intent(in) :: stress_sum(:,:)            !< (6, n) weighted sums
+    real(wp), intent(in) :: weight(:)                  !< (n) sums of the weights
+    type(output_field_t), intent(inout) :: fields(3)   !< stress, pressure, von_mises
+    integer :: k, n
+    real(wp) :: s(6)
+    n = size(weight)
+    fields(1)%name = 'stress'
+    fields(1)%ncomp = 6
+    fields(2)%name = 'pressure'
+    fields(3)%name = 'von_mises'
+    allocate(fields(1)%values(6, n), fields(2)%values(1, n), fields(3)%values(1, n))
+    do k = 1, n
+      s = 0.0_wp
+      if (weight(k) > 0.0_wp) s = stress_sum(:, k)/weight(k)
+      fields(1)%values(:, k) = s
+      fields(2)%values(1, k) = -(s(1) + s(2) + s(3))/3.0_wp
+      fields(3)%values(1, k) = sqrt(0.5_wp*((s(1) - s(2))**2 + (s(2) - s(3))**2 + &
+          (s(3) - s(1))**2) + 3.0_wp*(s(4)**2 + s(5)**2 + s(6)**2))
+    end do
+  end subroutine stress_fields
 
 end module mefem_linear_static

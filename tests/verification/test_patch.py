@@ -109,9 +109,66 @@ def patch(dim, elform, poisson, checks):
                  'max relative error %.3e' % serr)
 
 
+def traction_patch(dim, elform, poisson, checks):
+    """Constant-stress traction patch: rollers on the x=0, y=0 (, z=0) faces, a uniform
+    tension T on x = 1 applied as a negative pressure through *LOAD_SEGMENT. Exact: sigma_xx = T
+    everywhere (plane strain: sigma_zz = nu T), a linear displacement field."""
+    young, tension = 1000.0, 2.0
+    if dim == 2:
+        x, conn, _ = square_mesh(6)
+        keyword = 'ELEMENT_SHELL'
+        right = np.nonzero(np.isclose(x[:, 0], 1.0))[0]
+        right = right[np.argsort(x[right, 1])]          # bottom to top: body on the left
+        segments = [[a, b] for a, b in zip(right[:-1], right[1:])]
+        exx = tension * (1 - poisson ** 2) / young
+        eyy = -tension * poisson * (1 + poisson) / young
+        strain = np.diag([exx, eyy])
+        want = np.array([tension, 0.0, poisson * tension, 0.0, 0.0, 0.0])
+    else:
+        x, conn, _ = cube_mesh(3)
+        keyword = 'ELEMENT_SOLID'
+        segments = []
+        for c in conn:
+            for face in ([1, 2, 3], [0, 3, 2], [0, 1, 3], [0, 2, 1]):
+                f = c[face]
+                if np.allclose(x[f, 0], 1.0):
+                    n = np.cross(x[f[1]] - x[f[0]], x[f[2]] - x[f[0]])
+                    segments.append(list(f) if n[0] > 0 else [f[0], f[2], f[1]])
+        strain = np.diag([1.0, -poisson, -poisson]) * tension / young
+        want = np.array([tension, 0.0, 0.0, 0.0, 0.0, 0.0])
+    spc = ['*BOUNDARY_SPC_NODE']
+    for n in range(len(x)):
+        fixed = [1 if np.isclose(x[n, d], 0.0) else 0 for d in range(dim)] + [0] * (3 - dim)
+        if any(fixed):
+            spc.append(f10(int(n + 1), 0, *fixed))
+    loads = ['*LOAD_SEGMENT'] + [free(1, -tension, 0.0, *[int(v) + 1 for v in seg])
+                                 for seg in segments]
+    name = 'traction%dd_elform%d_nu%g' % (dim, elform, poisson)
+    deck = os.path.join(OUT, name + '.k')
+    write_deck(deck, [nodes_card(x), elements_card(keyword, conn),
+                      material_part(elform, young, poisson, dim), linear_static_controls(),
+                      unit_curve(), spc, loads])
+    rc, text = run(deck, os.path.join(OUT, name))
+    checks.check(rc == 0, name + ': run succeeds', text[-400:])
+    if rc != 0:
+        return
+    s = read_state(os.path.join(OUT, name, name + '.h5'))
+    exact = x @ strain.T
+    u = s['displacement'][:, :dim]
+    err = np.abs(u - exact[s['node_ids'] - 1]).max() / np.abs(exact).max()
+    # the same round-off budget as the displacement patch test
+    checks.check(err < 1e-9, name + ': linear displacement field exact',
+                 'max relative error %.3e' % err)
+    serr = np.abs(s['stress'] - want).max() / tension
+    checks.check(serr < 1e-7, name + ': uniform stress sigma_xx = T in every element',
+                 'max relative error %.3e' % serr)
+
+
 checks = Checks('patch')
 for dim in (2, 3):
     for elform in ((43, 13) if dim == 2 else (43, 10)):
         for nu in (0.3, 0.4999):
             patch(dim, elform, nu, checks)
+        traction_patch(dim, elform, 0.3, checks)
+        traction_patch(dim, elform, 0.4999, checks)
 checks.exit()
