@@ -26,6 +26,7 @@
 !> tuple entry), and equal tuples are adjacent. Pure data: no MPI.
 module mefem_smoothing_domains
   use mefem_kinds, only: wp
+  use mefem_vector_math, only: cross
   use mefem_errors, only: status_t
   implicit none
   private
@@ -395,12 +396,6 @@ contains
     end do
   end subroutine tetrahedron_geometry
 
-  !> Cross product of two 3-vectors.
-  pure function cross(a, b) result(c)
-    real(wp), intent(in) :: a(3), b(3)        !< factors
-    real(wp) :: c(3)
-    c = [a(2)*b(3) - a(3)*b(2), a(3)*b(1) - a(1)*b(3), a(1)*b(2) - a(2)*b(1)]
-  end function cross
 
   !> Corners of side s = (e-1)*nvert + k in the element's outward order.
   pure subroutine side_tuple(conn, s, tuple)

@@ -6,6 +6,7 @@
 !> mefem_resolve_conditions, called from here.
 module mefem_model_resolve
   use mefem_kinds, only: wp
+  use mefem_vector_math, only: cross
   use mefem_errors, only: input_error, say
   use mefem_strings, only: itoa, rtoa
   use mefem_deck_source, only: location
@@ -336,12 +337,6 @@ contains
     end do
   end function element_measure
 
-  !> Cross product.
-  pure function cross(a, b) result(c)
-    real(wp), intent(in) :: a(3), b(3)   !< vectors
-    real(wp) :: c(3)
-    c = [a(2)*b(3) - a(3)*b(2), a(3)*b(1) - a(1)*b(3), a(1)*b(2) - a(2)*b(1)]
-  end function cross
 
   !> "a b c d" list of the nonzero node ids.
   function node_list(ids) result(s)

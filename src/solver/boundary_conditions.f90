@@ -8,6 +8,7 @@
 !> on its left, counter-clockwise, and its outward normal is (t_y, -t_x)).
 module mefem_boundary_conditions
   use mefem_kinds, only: wp
+  use mefem_vector_math, only: cross
   use mefem_model, only: model_t, ON_NODE, ON_NODE_SET, ON_ALL_NODES
   use mefem_curves, only: curve_value
   implicit none
@@ -169,11 +170,5 @@ contains
     end do
   end subroutine segment_pressure
 
-  !> Cross product.
-  pure function cross(a, b) result(c)
-    real(wp), intent(in) :: a(3), b(3)   !< vectors
-    real(wp) :: c(3)
-    c = [a(2)*b(3) - a(3)*b(2), a(3)*b(1) - a(1)*b(3), a(1)*b(2) - a(2)*b(1)]
-  end function cross
 
 end module mefem_boundary_conditions
