@@ -21,7 +21,7 @@ module mefem_comm
 
   !> Global sum over all ranks (in place).
   interface comm_sum
-    module procedure sum_real, sum_real_array, sum_int, sum_int_array, sum_i8
+    module procedure sum_real, sum_real_array, sum_real_matrix, sum_int, sum_int_array, sum_i8
   end interface comm_sum
   !> Global minimum over all ranks (in place).
   interface comm_min
@@ -39,6 +39,15 @@ module mefem_comm
   interface comm_allgather
     module procedure allgather_int, allgather_i8
   end interface comm_allgather
+
+  !> Pending non-blocking transfers (opaque): comm_isend_real and comm_irecv_real add one,
+  !> comm_waitall completes them all. Keep one per exchange that may be in flight.
+  public :: comm_requests_t, comm_isend_real, comm_irecv_real, comm_waitall
+  type :: comm_requests_t
+    private
+    integer :: n = 0                                  !< transfers posted, not yet completed
+    type(MPI_Request), allocatable :: list(:)         !< their handles
+  end type comm_requests_t
 
 contains
 
@@ -114,6 +123,14 @@ contains
     call MPI_Allreduce(MPI_IN_PLACE, x, size(x), MPI_DOUBLE_PRECISION, MPI_SUM, &
                        MPI_COMM_WORLD, ierr)
   end subroutine sum_real_array
+
+  subroutine sum_real_matrix(x)
+    real(wp), intent(inout), contiguous :: x(:,:)   !< values, replaced by the global sums
+    integer :: ierr
+    if (size(x) == 0) return
+    call MPI_Allreduce(MPI_IN_PLACE, x, size(x), MPI_DOUBLE_PRECISION, MPI_SUM, &
+                       MPI_COMM_WORLD, ierr)
+  end subroutine sum_real_matrix
 
   subroutine sum_int(x)
     integer, intent(inout) :: x   !< value, replaced by the global sum
@@ -263,5 +280,53 @@ contains
   integer function comm_info_null_handle()
     comm_info_null_handle = MPI_INFO_NULL%MPI_VAL
   end function comm_info_null_handle
+
+  !> Post a non-blocking send of a real array to rank `destination`. The buffer must stay
+  !> unchanged (and allocated) until comm_waitall on the same requests returns.
+  subroutine comm_isend_real(buffer, destination, tag, requests)
+    real(wp), intent(in), asynchronous, contiguous :: buffer(:) !< values to send
+    integer, intent(in) :: destination                  !< receiving rank
+    integer, intent(in) :: tag                          !< message tag (matches the receive)
+    type(comm_requests_t), intent(inout) :: requests    !< the new request is appended
+    integer :: ierr
+    call grow_requests(requests)
+    requests%n = requests%n + 1
+    call MPI_Isend(buffer, size(buffer), MPI_DOUBLE_PRECISION, destination, tag, &
+                   MPI_COMM_WORLD, requests%list(requests%n), ierr)
+  end subroutine comm_isend_real
+
+  !> Post a non-blocking receive of a real array from rank `source` (exactly size(buffer)
+  !> values). The buffer holds the message once comm_waitall on the same requests returns.
+  subroutine comm_irecv_real(buffer, source, tag, requests)
+    real(wp), intent(inout), asynchronous, contiguous :: buffer(:) !< receives the values
+    integer, intent(in) :: source                       !< sending rank
+    integer, intent(in) :: tag                          !< message tag (matches the send)
+    type(comm_requests_t), intent(inout) :: requests    !< the new request is appended
+    integer :: ierr
+    call grow_requests(requests)
+    requests%n = requests%n + 1
+    call MPI_Irecv(buffer, size(buffer), MPI_DOUBLE_PRECISION, source, tag, &
+                   MPI_COMM_WORLD, requests%list(requests%n), ierr)
+  end subroutine comm_irecv_real
+
+  !> Wait until every transfer posted on `requests` has completed, then empty the list.
+  subroutine comm_waitall(requests)
+    type(comm_requests_t), intent(inout) :: requests    !< posted transfers; empty on return
+    integer :: ierr
+    if (requests%n > 0) call MPI_Waitall(requests%n, requests%list(1:requests%n), &
+                                         MPI_STATUSES_IGNORE, ierr)
+    requests%n = 0
+  end subroutine comm_waitall
+
+  !> Make room for one more request handle (the list doubles when full).
+  subroutine grow_requests(requests)
+    type(comm_requests_t), intent(inout) :: requests    !< request list
+    type(MPI_Request), allocatable :: bigger(:)
+    if (.not. allocated(requests%list)) allocate(requests%list(8))
+    if (requests%n < size(requests%list)) return
+    allocate(bigger(2*size(requests%list)))
+    bigger(1:requests%n) = requests%list(1:requests%n)
+    call move_alloc(bigger, requests%list)
+  end subroutine grow_requests
 
 end module mefem_comm

@@ -226,8 +226,9 @@ contains
     if (.not. bad) then
       if (mat%k_strength <= 0.0_wp) call fail(card, who//'field K must be > 0 '// &
           quoted_real(mat%k_strength))
-      if (mat%n_exponent < 0.0_wp .or. mat%n_exponent >= 1.0_wp) call fail(card, who// &
-          'field N must be >= 0 and < 1 '//quoted_real(mat%n_exponent))
+      ! N > 1 is allowed: the seed paper's law sigma_y0 (1 + a e_p)^b has b = 1.1
+      if (mat%n_exponent < 0.0_wp) call fail(card, who// &
+          'field N must be >= 0 '//quoted_real(mat%n_exponent))
       if (mat%cowper_c < 0.0_wp) call fail(card, who//'field SRC must not be negative '// &
           quoted_real(mat%cowper_c))
       if (mat%cowper_p < 0.0_wp .or. (mat%cowper_c > 0.0_wp .and. mat%cowper_p == 0.0_wp)) &

@@ -17,6 +17,7 @@ program mefem
   use mefem_results, only: results_open, results_write_state, results_close, node_set_fields
   use mefem_progress, only: peak_memory_mib
   use mefem_linear_static, only: linear_static_run
+  use mefem_implicit_static, only: implicit_static_run
   use mefem_errors, only: input_error_count
   implicit none
 
@@ -60,9 +61,11 @@ program mefem
   ! the analysis the deck asks for
   if (model%controls%imflag == 1 .and. model%controls%nsolvr == 1) then
     call linear_static_run(model, decomp)
+  else if (model%controls%imflag == 1) then
+    call implicit_static_run(model, decomp)
   else
-    call say('the analysis this deck asks for (explicit, or nonlinear implicit) is not '// &
-             'available yet: the model was read, checked and written')
+    call say('explicit analysis is not available yet: the model was read, checked and '// &
+             'written')
   end if
   call results_close()
   call say('results: '//options%output_dir//'/'//deck_stem(options%deck)//'.pvd (ParaView), '// &

@@ -7,7 +7,7 @@
 module mefem_model_resolve
   use mefem_kinds, only: wp
   use mefem_vector_math, only: cross
-  use mefem_errors, only: input_error, say
+  use mefem_errors, only: input_error, input_error_count, say
   use mefem_strings, only: itoa, rtoa
   use mefem_deck_source, only: location
   use mefem_id_map, only: id_map_t, id_map_build, id_map_find
@@ -52,9 +52,13 @@ contains
       call resolve_part(model, k, section_map, material_map)
     end do
     call resolve_elements(model, node_map, part_map)
-    if (model%nodes%n == 0) call input_error('', 'the deck defines no nodes (*NODE)')
-    if (model%elements%n == 0) call input_error('', 'the deck defines no elements '// &
-        '(*ELEMENT_SOLID or *ELEMENT_SHELL)')
+    ! an empty model is worth a message only when nothing else was wrong (an unreadable deck
+    ! has no nodes as a consequence)
+    if (input_error_count() == 0) then
+      if (model%nodes%n == 0) call input_error('', 'the deck defines no nodes (*NODE)')
+      if (model%elements%n == 0) call input_error('', 'the deck defines no elements '// &
+          '(*ELEMENT_SOLID or *ELEMENT_SHELL)')
+    end if
   end subroutine model_resolve
 
   !> Report every id that occurs more than once (at each later occurrence).

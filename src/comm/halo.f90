@@ -1,0 +1,372 @@
+!> Mesh-aware halo exchange on top of the communication verbs of mefem_comm (no MPI here).
+!>
+!> A halo_t is built once from a decomposition or an explicit layout (neighbour ranks and, per
+!> neighbour, the local nodes both hold, in the same order on both sides) with its buffers.
+!> Two operations on nodal arrays f(ncomp, nnode_local):
+!>
+!> halo_sum: f holds this rank's partial sums; afterwards every rank holds, at every shared
+!>   node, the sum of all ranks' partials. Each rank sends its partials and, at each shared
+!>   node, adds the partials of all ranks holding the node in ascending rank order, its own
+!>   in its place, starting from the lowest rank's value. So every copy of a shared node is
+!>   bit-identical on every rank (no drift between copies), independent of message arrival.
+!>   The partials themselves depend on how the elements are split, so the result may differ
+!>   in the last bits between runs on different numbers of ranks.
+!>
+!> halo_assemble (layouts only): bit-identical for any number of ranks. The input is the
+!>   per-cell contributions cell_values(ncomp, slots, ncell_local) (cell l's value for its j-th
+!>   node, cells%nodes order); each local node gets the sum of all contributions to it, from
+!>   every rank's cells, added in ascending global cell order (the plan of
+!>   mefem_explicit_layout), exactly what a one-rank run adds.
+!>
+!> Both come split into _start (post receives, pack and post sends) and _finish (wait, add),
+!> so that work on the interior can run in between:
+!>   compute outer cells; call halo_..._start; compute inner cells; call halo_..._finish.
+!> Between start and finish, halo_sum needs f unchanged at shared nodes (inner cells do not
+!> touch them) and halo_assemble needs the outer cells' values unchanged.
+!> Halos whose exchanges may be in flight at the same time must have different tags.
+module mefem_halo
+  use mefem_kinds, only: wp
+  use mefem_errors, only: fatal_local
+  use mefem_comm, only: comm_requests_t, comm_isend_real, comm_irecv_real, comm_waitall
+  use mefem_decomposition, only: decomposition_t
+  use mefem_explicit_layout, only: explicit_layout_t
+  implicit none
+  private
+
+  public :: halo_build, halo_sum, halo_sum_start, halo_sum_finish
+  public :: halo_assemble, halo_assemble_start, halo_assemble_finish
+
+  integer, parameter :: DEFAULT_TAG = 7100     !< message tag when none is given
+
+  !> Neighbours, shared nodes, summation plans and buffers of one halo (read-only for users).
+  type, public :: halo_t
+    integer :: rank = 0                          !< this rank
+    integer :: nnode_local = 0                   !< size(f, 2) expected
+    integer :: ncomp_max = 0                     !< components the buffers hold per node
+    integer :: tag = DEFAULT_TAG                 !< tag of halo_sum messages (tag+1: assembly)
+    integer :: nneighbour = 0                    !< neighbour ranks
+    integer, allocatable :: neighbour_rank(:)    !< (nneighbour) ascending
+    integer, allocatable :: shared_start(:)      !< (nneighbour+1) offsets into shared_nodes
+    integer, allocatable :: shared_nodes(:)      !< local nodes shared with each neighbour
+    ! halo_sum plan: shared node sum_node(m) adds plan_source(plan_start(m):plan_start(m+1)-1)
+    ! in that order; 0 = own value, s > 0 = received value for shared_nodes(s)
+    integer :: nshared = 0                       !< distinct shared local nodes
+    integer, allocatable :: sum_node(:)          !< (nshared) local node
+    integer, allocatable :: plan_start(:)        !< (nshared+1) offsets into plan_source
+    integer, allocatable :: plan_source(:)       !< sources in ascending rank order
+    real(wp), allocatable :: send_buffer(:)      !< (ncomp_max * size(shared_nodes))
+    real(wp), allocatable :: receive_buffer(:)   !< (ncomp_max * size(shared_nodes))
+    type(comm_requests_t) :: requests            !< halo_sum transfers in flight
+    integer :: sum_ncomp = 0                     !< components of the halo_sum in flight (0: none)
+    ! order-fixed assembly (built from an explicit layout)
+    logical :: has_assembly = .false.            !< assembly plan present
+    integer :: ncell_local = 0                   !< size(cell_values, 3) expected
+    integer :: slots = 0                         !< size(cell_values, 2) expected
+    integer, allocatable :: assembly_start(:)    !< copies of the layout's plan
+    integer, allocatable :: assembly_source(:)
+    integer, allocatable :: send_start(:)
+    integer, allocatable :: send_source(:)
+    integer, allocatable :: receive_start(:)
+    real(wp), allocatable :: assembly_send(:)    !< (ncomp_max * size(send_source))
+    real(wp), allocatable :: assembly_receive(:) !< (ncomp_max * received contributions)
+    type(comm_requests_t) :: assembly_requests   !< halo_assemble transfers in flight
+    integer :: assembly_ncomp = 0                !< components of the assembly in flight
+  end type halo_t
+
+  !> Build a halo from a decomposition_t or an explicit_layout_t (the latter with the
+  !> order-fixed assembly plan): call halo_build(halo, source, ncomp_max [, tag]).
+  interface halo_build
+    module procedure halo_build_decomposition, halo_build_layout
+  end interface halo_build
+
+contains
+
+  !> Halo of a decomposition: nodal sums over the decomposition's local nodes.
+  subroutine halo_build_decomposition(halo, decomp, ncomp_max, tag)
+    type(halo_t), intent(out) :: halo              !< the halo
+    type(decomposition_t), intent(in) :: decomp    !< this rank's decomposition
+    integer, intent(in) :: ncomp_max               !< largest ncomp that will be exchanged
+    integer, intent(in), optional :: tag           !< message tag (default 7100)
+    call set_lists(halo, decomp%rank, decomp%nnode_local, decomp%neighbour_rank, &
+                   decomp%shared_start, decomp%shared_nodes, ncomp_max, tag)
+  end subroutine halo_build_decomposition
+
+  !> Halo of an explicit layout: nodal sums and order-fixed assembly over its local nodes.
+  subroutine halo_build_layout(halo, layout, ncomp_max, tag)
+    type(halo_t), intent(out) :: halo              !< the halo
+    type(explicit_layout_t), intent(in) :: layout  !< this rank's explicit layout
+    integer, intent(in) :: ncomp_max               !< largest ncomp that will be exchanged
+    integer, intent(in), optional :: tag           !< message tag (default 7100); uses tag+1 too
+    call set_lists(halo, layout%rank, layout%nnode_local, layout%neighbour_rank, &
+                   layout%shared_start, layout%shared_nodes, ncomp_max, tag)
+    halo%has_assembly = .true.
+    halo%ncell_local = layout%ncell_local
+    halo%slots = layout%slots
+    halo%assembly_start = layout%assembly_start
+    halo%assembly_source = layout%assembly_source
+    halo%send_start = layout%send_start
+    halo%send_source = layout%send_source
+    halo%receive_start = layout%receive_start
+    allocate(halo%assembly_send(ncomp_max*size(layout%send_source)))
+    allocate(halo%assembly_receive(ncomp_max*(layout%receive_start(layout%nneighbour + 1) - 1)))
+  end subroutine halo_build_layout
+
+  !> Copy the neighbour lists, allocate the buffers and plan the ascending-rank sums.
+  subroutine set_lists(halo, rank, nnode_local, neighbour_rank, shared_start, shared_nodes, &
+                       ncomp_max, tag)
+    type(halo_t), intent(inout) :: halo            !< halo being built
+    integer, intent(in) :: rank                    !< this rank
+    integer, intent(in) :: nnode_local             !< local nodes
+    integer, intent(in) :: neighbour_rank(:)       !< neighbour ranks, ascending
+    integer, intent(in) :: shared_start(:)         !< offsets per neighbour
+    integer, intent(in) :: shared_nodes(:)         !< shared local nodes per neighbour
+    integer, intent(in) :: ncomp_max               !< components per node in the buffers
+    integer, intent(in), optional :: tag           !< message tag
+    integer, allocatable :: count_of(:), slot_of(:), next(:)
+    integer :: nneighbour, nlist, s, i, m, k, phase
+
+    if (ncomp_max < 1) call fatal_local('halo_build: ncomp_max must be at least 1')
+    halo%rank = rank
+    halo%nnode_local = nnode_local
+    halo%ncomp_max = ncomp_max
+    if (present(tag)) halo%tag = tag
+    nneighbour = size(neighbour_rank)
+    halo%nneighbour = nneighbour
+    halo%neighbour_rank = neighbour_rank
+    halo%shared_start = shared_start(1:nneighbour + 1)
+    nlist = shared_start(nneighbour + 1) - 1
+    halo%shared_nodes = shared_nodes(1:nlist)
+    allocate(halo%send_buffer(ncomp_max*nlist), halo%receive_buffer(ncomp_max*nlist))
+
+    ! shared nodes and the number of ranks holding each (1 + neighbours listing it)
+    allocate(count_of(nnode_local), slot_of(nnode_local))
+    count_of = 0
+    do s = 1, nlist
+      count_of(halo%shared_nodes(s)) = count_of(halo%shared_nodes(s)) + 1
+    end do
+    halo%nshared = count(count_of > 0)
+    allocate(halo%sum_node(halo%nshared), halo%plan_start(halo%nshared + 1))
+    slot_of = 0
+    halo%plan_start(1) = 1
+    m = 0
+    do i = 1, nnode_local
+      if (count_of(i) == 0) cycle
+      m = m + 1
+      slot_of(i) = m
+      halo%sum_node(m) = i
+      halo%plan_start(m + 1) = halo%plan_start(m) + count_of(i) + 1
+    end do
+    ! sources in ascending rank order: lower neighbours, this rank, higher neighbours
+    allocate(halo%plan_source(halo%plan_start(halo%nshared + 1) - 1), next(halo%nshared))
+    next = halo%plan_start(1:halo%nshared)
+    do phase = 1, 3
+      if (phase == 2) then
+        do m = 1, halo%nshared
+          halo%plan_source(next(m)) = 0
+          next(m) = next(m) + 1
+        end do
+        cycle
+      end if
+      do k = 1, nneighbour
+        if ((phase == 1) .neqv. (neighbour_rank(k) < rank)) cycle
+        do s = halo%shared_start(k), halo%shared_start(k + 1) - 1
+          m = slot_of(halo%shared_nodes(s))
+          halo%plan_source(next(m)) = s
+          next(m) = next(m) + 1
+        end do
+      end do
+    end do
+  end subroutine set_lists
+
+  !> Sum nodal partials over all ranks at shared nodes (start + finish).
+  subroutine halo_sum(halo, f)
+    type(halo_t), intent(inout) :: halo            !< the halo
+    real(wp), intent(inout) :: f(:,:)              !< (ncomp, nnode_local) partials -> sums
+    call halo_sum_start(halo, f)
+    call halo_sum_finish(halo, f)
+  end subroutine halo_sum
+
+  !> Post the receives, pack this rank's partials at shared nodes and post the sends.
+  subroutine halo_sum_start(halo, f)
+    type(halo_t), intent(inout), asynchronous :: halo !< the halo (buffers in use until finish)
+    real(wp), intent(in) :: f(:,:)                 !< (ncomp, nnode_local) this rank's partials
+    integer :: ncomp, k, s, first, last
+
+    ncomp = size(f, 1)
+    call check_nodal(halo, f, 'halo_sum_start')
+    if (halo%sum_ncomp /= 0) call fatal_local('halo_sum_start: previous exchange not finished')
+    halo%sum_ncomp = ncomp
+    do k = 1, halo%nneighbour
+      first = ncomp*(halo%shared_start(k) - 1) + 1
+      last = ncomp*(halo%shared_start(k + 1) - 1)
+      call comm_irecv_real(halo%receive_buffer(first:last), halo%neighbour_rank(k), halo%tag, &
+                           halo%requests)
+    end do
+    do k = 1, halo%nneighbour
+      do s = halo%shared_start(k), halo%shared_start(k + 1) - 1
+        halo%send_buffer(ncomp*(s - 1) + 1:ncomp*s) = f(:, halo%shared_nodes(s))
+      end do
+      first = ncomp*(halo%shared_start(k) - 1) + 1
+      last = ncomp*(halo%shared_start(k + 1) - 1)
+      call comm_isend_real(halo%send_buffer(first:last), halo%neighbour_rank(k), halo%tag, &
+                           halo%requests)
+    end do
+  end subroutine halo_sum_start
+
+  !> Wait for the neighbours' partials and add them at shared nodes in ascending rank order.
+  subroutine halo_sum_finish(halo, f)
+    type(halo_t), intent(inout), asynchronous :: halo !< the halo
+    real(wp), intent(inout) :: f(:,:)              !< (ncomp, nnode_local) partials -> sums
+    real(wp) :: total(size(f, 1))
+    integer :: ncomp, m, p, s
+
+    ncomp = size(f, 1)
+    if (halo%sum_ncomp /= ncomp) call fatal_local('halo_sum_finish: no matching halo_sum_start')
+    call check_nodal(halo, f, 'halo_sum_finish')
+    call comm_waitall(halo%requests)
+    halo%sum_ncomp = 0
+    do m = 1, halo%nshared
+      do p = halo%plan_start(m), halo%plan_start(m + 1) - 1
+        s = halo%plan_source(p)
+        if (p == halo%plan_start(m)) then
+          total = source_value(s)
+        else
+          total = total + source_value(s)
+        end if
+      end do
+      f(:, halo%sum_node(m)) = total
+    end do
+
+  contains
+
+    !> Value of a source: own partial (0) or received partial for shared_nodes(s).
+    function source_value(s) result(v)
+      integer, intent(in) :: s          !< plan source
+      real(wp) :: v(ncomp)
+      if (s == 0) then
+        v = f(:, halo%sum_node(m))
+      else
+        v = halo%receive_buffer(ncomp*(s - 1) + 1:ncomp*s)
+      end if
+    end function source_value
+
+  end subroutine halo_sum_finish
+
+  !> Order-fixed assembly of cell contributions into nodal sums (start + finish).
+  subroutine halo_assemble(halo, cell_values, f)
+    type(halo_t), intent(inout) :: halo            !< halo built from an explicit layout
+    real(wp), intent(in) :: cell_values(:,:,:)     !< (ncomp, slots, ncell_local) contributions
+    real(wp), intent(out) :: f(:,:)                !< (ncomp, nnode_local) nodal sums
+    call halo_assemble_start(halo, cell_values)
+    call halo_assemble_finish(halo, cell_values, f)
+  end subroutine halo_assemble
+
+  !> Post the receives, pack the contributions neighbours need (outer cells) and send them.
+  subroutine halo_assemble_start(halo, cell_values)
+    type(halo_t), intent(inout), asynchronous :: halo !< halo built from an explicit layout
+    real(wp), intent(in) :: cell_values(:,:,:)     !< (ncomp, slots, ncell_local); outer cells
+                                                   !< must be final
+    integer :: ncomp, k, t, first, last
+
+    ncomp = size(cell_values, 1)
+    call check_cells(halo, cell_values, 'halo_assemble_start')
+    if (halo%assembly_ncomp /= 0) &
+      call fatal_local('halo_assemble_start: previous exchange not finished')
+    halo%assembly_ncomp = ncomp
+    do k = 1, halo%nneighbour
+      first = ncomp*(halo%receive_start(k) - 1) + 1
+      last = ncomp*(halo%receive_start(k + 1) - 1)
+      call comm_irecv_real(halo%assembly_receive(first:last), halo%neighbour_rank(k), &
+                           halo%tag + 1, halo%assembly_requests)
+    end do
+    do k = 1, halo%nneighbour
+      do t = halo%send_start(k), halo%send_start(k + 1) - 1
+        halo%assembly_send(ncomp*(t - 1) + 1:ncomp*t) = &
+            contribution(cell_values, halo%slots, halo%send_source(t))
+      end do
+      first = ncomp*(halo%send_start(k) - 1) + 1
+      last = ncomp*(halo%send_start(k + 1) - 1)
+      call comm_isend_real(halo%assembly_send(first:last), halo%neighbour_rank(k), &
+                           halo%tag + 1, halo%assembly_requests)
+    end do
+  end subroutine halo_assemble_start
+
+  !> Wait for the neighbours' contributions and sum every local node in ascending cell order.
+  subroutine halo_assemble_finish(halo, cell_values, f)
+    type(halo_t), intent(inout), asynchronous :: halo !< halo built from an explicit layout
+    real(wp), intent(in) :: cell_values(:,:,:)     !< (ncomp, slots, ncell_local), all final
+    real(wp), intent(out) :: f(:,:)                !< (ncomp, nnode_local) nodal sums
+    real(wp) :: total(size(cell_values, 1))
+    integer :: ncomp, i, p, source
+
+    ncomp = size(cell_values, 1)
+    if (halo%assembly_ncomp /= ncomp) &
+      call fatal_local('halo_assemble_finish: no matching halo_assemble_start')
+    call check_cells(halo, cell_values, 'halo_assemble_finish')
+    call check_nodal(halo, f, 'halo_assemble_finish')
+    call comm_waitall(halo%assembly_requests)
+    halo%assembly_ncomp = 0
+    do i = 1, halo%nnode_local
+      total = 0.0_wp
+      do p = halo%assembly_start(i), halo%assembly_start(i + 1) - 1
+        source = halo%assembly_source(p)
+        if (source > 0) then
+          if (p == halo%assembly_start(i)) then
+            total = contribution(cell_values, halo%slots, source)
+          else
+            total = total + contribution(cell_values, halo%slots, source)
+          end if
+        else
+          if (p == halo%assembly_start(i)) then
+            total = halo%assembly_receive(ncomp*(-source - 1) + 1:ncomp*(-source))
+          else
+            total = total + halo%assembly_receive(ncomp*(-source - 1) + 1:ncomp*(-source))
+          end if
+        end if
+      end do
+      f(:, i) = total
+    end do
+  end subroutine halo_assemble_finish
+
+  !> Contribution number `source` (slot j of local cell l, source = j + slots*(l-1)).
+  pure function contribution(cell_values, slots, source) result(v)
+    real(wp), intent(in) :: cell_values(:,:,:)     !< (ncomp, slots, ncell_local)
+    integer, intent(in) :: slots                   !< slots per cell
+    integer, intent(in) :: source                  !< encoded contribution
+    real(wp) :: v(size(cell_values, 1))
+    integer :: l
+    l = (source - 1)/slots + 1
+    v = cell_values(:, source - slots*(l - 1), l)
+  end function contribution
+
+  !> Stop with a message if a nodal array does not fit the halo.
+  subroutine check_nodal(halo, f, where)
+    type(halo_t), intent(in) :: halo               !< the halo
+    real(wp), intent(in) :: f(:,:)                 !< nodal array
+    character(len=*), intent(in) :: where          !< calling routine
+    character(len=160) :: text
+    if (size(f, 2) /= halo%nnode_local .or. size(f, 1) > halo%ncomp_max .or. size(f, 1) < 1) then
+      write(text, '(a,i0,a,i0,a,i0,a,i0,a)') where//': f is (', size(f, 1), ', ', size(f, 2), &
+          '), the halo takes (1..', halo%ncomp_max, ', ', halo%nnode_local, ')'
+      call fatal_local(text)
+    end if
+  end subroutine check_nodal
+
+  !> Stop with a message if a cell array does not fit the halo's assembly plan.
+  subroutine check_cells(halo, cell_values, where)
+    type(halo_t), intent(in) :: halo               !< the halo
+    real(wp), intent(in) :: cell_values(:,:,:)     !< cell contributions
+    character(len=*), intent(in) :: where          !< calling routine
+    character(len=200) :: text
+    if (.not. halo%has_assembly) call fatal_local(where//': the halo was not built from an '// &
+        'explicit layout')
+    if (size(cell_values, 1) > halo%ncomp_max .or. size(cell_values, 1) < 1 .or. &
+        size(cell_values, 2) /= halo%slots .or. size(cell_values, 3) /= halo%ncell_local) then
+      write(text, '(a,3(i0,a),3(i0,a))') where//': cell_values is (', size(cell_values, 1), &
+          ', ', size(cell_values, 2), ', ', size(cell_values, 3), '), the halo takes (1..', &
+          halo%ncomp_max, ', ', halo%slots, ', ', halo%ncell_local, ')'
+      call fatal_local(text)
+    end if
+  end subroutine check_cells
+
+end module mefem_halo

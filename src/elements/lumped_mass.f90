@@ -1,0 +1,76 @@
+!> Lumped (diagonal) nodal masses of the deformable elements, mesh and enriched nodes alike
+!> (formulation 2.8, seed eq. 32: m_I = integral of rho_0 Psi_I over the reference volume).
+!>
+!> With the enriched node at the centroid, Psi_I = N_I - Psi_e/(dim+1) for the corners, so per
+!> ME-FEM element of volume V (area with unit thickness in 2D) and density rho:
+!>   enriched node  m_e = rho V psibar,   each corner  rho V (1 - psibar)/(dim+1),
+!> psibar = mean of Psi_e over the element (enrichment_t%mass_fraction; not the 3-point edge
+!> rule, which would give m_e = 0). A standard linear element gives rho V/(dim+1) per corner.
+!> The element sum of these is rho V exactly (up to round-off).
+!> Nodes of rigid parts only get no mass here (rigid bodies carry their own).
+!> Every rank computes all masses from the global model, elements in ascending order, so the
+!> values are the same bits on every rank and for any number of ranks; a rank takes its
+!> share as mass(layout%node_global).
+module mefem_lumped_mass
+  use mefem_kinds, only: wp
+  use mefem_vector_math, only: cross
+  use mefem_model, only: model_t
+  use mefem_cells, only: cells_t
+  implicit none
+  private
+
+  public :: lumped_mass
+
+contains
+
+  !> Lumped mass of every node: mesh nodes 1..n_mesh_nodes, then the enriched nodes.
+  subroutine lumped_mass(model, cells, mass)
+    type(model_t), intent(in) :: model                 !< resolved model (densities, geometry)
+    type(cells_t), intent(in) :: cells                 !< cells built from the same model
+    real(wp), allocatable, intent(out) :: mass(:)      !< (n_mesh_nodes + n_enriched) masses
+    integer, allocatable :: standard_cell(:)
+    real(wp) :: rho, volume, psibar, corner_share
+    integer :: nv, e, c, material
+
+    nv = cells%dim + 1
+    allocate(mass(cells%n_mesh_nodes + cells%n_enriched))
+    mass = 0.0_wp
+    ! standard elements are their own cell: find it (element -> cell)
+    allocate(standard_cell(model%elements%n))
+    standard_cell = 0
+    do c = 1, cells%n
+      if (cells%enriched_of(cells%elements(1, c)) == 0) standard_cell(cells%elements(1, c)) = c
+    end do
+    psibar = cells%enrichment%mass_fraction
+
+    do e = 1, model%elements%n
+      if (cells%enriched_of(e) > 0) then
+        material = model%parts(model%elements%part(e))%material
+        rho = model%materials(material)%density
+        volume = simplex_measure(cells%dim, model%nodes%x(:, model%elements%conn(1:nv, e)))
+        corner_share = rho*volume*(1.0_wp - psibar)/real(nv, wp)
+        mass(model%elements%conn(1:nv, e)) = mass(model%elements%conn(1:nv, e)) + corner_share
+        mass(cells%enriched_of(e)) = mass(cells%enriched_of(e)) + rho*volume*psibar
+      else if (standard_cell(e) > 0) then
+        c = standard_cell(e)
+        rho = model%materials(cells%material(c))%density
+        corner_share = rho*cells%weight(c)/real(nv, wp)
+        mass(cells%nodes(1:nv, c)) = mass(cells%nodes(1:nv, c)) + corner_share
+      end if
+    end do
+  end subroutine lumped_mass
+
+  !> Area (2D, x-y plane) or volume (3D) of a simplex, unsigned.
+  pure real(wp) function simplex_measure(dim, xc)
+    integer, intent(in) :: dim                  !< 2 or 3
+    real(wp), intent(in) :: xc(:,:)             !< (3, dim+1) corner coordinates
+    if (dim == 2) then
+      simplex_measure = 0.5_wp*abs((xc(1, 2) - xc(1, 1))*(xc(2, 3) - xc(2, 1)) - &
+                                   (xc(2, 2) - xc(2, 1))*(xc(1, 3) - xc(1, 1)))
+    else
+      simplex_measure = abs(dot_product(cross(xc(:, 2) - xc(:, 1), xc(:, 3) - xc(:, 1)), &
+                                        xc(:, 4) - xc(:, 1)))/6.0_wp
+    end if
+  end function simplex_measure
+
+end module mefem_lumped_mass

@@ -1,0 +1,179 @@
+!> Isotropic hardening laws of the J2 plasticity model: the uniaxial yield stress K(alpha)
+!> and its slope K'(alpha) as functions of the equivalent plastic strain alpha.
+!>
+!> Laws (the dispatcher mefem_material_update picks the law from the material kind):
+!> - HARDENING_POWER_LAW, *MAT_POWER_LAW_PLASTICITY (*MAT_018):
+!>   K(alpha) = k (eps_yp + alpha)^n with k = mat%k_strength, n = mat%n_exponent and the
+!>   strain offset eps_yp from SIGY as LS-DYNA defines it (see power_law_strain_offset):
+!>     SIGY = 0          eps_yp = (E/k)^(1/(n-1)), where sigma = E eps meets sigma = k eps^n,
+!>                       so the initial yield stress is E eps_yp;
+!>     0 < SIGY < 0.02   eps_yp = SIGY (SIGY is read as the strain offset itself);
+!>     SIGY >= 0.02      eps_yp = (SIGY/k)^(1/n), so that K(0) = SIGY.
+!>   Source: the field description of SIGY in the LS-DYNA keyword manual as reproduced in
+!>   ansys/pydyna (keyword_classes/auto/mat/mat_018.py: "LT.0.02: epsilon-yp = SIGY,
+!>   GE.0.02: see manual") and the manual's remark for SIGY = 0 (intersection of the elastic
+!>   line with the hardening curve, eps_yp = (E/k)^(1/(n-1))), the latter from memory of the
+!>   manual, not re-read here. The 0.02 threshold is unit-dependent; it is LS-DYNA's rule and
+!>   is kept so that LS-DYNA decks mean the same here.
+!>   The seed paper's law sigma_y0 (1 + a alpha)^b is this law with k = sigma_y0 a^b, n = b,
+!>   SIGY = sigma_y0 (then eps_yp = 1/a).
+!> - HARDENING_LINEAR, *MAT_024 with SIGY and ETAN: K = SIGY + Ep alpha with the plastic
+!>   modulus Ep = E ETAN/(E - ETAN) (ETAN is the slope of the uniaxial stress-total strain line).
+!> - HARDENING_TABLE, *MAT_024 with EPS1..EPSn / ES1..ESn: K piecewise linear in alpha through
+!>   the points (LS-DYNA: true stress vs effective plastic strain), extended linearly with the
+!>   first/last segment's slope outside the table (as *DEFINE_CURVE is evaluated).
+!> - HARDENING_CURVE, *MAT_024 with LCSS: K = curve_value(curve, alpha) of the yield stress
+!>   vs effective plastic strain curve; K' the slope of the segment curve_value uses.
+!> Strain-rate effects (C, P, LCSR, VP; SRC, SRP) are not part of these laws.
+!> At a table or curve point alpha = EPS_i the slope is that of the segment to the right.
+module mefem_hardening
+  use mefem_kinds, only: wp
+  use mefem_model, only: material_t, curve_t
+  use mefem_curves, only: curve_value
+  implicit none
+  private
+
+  integer, parameter, public :: HARDENING_POWER_LAW = 1   !< *MAT_018
+  integer, parameter, public :: HARDENING_LINEAR = 2      !< *MAT_024 SIGY + ETAN
+  integer, parameter, public :: HARDENING_TABLE = 3       !< *MAT_024 EPS/ES points
+  integer, parameter, public :: HARDENING_CURVE = 4       !< *MAT_024 LCSS curve
+
+  !> *MAT_018: SIGY below this value is the strain offset itself, not a stress.
+  real(wp), parameter, public :: POWER_LAW_STRAIN_LIMIT = 0.02_wp
+
+  public :: hardening_yield, piecewise_linear_law, power_law_strain_offset, plastic_modulus
+
+contains
+
+  !> The hardening law of a *MAT_024 material: LCSS curve first, then the EPS/ES table,
+  !> else SIGY + ETAN (the precedence of LS-DYNA).
+  pure integer function piecewise_linear_law(mat)
+    type(material_t), intent(in) :: mat   !< a *MAT_PIECEWISE_LINEAR_PLASTICITY material
+    if (mat%lcss_curve > 0) then
+      piecewise_linear_law = HARDENING_CURVE
+    else if (mat%n_points >= 2) then
+      piecewise_linear_law = HARDENING_TABLE
+    else
+      piecewise_linear_law = HARDENING_LINEAR
+    end if
+  end function piecewise_linear_law
+
+  !> Uniaxial yield stress K(alpha) and slope K'(alpha) of a hardening law.
+  pure subroutine hardening_yield(law, mat, curves, alpha, yield_stress, slope)
+    integer, intent(in) :: law                 !< HARDENING_*
+    type(material_t), intent(in) :: mat        !< the material's parameters
+    type(curve_t), intent(in) :: curves(:)     !< the model's curves (for LCSS)
+    real(wp), intent(in) :: alpha              !< equivalent plastic strain (>= 0)
+    real(wp), intent(out) :: yield_stress      !< K(alpha)
+    real(wp), intent(out) :: slope             !< K'(alpha)
+    real(wp) :: strain
+    select case (law)
+    case (HARDENING_POWER_LAW)
+      if (mat%n_exponent == 0.0_wp) then
+        yield_stress = mat%k_strength
+        slope = 0.0_wp
+      else
+        strain = power_law_strain_offset(mat) + alpha
+        yield_stress = mat%k_strength*strain**mat%n_exponent
+        slope = mat%n_exponent*yield_stress/strain
+      end if
+    case (HARDENING_LINEAR)
+      slope = plastic_modulus(mat)
+      yield_stress = mat%yield_stress + slope*alpha
+    case (HARDENING_TABLE)
+      call piecewise_linear(mat%n_points, mat%eps, mat%es, alpha, yield_stress, slope)
+    case (HARDENING_CURVE)
+      associate (curve => curves(mat%lcss_curve))
+        yield_stress = curve_value(curve, alpha)
+        slope = segment_slope(curve%n, curve%t, curve%f, alpha)
+      end associate
+    case default
+      yield_stress = 0.0_wp
+      slope = 0.0_wp
+    end select
+  end subroutine hardening_yield
+
+  !> *MAT_018 strain offset eps_yp from SIGY, E, K and N (rule in the module header).
+  !> With SIGY = 0 and N = 1 the lines do not meet; 0 is returned.
+  pure real(wp) function power_law_strain_offset(mat)
+    type(material_t), intent(in) :: mat   !< a *MAT_POWER_LAW_PLASTICITY material
+    if (mat%yield_stress <= 0.0_wp) then
+      if (mat%n_exponent == 1.0_wp) then
+        power_law_strain_offset = 0.0_wp
+      else
+        power_law_strain_offset = (mat%young/mat%k_strength)**(1.0_wp/(mat%n_exponent - 1.0_wp))
+      end if
+    else if (mat%yield_stress < POWER_LAW_STRAIN_LIMIT) then
+      power_law_strain_offset = mat%yield_stress
+    else if (mat%n_exponent > 0.0_wp) then
+      power_law_strain_offset = (mat%yield_stress/mat%k_strength)**(1.0_wp/mat%n_exponent)
+    else
+      power_law_strain_offset = 0.0_wp
+    end if
+  end function power_law_strain_offset
+
+  !> *MAT_024 plastic modulus Ep = E ETAN/(E - ETAN) (0 for ETAN = 0).
+  pure real(wp) function plastic_modulus(mat)
+    type(material_t), intent(in) :: mat   !< a *MAT_PIECEWISE_LINEAR_PLASTICITY material
+    plastic_modulus = mat%young*mat%tangent_modulus/(mat%young - mat%tangent_modulus)
+  end function plastic_modulus
+
+  !> Value and slope of the piecewise linear function through (x(i), y(i)), i = 1..n,
+  !> extended linearly outside [x(1), x(n)].
+  pure subroutine piecewise_linear(n, x, y, t, value, slope)
+    integer, intent(in) :: n               !< number of points (>= 1)
+    real(wp), intent(in) :: x(:), y(:)     !< abscissas (increasing) and ordinates
+    real(wp), intent(in) :: t              !< where to evaluate
+    real(wp), intent(out) :: value         !< the function's value
+    real(wp), intent(out) :: slope         !< its slope
+    integer :: lo
+    if (n == 1) then
+      value = y(1)
+      slope = 0.0_wp
+      return
+    end if
+    lo = segment(n, x, t)
+    slope = (y(lo+1) - y(lo))/(x(lo+1) - x(lo))
+    value = y(lo) + slope*(t - x(lo))
+  end subroutine piecewise_linear
+
+  !> Slope of the segment of a piecewise linear function used at t (0 for one point).
+  pure real(wp) function segment_slope(n, x, y, t)
+    integer, intent(in) :: n               !< number of points
+    real(wp), intent(in) :: x(:), y(:)     !< abscissas (increasing) and ordinates
+    real(wp), intent(in) :: t              !< where to evaluate
+    integer :: lo
+    if (n <= 1) then
+      segment_slope = 0.0_wp
+      return
+    end if
+    lo = segment(n, x, t)
+    segment_slope = (y(lo+1) - y(lo))/(x(lo+1) - x(lo))
+  end function segment_slope
+
+  !> First point lo of the segment [x(lo), x(lo+1)] used at t, chosen as curve_value of
+  !> mefem_curves does: the first/last segment outside the range, else x(lo) <= t < x(lo+1).
+  pure integer function segment(n, x, t)
+    integer, intent(in) :: n               !< number of points (>= 2)
+    real(wp), intent(in) :: x(:)           !< abscissas (increasing)
+    real(wp), intent(in) :: t              !< where to evaluate
+    integer :: hi, mid
+    if (t <= x(1)) then
+      segment = 1
+    else if (t >= x(n)) then
+      segment = n - 1
+    else
+      segment = 1
+      hi = n
+      do while (hi - segment > 1)
+        mid = (segment + hi)/2
+        if (x(mid) <= t) then
+          segment = mid
+        else
+          hi = mid
+        end if
+      end do
+    end if
+  end function segment
+
+end module mefem_hardening

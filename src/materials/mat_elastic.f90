@@ -1,0 +1,78 @@
+!> *MAT_ELASTIC at finite strain: the compressible neo-Hookean law
+!>
+!>   W = mu/2 (tr b - 3) - mu ln J + lambda/2 (ln J)^2,
+!>   tau = mu (b - 1) + lambda ln(J) 1            (Kirchhoff stress, b = F F^T, J = det F)
+!>   c   = lambda 1 (x) 1 + 2 (mu - lambda ln J) I (tangent of the Lie derivative of tau)
+!>
+!> with the Lame constants of E and PR: lambda = E nu/((1+nu)(1-2nu)), mu = E/(2(1+nu)).
+!> Why this law: it is hyperelastic (no energy drift, exactly objective, path independent),
+!> its small-strain limit is Hooke's law with the same E and nu (linearising at F = I gives
+!> tau = lambda tr(eps) 1 + 2 mu eps), and W -> infinity as J -> 0, so it stays stable in
+!> strong compression, where the St Venant-Kirchhoff law (Hooke's law in Green-Lagrange
+!> strain) softens and loses stability. In simple shear the shear stress is mu gamma exactly.
+!>
+!> Wave speed for the explicit time step: c = sqrt(M/rho0) with M the longitudinal modulus of
+!> c above, M = lambda + 2 mu - 2 lambda ln J, taken no smaller than its small-strain value
+!> lambda + 2 mu = K + 4/3 G (c of tau per reference volume over rho0 is the current wave speed
+!> up to the small stress term; the floor keeps the estimate on the safe side in tension).
+module mefem_mat_elastic
+  use mefem_kinds, only: wp
+  use mefem_model, only: material_t
+  use mefem_errors, only: status_t
+  use mefem_strings, only: itoa, rtoa
+  use mefem_tensor_algebra, only: IDENTITY, determinant, add_outer_product, &
+                                  add_symmetric_identity
+  use mefem_material_state, only: NHIST, state_set_deformation, state_set_elastic_strain
+  implicit none
+  private
+
+  public :: mat_elastic_update, lame_constants
+
+contains
+
+  !> Lame constants lambda and mu of Young's modulus and Poisson's ratio.
+  pure subroutine lame_constants(young, poisson, lambda, mu)
+    real(wp), intent(in) :: young, poisson   !< E and nu (-1 < nu < 0.5)
+    real(wp), intent(out) :: lambda, mu      !< Lame's first constant and the shear modulus
+    mu = young/(2.0_wp*(1.0_wp + poisson))
+    lambda = young*poisson/((1.0_wp + poisson)*(1.0_wp - 2.0_wp*poisson))
+  end subroutine lame_constants
+
+  !> Stress, history, wave speed and (optionally) tangent of the neo-Hookean law at F.
+  pure subroutine mat_elastic_update(mat, f_new, hist_old, hist_new, tau, sound_speed, status, &
+                                     c_tau)
+    type(material_t), intent(in) :: mat                !< *MAT_ELASTIC parameters
+    real(wp), intent(in) :: f_new(3,3)                  !< deformation gradient F_{n+1}
+    real(wp), intent(in) :: hist_old(NHIST)             !< history at t_n
+    real(wp), intent(out) :: hist_new(NHIST)            !< history at t_{n+1}
+    real(wp), intent(out) :: tau(3,3)                   !< Kirchhoff stress
+    real(wp), intent(out) :: sound_speed                !< dilatational wave speed
+    type(status_t), intent(out) :: status               !< fails for det F <= 0
+    real(wp), intent(out), optional :: c_tau(3,3,3,3)   !< spatial tangent of tau
+    real(wp) :: lambda, mu, j, log_j, b(3,3), modulus
+    hist_new = hist_old
+    tau = 0.0_wp
+    sound_speed = 0.0_wp
+    if (present(c_tau)) c_tau = 0.0_wp
+    j = determinant(f_new)
+    if (.not. (j > 0.0_wp)) then
+      status%ok = .false.
+      status%message = 'material '//itoa(mat%id)//': det F = '//rtoa(j)// &
+                       ' <= 0 (inverted or degenerate element)'
+      return
+    end if
+    call lame_constants(mat%young, mat%poisson, lambda, mu)
+    log_j = log(j)
+    b = matmul(f_new, transpose(f_new))
+    tau = mu*(b - IDENTITY) + lambda*log_j*IDENTITY
+    call state_set_deformation(hist_new, f_new)
+    call state_set_elastic_strain(hist_new, j**(-2.0_wp/3.0_wp)*b)
+    modulus = lambda + 2.0_wp*mu + 2.0_wp*lambda*max(0.0_wp, -log_j)
+    sound_speed = sqrt(modulus/mat%density)
+    if (present(c_tau)) then
+      call add_outer_product(c_tau, lambda, IDENTITY, IDENTITY)
+      call add_symmetric_identity(c_tau, 2.0_wp*(mu - lambda*log_j))
+    end if
+  end subroutine mat_elastic_update
+
+end module mefem_mat_elastic

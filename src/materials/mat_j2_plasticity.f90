@@ -1,0 +1,236 @@
+!> Finite-strain J2 plasticity with isotropic hardening: Simo's multiplicative, hyperelastic-
+!> based return map (Simo 1992; Simo & Hughes 1998, Boxes 9.1 and 9.2; formulation.md 6.1-6.2),
+!> used for *MAT_PIECEWISE_LINEAR_PLASTICITY (*MAT_024) and *MAT_POWER_LAW_PLASTICITY
+!> (*MAT_018); the hardening law K(alpha) comes from mefem_hardening.
+!>
+!> Free energy: W = U(J) + mu/2 (tr be_bar - 3), U(J) = kappa/2 (1/2 (J^2 - 1) - ln J),
+!> mu = E/(2(1+nu)), kappa = E/(3(1-2nu)). Yield function |s| - sqrt(2/3) K(alpha) on the
+!> Kirchhoff deviator s (so the von Mises value of tau equals K). Steps, with F = F_{n+1}:
+!>   1 f = F F_n^{-1};  f_bar = det(f)^{-1/3} f
+!>   2 be_tr = f_bar be_bar_n f_bar^T;  s_tr = mu dev(be_tr);  I_bar = tr(be_tr)/3;
+!>     mu_bar = mu I_bar
+!>   3 f_tr = |s_tr| - sqrt(2/3) K(alpha_n)
+!>   4 f_tr <= 0: elastic, s = s_tr. Else n = s_tr/|s_tr| and dgamma solves
+!>     r = |s_tr| - 2 mu_bar dgamma - sqrt(2/3) K(alpha_n + sqrt(2/3) dgamma) = 0
+!>     (Newton safeguarded by bisection on the bracket [0, |s_tr|/(2 mu_bar)]);
+!>     s = s_tr - 2 mu_bar dgamma n, alpha_{n+1} = alpha_n + sqrt(2/3) dgamma
+!>   5 be_bar_{n+1} = s/mu + x 1 with x the root near I_bar of det(s/mu + x 1) = 1, so that
+!>     det be_bar = 1 holds to round-off at every step (plastic flow exactly isochoric; S&H's
+!>     x = I_bar keeps it only to first order). The stress of this step does not depend on x.
+!>   6 tau = J U'(J) 1 + s = kappa/2 (J^2 - 1) 1 + s
+!> Tangent (c of L_v tau = c : d, derived for this algorithm; it is S&H Box 9.2):
+!>   c = kappa J^2 1(x)1 - kappa (J^2 - 1) I + (1 - beta1) c_tr
+!>       - 2 mu_bar beta3 n(x)n - 2 mu_bar beta4 n(x)dev(n^2)
+!>   c_tr = 2 mu_bar (I - 1/3 1(x)1) - 2/3 (s_tr(x)1 + 1(x)s_tr)
+!>   beta0 = 1 + K'/(3 mu_bar), beta1 = 2 mu_bar dgamma/|s_tr|,
+!>   beta2 = (1 - 1/beta0) 2/3 |s_tr|/mu_bar dgamma, beta3 = 1/beta0 - beta1 + beta2,
+!>   beta4 = (1/beta0 - beta1) |s_tr|/mu_bar       (elastic step: beta1 = beta3 = beta4 = 0)
+!> The last term makes c unsymmetric (major symmetry) in plastic steps; it is the exact
+!> linearisation (checked against finite differences in tests/unit/test_materials.f90). A
+!> symmetric solver may use (c_ijkl + c_klij)/2 at the cost of the quadratic rate.
+!> Wave speed: c = sqrt((kappa + 4/3 mu_bar)/rho0), the elastic longitudinal modulus of c
+!> (kappa J^2 - kappa (J^2 - 1) = kappa exactly for this U) per reference volume; since
+!> I_bar >= 1 for det be_bar = 1 it is never below the small-strain sqrt((K + 4/3 G)/rho0).
+module mefem_mat_j2_plasticity
+  use mefem_kinds, only: wp
+  use mefem_model, only: material_t, curve_t
+  use mefem_errors, only: status_t
+  use mefem_strings, only: itoa, rtoa
+  use mefem_tensor_algebra, only: IDENTITY, determinant, inverse, trace, deviator, &
+                                  frobenius_norm, add_outer_product, add_symmetric_identity
+  use mefem_material_state, only: NHIST, HIST_ALPHA, state_get_deformation, &
+                                  state_set_deformation, state_get_elastic_strain, &
+                                  state_set_elastic_strain
+  use mefem_hardening, only: hardening_yield
+  implicit none
+  private
+
+  public :: mat_j2_update
+
+  real(wp), parameter :: SQRT_TWO_THIRDS = sqrt(2.0_wp/3.0_wp)
+  real(wp), parameter :: RETURN_TOLERANCE = 1.0e-13_wp   !< |r| relative to |s_tr|
+  integer, parameter :: MAX_RETURN_ITERATIONS = 100       !< Newton/bisection steps
+
+contains
+
+  !> Stress, history, wave speed and (optionally) consistent tangent at F_{n+1}.
+  pure subroutine mat_j2_update(mat, curves, law, f_new, hist_old, hist_new, tau, sound_speed, &
+                                status, c_tau)
+    type(material_t), intent(in) :: mat                !< *MAT_024 / *MAT_018 parameters
+    type(curve_t), intent(in) :: curves(:)              !< the model's curves (for LCSS)
+    integer, intent(in) :: law                          !< HARDENING_* of mefem_hardening
+    real(wp), intent(in) :: f_new(3,3)                  !< deformation gradient F_{n+1}
+    real(wp), intent(in) :: hist_old(NHIST)             !< history at t_n
+    real(wp), intent(out) :: hist_new(NHIST)            !< history at t_{n+1}
+    real(wp), intent(out) :: tau(3,3)                   !< Kirchhoff stress
+    real(wp), intent(out) :: sound_speed                !< dilatational wave speed
+    type(status_t), intent(out) :: status               !< det F <= 0, no convergence
+    real(wp), intent(out), optional :: c_tau(3,3,3,3)   !< spatial tangent of tau
+    real(wp) :: mu, kappa, j, j_old, f_old(3,3), f_old_inverse(3,3), f_bar(3,3)
+    real(wp) :: be_old(3,3), be_trial(3,3), be_new(3,3), s_trial(3,3), s(3,3), normal(3,3)
+    real(wp) :: i_bar, mu_bar, norm_trial, alpha_old, alpha_new, yield_old, slope, dgamma
+    real(wp) :: jp, factor, beta0, beta1, beta2, beta3, beta4
+    logical :: plastic, converged
+    hist_new = hist_old
+    tau = 0.0_wp
+    sound_speed = 0.0_wp
+    if (present(c_tau)) c_tau = 0.0_wp
+    j = determinant(f_new)
+    if (.not. (j > 0.0_wp)) then
+      call fail(status, mat, 'det F = '//rtoa(j)//' <= 0 (inverted or degenerate element)')
+      return
+    end if
+    call state_get_deformation(hist_old, f_old)
+    j_old = determinant(f_old)
+    if (.not. (j_old > 0.0_wp)) then
+      call fail(status, mat, 'det F_n = '//rtoa(j_old)//' <= 0 in the history')
+      return
+    end if
+    mu = mat%young/(2.0_wp*(1.0_wp + mat%poisson))
+    kappa = mat%young/(3.0_wp*(1.0_wp - 2.0_wp*mat%poisson))
+    ! 1-2: relative deformation, elastic trial state
+    call inverse(f_old, f_old_inverse)
+    f_bar = (j/j_old)**(-1.0_wp/3.0_wp)*matmul(f_new, f_old_inverse)
+    call state_get_elastic_strain(hist_old, be_old)
+    be_trial = matmul(f_bar, matmul(be_old, transpose(f_bar)))
+    be_trial = 0.5_wp*(be_trial + transpose(be_trial))   ! exactly symmetric
+    i_bar = trace(be_trial)/3.0_wp
+    mu_bar = mu*i_bar
+    s_trial = mu*deviator(be_trial)
+    norm_trial = frobenius_norm(s_trial)
+    ! 3-4: yield check and return map
+    alpha_old = hist_old(HIST_ALPHA)
+    call hardening_yield(law, mat, curves, alpha_old, yield_old, slope)
+    if (.not. (yield_old > 0.0_wp)) then
+      call fail(status, mat, 'yield stress '//rtoa(yield_old)//' <= 0 at plastic strain '// &
+                rtoa(alpha_old))
+      return
+    end if
+    plastic = norm_trial - SQRT_TWO_THIRDS*yield_old > 0.0_wp
+    dgamma = 0.0_wp
+    alpha_new = alpha_old
+    normal = 0.0_wp
+    s = s_trial
+    if (plastic) then
+      call return_map(law, mat, curves, alpha_old, norm_trial, mu_bar, dgamma, slope, converged)
+      if (.not. converged) then
+        call fail(status, mat, 'J2 return map did not converge (trial von Mises stress '// &
+                  rtoa(sqrt(1.5_wp)*norm_trial)//', yield stress '//rtoa(yield_old)//')')
+        return
+      end if
+      normal = s_trial/norm_trial
+      s = s_trial - 2.0_wp*mu_bar*dgamma*normal
+      alpha_new = alpha_old + SQRT_TWO_THIRDS*dgamma
+    end if
+    ! 5: elastic strain with det = 1
+    be_new = s/mu
+    call unimodular_shift(be_new, i_bar)
+    ! 6: Kirchhoff stress
+    jp = 0.5_wp*kappa*(j*j - 1.0_wp)
+    tau = s + jp*IDENTITY
+    call state_set_deformation(hist_new, f_new)
+    call state_set_elastic_strain(hist_new, be_new)
+    hist_new(HIST_ALPHA) = alpha_new
+    sound_speed = sqrt((kappa + 4.0_wp/3.0_wp*mu_bar)/mat%density)
+    if (.not. present(c_tau)) return
+    ! consistent tangent
+    call add_outer_product(c_tau, kappa*j*j, IDENTITY, IDENTITY)
+    call add_symmetric_identity(c_tau, -2.0_wp*jp)
+    factor = 1.0_wp
+    if (plastic) then
+      beta0 = 1.0_wp + slope/(3.0_wp*mu_bar)
+      beta1 = 2.0_wp*mu_bar*dgamma/norm_trial
+      beta2 = (1.0_wp - 1.0_wp/beta0)*2.0_wp/3.0_wp*norm_trial/mu_bar*dgamma
+      beta3 = 1.0_wp/beta0 - beta1 + beta2
+      beta4 = (1.0_wp/beta0 - beta1)*norm_trial/mu_bar
+      factor = 1.0_wp - beta1
+      call add_outer_product(c_tau, -2.0_wp*mu_bar*beta3, normal, normal)
+      call add_outer_product(c_tau, -2.0_wp*mu_bar*beta4, normal, &
+                             deviator(matmul(normal, normal)))
+    end if
+    call add_symmetric_identity(c_tau, factor*2.0_wp*mu_bar)
+    call add_outer_product(c_tau, -factor*2.0_wp*mu_bar/3.0_wp, IDENTITY, IDENTITY)
+    call add_outer_product(c_tau, -factor*2.0_wp/3.0_wp, s_trial, IDENTITY)
+    call add_outer_product(c_tau, -factor*2.0_wp/3.0_wp, IDENTITY, s_trial)
+  end subroutine mat_j2_update
+
+  !> Plastic multiplier dgamma of the return map: root of
+  !> r = |s_tr| - 2 mu_bar dgamma - sqrt(2/3) K(alpha_n + sqrt(2/3) dgamma) in
+  !> (0, |s_tr|/(2 mu_bar)) by Newton steps, replaced by bisection when they leave the bracket.
+  pure subroutine return_map(law, mat, curves, alpha_old, norm_trial, mu_bar, dgamma, slope, &
+                             converged)
+    integer, intent(in) :: law                 !< HARDENING_*
+    type(material_t), intent(in) :: mat        !< material parameters
+    type(curve_t), intent(in) :: curves(:)     !< the model's curves
+    real(wp), intent(in) :: alpha_old          !< alpha_n
+    real(wp), intent(in) :: norm_trial         !< |s_tr| (> sqrt(2/3) K(alpha_n))
+    real(wp), intent(in) :: mu_bar             !< mu I_bar
+    real(wp), intent(out) :: dgamma            !< plastic multiplier
+    real(wp), intent(out) :: slope             !< K' at alpha_n + sqrt(2/3) dgamma
+    logical, intent(out) :: converged          !< |r| <= RETURN_TOLERANCE |s_tr|
+    real(wp) :: low, high, residual, derivative, next, yield_stress
+    integer :: iteration
+    low = 0.0_wp
+    high = norm_trial/(2.0_wp*mu_bar)
+    dgamma = 0.0_wp
+    converged = .false.
+    do iteration = 1, MAX_RETURN_ITERATIONS
+      call hardening_yield(law, mat, curves, alpha_old + SQRT_TWO_THIRDS*dgamma, &
+                           yield_stress, slope)
+      residual = norm_trial - 2.0_wp*mu_bar*dgamma - SQRT_TWO_THIRDS*yield_stress
+      if (abs(residual) <= RETURN_TOLERANCE*norm_trial) then
+        converged = .true.
+        return
+      end if
+      if (residual > 0.0_wp) then
+        low = dgamma
+      else
+        high = dgamma
+      end if
+      derivative = -2.0_wp*mu_bar - 2.0_wp/3.0_wp*slope
+      if (derivative < 0.0_wp) then
+        next = dgamma - residual/derivative
+      else
+        next = high
+      end if
+      if (.not. (next > low .and. next < high)) next = 0.5_wp*(low + high)
+      dgamma = next
+    end do
+  end subroutine return_map
+
+  !> Replace a by a + (x - tr(a)/3) 1 with x the root near x0 of det(dev(a) + x 1) = 1
+  !> (Newton on the cubic x^3 + i2 x + i3 - 1, i2, i3 invariants of dev(a)); if Newton
+  !> fails, dev(a) + x0 1 is scaled by its det^(-1/3) instead.
+  pure subroutine unimodular_shift(a, x0)
+    real(wp), intent(inout) :: a(3,3)   !< symmetric tensor made unimodular
+    real(wp), intent(in) :: x0          !< starting value (the trace/3 wanted)
+    real(wp) :: d(3,3), i2, i3, x, g, dg
+    integer :: iteration
+    d = deviator(a)
+    i2 = -0.5_wp*sum(d*d)
+    i3 = determinant(d)
+    x = x0
+    do iteration = 1, 30
+      g = (x*x + i2)*x + i3 - 1.0_wp
+      dg = 3.0_wp*x*x + i2
+      if (.not. (dg > 0.0_wp)) exit
+      x = x - g/dg
+      if (abs(g) <= 4.0_wp*epsilon(1.0_wp)) then
+        a = d + x*IDENTITY
+        return
+      end if
+    end do
+    a = d + x0*IDENTITY
+    a = a*determinant(a)**(-1.0_wp/3.0_wp)
+  end subroutine unimodular_shift
+
+  !> Set a failed status with the material id.
+  pure subroutine fail(status, mat, message)
+    type(status_t), intent(inout) :: status   !< set to failed
+    type(material_t), intent(in) :: mat       !< the material
+    character(len=*), intent(in) :: message   !< what went wrong
+    status%ok = .false.
+    status%message = 'material '//itoa(mat%id)//': '//message
+  end subroutine fail
+
+end module mefem_mat_j2_plasticity

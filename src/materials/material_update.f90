@@ -1,0 +1,83 @@
+!> The one dispatch site of the material family: material_update calls the law of the
+!> material's kind. Every law is a pure, allocation-free point kernel with the same contract,
+!> shared by the implicit (Newton) and explicit solvers:
+!>
+!> in:  the material card (mefem_model material_t), the model's curves (for *MAT_024 LCSS;
+!>      pass model%curves, allocated, possibly of size 0), the new deformation gradient
+!>      F_{n+1}, and the point's history at t_n (mefem_material_state: F_n, be_bar_n, alpha_n);
+!> out: the history at t_{n+1}, the Kirchhoff stress tau = J sigma (symmetric 3x3), the
+!>      current dilatational wave speed (for the explicit stable step), a status, and when
+!>      asked the spatial tangent c_tau(3,3,3,3) of the Lie derivative of tau:
+!>      L_v tau = c : d, equivalently for dF = h F the directional derivative of tau is
+!>      c : sym(h) + h tau + tau h^T. c has the minor symmetries c_ijkl = c_jikl = c_ijlk, so
+!>      the element may contract it with unsymmetrised gradients:
+!>      K_IJ(ik) = sum w [ a_j^I c_ijkl a_l^J + delta_ik a_j^I tau_jl a_l^J ]
+!>      (formulation.md 2.7). It is major-symmetric for the hyperelastic laws, not in plastic
+!>      steps of J2 (exact linearisation of the return map).
+!> The update never writes hist_old: evaluating the same step again (Newton iterations, a cut
+!> step) starts from the same converged history. A failing point (det F <= 0, return map not
+!> converged, unsupported kind) returns status%ok = .false. with a message naming the material,
+!> and zero stress; the driver adds the element and decides (cut the step or stop).
+!>
+!> Laws: *MAT_ELASTIC -> mefem_mat_elastic (compressible neo-Hookean); *MAT_024 and *MAT_018
+!> -> mefem_mat_j2_plasticity with the hardening law of mefem_hardening; *MAT_027 ->
+!> mefem_mat_mooney_rivlin. *MAT_RIGID has no stress update (rigid bodies are moved as a
+!> whole); asking for one is reported as a failure.
+module mefem_material_update
+  use mefem_kinds, only: wp
+  use mefem_model, only: material_t, curve_t, MAT_ELASTIC, MAT_PIECEWISE_LINEAR, MAT_POWER_LAW, &
+                         MAT_RIGID, MAT_MOONEY_RIVLIN
+  use mefem_errors, only: status_t
+  use mefem_strings, only: itoa
+  use mefem_material_state, only: NHIST
+  use mefem_hardening, only: HARDENING_POWER_LAW, piecewise_linear_law
+  use mefem_mat_elastic, only: mat_elastic_update
+  use mefem_mat_j2_plasticity, only: mat_j2_update
+  use mefem_mat_mooney_rivlin, only: mat_mooney_rivlin_update
+  implicit none
+  private
+
+  public :: material_update
+
+contains
+
+  !> Update one material point to F_{n+1}: new history, Kirchhoff stress, wave speed and
+  !> optionally the spatial tangent (contract in the module header).
+  pure subroutine material_update(mat, curves, f_new, hist_old, hist_new, tau, c_tau, &
+                                  sound_speed, status)
+    type(material_t), intent(in) :: mat                !< the material card
+    type(curve_t), intent(in) :: curves(:)              !< the model's curves (LCSS)
+    real(wp), intent(in) :: f_new(3,3)                  !< deformation gradient F_{n+1}
+    real(wp), intent(in) :: hist_old(NHIST)             !< history at t_n
+    real(wp), intent(out) :: hist_new(NHIST)            !< history at t_{n+1}
+    real(wp), intent(out) :: tau(3,3)                   !< Kirchhoff stress
+    real(wp), intent(out), optional :: c_tau(3,3,3,3)   !< spatial tangent of tau
+    real(wp), intent(out) :: sound_speed                !< dilatational wave speed
+    type(status_t), intent(out) :: status               !< failure and its reason
+    select case (mat%kind)
+    case (MAT_ELASTIC)
+      call mat_elastic_update(mat, f_new, hist_old, hist_new, tau, sound_speed, status, c_tau)
+    case (MAT_PIECEWISE_LINEAR)
+      call mat_j2_update(mat, curves, piecewise_linear_law(mat), f_new, hist_old, hist_new, &
+                         tau, sound_speed, status, c_tau)
+    case (MAT_POWER_LAW)
+      call mat_j2_update(mat, curves, HARDENING_POWER_LAW, f_new, hist_old, hist_new, tau, &
+                         sound_speed, status, c_tau)
+    case (MAT_MOONEY_RIVLIN)
+      call mat_mooney_rivlin_update(mat, f_new, hist_old, hist_new, tau, sound_speed, status, &
+                                    c_tau)
+    case default
+      hist_new = hist_old
+      tau = 0.0_wp
+      sound_speed = 0.0_wp
+      if (present(c_tau)) c_tau = 0.0_wp
+      status%ok = .false.
+      if (mat%kind == MAT_RIGID) then
+        status%message = 'material '//itoa(mat%id)//': *MAT_RIGID has no stress update'
+      else
+        status%message = 'material '//itoa(mat%id)//': unknown material kind '//itoa(mat%kind)
+      end if
+    end select
+  end subroutine material_update
+
+end module mefem_material_update

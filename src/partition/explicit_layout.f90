@@ -1,0 +1,520 @@
+!> One rank's share of the integration cells and of all nodes (mesh and enriched) for the
+!> explicit solver, built from the decomposition, the global element partition and the cells.
+!>
+!> Who computes what:
+!> - cell c is computed by the rank of its first element, cells%elements(1,c);
+!> - this rank's local nodes are every node (mesh nodes 1..n_mesh_nodes, enriched nodes after
+!>   them, as numbered by mefem_cells) touched by its own elements (their corners and, for
+!>   ME-FEM elements, their enriched nodes), by the cells it computes, plus the decomposition's
+!>   local nodes (rank 0 keeps nodes no element touches). A cell of a face between elements of
+!>   two ranks therefore brings the far corner and the enriched node of the other element in;
+!> - owner of a mesh node: the decomposition's rule, the lowest rank whose elements touch it;
+!>   owner of an enriched node: the rank of its element (which always has it locally);
+!> - nodes p and q both hold locally are shared between p and q; each rank's list for the
+!>   other names them in ascending global order, so both sides agree without matching.
+!> Every rank can work out every other rank's node set from the global data, so nothing is
+!> communicated here; the work per rank is linear in the global mesh plus the number of ranks.
+!>
+!> Order-fixed assembly (what makes forces bit-identical for any number of ranks): the force of
+!> a cell on its j-th node is its "contribution" (c, j). The nodal force at node n is summed
+!> over all contributions to n in ascending global cell order, whichever ranks computed them.
+!> For that, this module lists, per local node, where each contribution is found: in this
+!> rank's cell array, or in the receive buffer from the rank that computed the cell. Each rank
+!> sends a neighbour, for each node they share (in the shared-list order), the contributions
+!> of its own cells to that node in ascending cell order; the receiver derives the same order
+!> from the global data. The exchange itself is mefem_halo's halo_assemble.
+module mefem_explicit_layout
+  use mefem_errors, only: status_t, fatal_local
+  use mefem_decomposition, only: decomposition_t
+  use mefem_cells, only: cells_t, CELL_MAX_NODES
+  implicit none
+  private
+
+  public :: explicit_layout_build, explicit_layout_local_node
+
+  !> This rank's cells and nodes, ownership, halo lists and the order-fixed assembly plan.
+  type, public :: explicit_layout_t
+    integer :: rank = 0                           !< this rank (0-based)
+    integer :: nranks = 1                         !< number of ranks
+    integer :: n_mesh_nodes = 0                   !< mesh nodes in the global model
+    integer :: nnode_global = 0                   !< mesh + enriched nodes in the global model
+    integer :: ncell_global = 0                   !< cells in the global model
+    integer :: slots = CELL_MAX_NODES             !< contribution slots per cell
+    ! cells this rank computes
+    integer :: ncell_local = 0                    !< cells computed by this rank
+    integer, allocatable :: cell_global(:)        !< (ncell_local) global cell indices, ascending
+    integer, allocatable :: cell_nodes(:,:)       !< (slots, ncell_local) local node of each
+                                                  !< node of the cell (cells%nodes order), 0 past
+                                                  !< cells%nnodes
+    logical, allocatable :: cell_outer(:)         !< (ncell_local) touches a shared node
+    integer :: ncell_outer = 0                    !< outer cells
+    integer, allocatable :: outer_cells(:)        !< (ncell_outer) local cells touching a shared
+                                                  !< node, ascending: compute before the halo
+    integer, allocatable :: inner_cells(:)        !< (ncell_local-ncell_outer) the others:
+                                                  !< computed while the halo is in flight
+    ! nodes
+    integer :: nnode_local = 0                    !< mesh and enriched nodes held by this rank
+    integer :: nnode_owned = 0                    !< local nodes this rank owns
+    integer, allocatable :: node_global(:)        !< (nnode_local) global node, ascending
+                                                  !< (enriched nodes come after mesh nodes)
+    integer, allocatable :: node_owner(:)         !< (nnode_local) owning rank
+    logical, allocatable :: node_owned(:)         !< (nnode_local) node_owner == rank
+    ! halo pattern (same meaning as in decomposition_t)
+    integer :: nneighbour = 0                     !< ranks sharing at least one node with us
+    integer, allocatable :: neighbour_rank(:)     !< (nneighbour) their ranks, ascending
+    integer, allocatable :: shared_start(:)       !< (nneighbour+1) neighbour k's nodes are at
+                                                  !< shared_start(k):shared_start(k+1)-1
+    integer, allocatable :: shared_nodes(:)       !< local nodes, ascending per neighbour
+    ! order-fixed assembly plan
+    integer, allocatable :: assembly_start(:)     !< (nnode_local+1) node i's contributions are
+                                                  !< assembly_start(i):assembly_start(i+1)-1,
+                                                  !< in ascending global cell order
+    integer, allocatable :: assembly_source(:)    !< > 0: slot j of local cell l, stored as
+                                                  !< j + slots*(l-1); < 0: -(position in the
+                                                  !< concatenated receive buffer)
+    integer, allocatable :: send_start(:)         !< (nneighbour+1) offsets into send_source
+    integer, allocatable :: send_source(:)        !< contributions sent to neighbour k, in order
+                                                  !< (same encoding as a positive source)
+    integer, allocatable :: receive_start(:)      !< (nneighbour+1) neighbour k's contributions
+                                                  !< are receive_start(k):receive_start(k+1)-1
+  end type explicit_layout_t
+
+contains
+
+  !> Build this rank's explicit layout. elem_part, elem_start and elem_nodes are the global
+  !> element partition and corner connectivity that built decomp (model_partition's
+  !> element_csr). Inconsistent input sets status (or, without status, stops with a message).
+  subroutine explicit_layout_build(decomp, elem_part, elem_start, elem_nodes, cells, layout, &
+                                   status)
+    type(decomposition_t), intent(in) :: decomp       !< this rank's decomposition
+    integer, intent(in) :: elem_part(:)               !< (nelem) rank of every element
+    integer, intent(in) :: elem_start(:)              !< (nelem+1) element starts
+    integer, intent(in) :: elem_nodes(:)              !< 1-based global mesh node indices
+    type(cells_t), intent(in) :: cells                !< all cells of the model
+    type(explicit_layout_t), intent(out) :: layout    !< the result
+    type(status_t), intent(out), optional :: status   !< failure and its reason
+    integer, allocatable :: cell_rank(:), node_rank_start(:), node_ranks(:), global_to_local(:)
+    type(status_t) :: check_status
+    integer :: c
+
+    call check_layout_input(decomp, elem_part, elem_start, elem_nodes, cells, check_status)
+    if (present(status)) status = check_status
+    if (.not. check_status%ok) then
+      if (present(status)) return
+      call fatal_local(check_status%message)
+    end if
+
+    layout%rank = decomp%rank
+    layout%nranks = decomp%nranks
+    layout%n_mesh_nodes = decomp%nnode_global
+    layout%nnode_global = decomp%nnode_global + cells%n_enriched
+    layout%ncell_global = cells%n
+
+    allocate(cell_rank(cells%n))
+    do c = 1, cells%n
+      cell_rank(c) = elem_part(cells%elements(1, c))
+    end do
+    call collect_node_ranks(layout, elem_part, elem_start, elem_nodes, cells, cell_rank, &
+                            node_rank_start, node_ranks)
+    call select_local_nodes(layout, elem_part, elem_start, elem_nodes, cells, node_rank_start, &
+                            node_ranks, global_to_local)
+    call build_shared_lists(layout, node_rank_start, node_ranks)
+    call select_local_cells(layout, cells, cell_rank, node_rank_start, global_to_local)
+    call build_assembly_plan(layout, cells, cell_rank)
+  end subroutine explicit_layout_build
+
+  !> Local index of global node `global` (mesh or enriched numbering), 0 if not local.
+  pure integer function explicit_layout_local_node(layout, global) result(local)
+    type(explicit_layout_t), intent(in) :: layout   !< this rank's layout
+    integer, intent(in) :: global                   !< global node index
+    integer :: low, high, middle
+    local = 0
+    low = 1
+    high = layout%nnode_local
+    do while (low <= high)
+      middle = (low + high)/2
+      if (layout%node_global(middle) == global) then
+        local = middle
+        return
+      else if (layout%node_global(middle) < global) then
+        low = middle + 1
+      else
+        high = middle - 1
+      end if
+    end do
+  end function explicit_layout_local_node
+
+  !> Sizes and ranges that must agree between the decomposition, the partition and the cells.
+  subroutine check_layout_input(decomp, elem_part, elem_start, elem_nodes, cells, status)
+    type(decomposition_t), intent(in) :: decomp       !< this rank's decomposition
+    integer, intent(in) :: elem_part(:)               !< rank of every element
+    integer, intent(in) :: elem_start(:)              !< element starts
+    integer, intent(in) :: elem_nodes(:)              !< global node indices
+    type(cells_t), intent(in) :: cells                !< all cells
+    type(status_t), intent(inout) :: status           !< set on failure
+    character(len=200) :: text
+    integer :: nelem
+
+    nelem = decomp%nelem_global
+    text = ''
+    if (size(elem_part) < nelem .or. size(elem_start) < nelem + 1) then
+      write(text, '(a,i0,a)') 'elem_part/elem_start are shorter than the ', nelem, &
+          ' elements of the decomposition'
+    else if (cells%n_mesh_nodes /= decomp%nnode_global) then
+      write(text, '(a,i0,a,i0,a)') 'the cells know ', cells%n_mesh_nodes, &
+          ' mesh nodes, the decomposition ', decomp%nnode_global
+    else if (size(cells%enriched_of) /= nelem) then
+      write(text, '(a,i0,a,i0,a)') 'the cells know ', size(cells%enriched_of), &
+          ' elements, the decomposition ', nelem
+    else if (elem_start(nelem + 1) - 1 > size(elem_nodes)) then
+      text = 'elem_nodes is shorter than elem_start says'
+    end if
+    if (len_trim(text) == 0 .and. nelem > 0) then
+      if (any(elem_part(1:nelem) < 0 .or. elem_part(1:nelem) >= decomp%nranks)) then
+        text = 'an element part is outside 0..nranks-1'
+      else if (decomp%nelem_local > 0) then
+        if (any(elem_part(decomp%elem_global) /= decomp%rank)) &
+          text = 'elem_part does not match the decomposition'' elements'
+      end if
+    end if
+    if (len_trim(text) == 0 .and. cells%n > 0) then
+      if (any(cells%elements(1, 1:cells%n) < 1 .or. cells%elements(1, 1:cells%n) > nelem)) &
+        text = 'a cell has no first element'
+    end if
+    if (len_trim(text) > 0) then
+      status%ok = .false.
+      status%message = 'explicit_layout_build: '//trim(text)
+    end if
+  end subroutine check_layout_input
+
+  !> Counting sort of items by rank: rank r's items, ascending, are
+  !> items(bucket_start(r)+1:bucket_start(r+1)).
+  pure subroutine bucket_by_rank(nranks, item_rank, bucket_start, items)
+    integer, intent(in) :: nranks                         !< number of ranks
+    integer, intent(in) :: item_rank(:)                   !< rank of each item
+    integer, allocatable, intent(out) :: bucket_start(:)  !< (0:nranks) offsets
+    integer, allocatable, intent(out) :: items(:)         !< items sorted by rank
+    integer, allocatable :: next(:)
+    integer :: i, r
+    allocate(bucket_start(0:nranks), next(0:nranks - 1), items(size(item_rank)))
+    bucket_start = 0
+    do i = 1, size(item_rank)
+      bucket_start(item_rank(i) + 1) = bucket_start(item_rank(i) + 1) + 1
+    end do
+    do r = 1, nranks
+      bucket_start(r) = bucket_start(r) + bucket_start(r - 1)
+    end do
+    next = bucket_start(0:nranks - 1)
+    do i = 1, size(item_rank)
+      next(item_rank(i)) = next(item_rank(i)) + 1
+      items(next(item_rank(i))) = i
+    end do
+  end subroutine bucket_by_rank
+
+  !> For every node (mesh and enriched), the ranks holding it, ascending and without repeats:
+  !> node n's ranks are node_ranks(node_rank_start(n):node_rank_start(n+1)-1). Ranks are
+  !> visited in ascending order, one pass to count and one to fill.
+  subroutine collect_node_ranks(layout, elem_part, elem_start, elem_nodes, cells, cell_rank, &
+                                node_rank_start, node_ranks)
+    type(explicit_layout_t), intent(in) :: layout         !< sizes
+    integer, intent(in) :: elem_part(:)                   !< rank of every element
+    integer, intent(in) :: elem_start(:)                  !< element starts
+    integer, intent(in) :: elem_nodes(:)                  !< global mesh node indices
+    type(cells_t), intent(in) :: cells                    !< all cells
+    integer, intent(in) :: cell_rank(:)                   !< rank computing each cell
+    integer, allocatable, intent(out) :: node_rank_start(:) !< (nnode_global+1) offsets
+    integer, allocatable, intent(out) :: node_ranks(:)    !< ranks holding each node
+    integer, allocatable :: elem_bucket_start(:), elem_bucket(:), cell_bucket_start(:)
+    integer, allocatable :: cell_bucket(:), last_rank(:), next(:)
+    logical, allocatable :: touched(:)
+    integer :: nelem, nall, pass, r, k, e, c, j, n
+
+    nelem = size(cells%enriched_of)
+    nall = layout%nnode_global
+    call bucket_by_rank(layout%nranks, elem_part(1:nelem), elem_bucket_start, elem_bucket)
+    call bucket_by_rank(layout%nranks, cell_rank, cell_bucket_start, cell_bucket)
+    allocate(touched(layout%n_mesh_nodes))
+    touched = .false.
+    touched(elem_nodes(1:elem_start(nelem + 1) - 1)) = .true.
+
+    allocate(node_rank_start(nall + 1), last_rank(nall), next(nall))
+    do pass = 1, 2
+      last_rank = -1
+      if (pass == 1) then
+        next = 0
+      else
+        node_rank_start(1) = 1
+        do n = 1, nall
+          node_rank_start(n + 1) = node_rank_start(n) + next(n)
+        end do
+        allocate(node_ranks(node_rank_start(nall + 1) - 1))
+        next = node_rank_start(1:nall)
+      end if
+      do r = 0, layout%nranks - 1
+        if (r == 0) then
+          do n = 1, layout%n_mesh_nodes
+            if (.not. touched(n)) call mark(n, r)
+          end do
+        end if
+        do k = elem_bucket_start(r) + 1, elem_bucket_start(r + 1)
+          e = elem_bucket(k)
+          do j = elem_start(e), elem_start(e + 1) - 1
+            call mark(elem_nodes(j), r)
+          end do
+          if (cells%enriched_of(e) > 0) call mark(cells%enriched_of(e), r)
+        end do
+        do k = cell_bucket_start(r) + 1, cell_bucket_start(r + 1)
+          c = cell_bucket(k)
+          do j = 1, cells%nnodes(c)
+            call mark(cells%nodes(j, c), r)
+          end do
+        end do
+      end do
+    end do
+
+  contains
+
+    !> Record rank r for node n once (count in pass 1, store in pass 2).
+    subroutine mark(n, r)
+      integer, intent(in) :: n   !< node
+      integer, intent(in) :: r   !< rank
+      if (last_rank(n) == r) return
+      last_rank(n) = r
+      if (pass == 2) node_ranks(next(n)) = r
+      next(n) = next(n) + 1
+    end subroutine mark
+
+  end subroutine collect_node_ranks
+
+  !> This rank's nodes (ascending global order), their owners and the global-to-local map.
+  subroutine select_local_nodes(layout, elem_part, elem_start, elem_nodes, cells, &
+                                node_rank_start, node_ranks, global_to_local)
+    type(explicit_layout_t), intent(inout) :: layout      !< rank in, nodes out
+    integer, intent(in) :: elem_part(:)                   !< rank of every element
+    integer, intent(in) :: elem_start(:)                  !< element starts
+    integer, intent(in) :: elem_nodes(:)                  !< global mesh node indices
+    type(cells_t), intent(in) :: cells                    !< all cells
+    integer, intent(in) :: node_rank_start(:)             !< (nnode_global+1) offsets
+    integer, intent(in) :: node_ranks(:)                  !< ranks holding each node
+    integer, allocatable, intent(out) :: global_to_local(:) !< (nnode_global) local or 0
+    integer, allocatable :: owner(:)
+    integer :: nelem, nall, n, e, j, nlocal
+
+    nelem = size(cells%enriched_of)
+    nall = layout%nnode_global
+    ! owner: lowest rank whose elements touch a mesh node (0 if none), element's rank for an
+    ! enriched node
+    allocate(owner(nall))
+    owner = layout%nranks
+    do e = 1, nelem
+      do j = elem_start(e), elem_start(e + 1) - 1
+        owner(elem_nodes(j)) = min(owner(elem_nodes(j)), elem_part(e))
+      end do
+      if (cells%enriched_of(e) > 0) owner(cells%enriched_of(e)) = elem_part(e)
+    end do
+    where (owner == layout%nranks) owner = 0
+
+    allocate(global_to_local(nall))
+    global_to_local = 0
+    nlocal = 0
+    do n = 1, nall
+      if (any(node_ranks(node_rank_start(n):node_rank_start(n + 1) - 1) == layout%rank)) then
+        nlocal = nlocal + 1
+        global_to_local(n) = nlocal
+      end if
+    end do
+    layout%nnode_local = nlocal
+    allocate(layout%node_global(nlocal))
+    do n = 1, nall
+      if (global_to_local(n) > 0) layout%node_global(global_to_local(n)) = n
+    end do
+    layout%node_owner = owner(layout%node_global)
+    layout%node_owned = layout%node_owner == layout%rank
+    layout%nnode_owned = count(layout%node_owned)
+  end subroutine select_local_nodes
+
+  !> Neighbour ranks and the local nodes shared with each, ascending in global order.
+  subroutine build_shared_lists(layout, node_rank_start, node_ranks)
+    type(explicit_layout_t), intent(inout) :: layout      !< local nodes in, halo lists out
+    integer, intent(in) :: node_rank_start(:)             !< (nnode_global+1) offsets
+    integer, intent(in) :: node_ranks(:)                  !< ranks holding each node
+    integer, allocatable :: shared_count(:), neighbour_of_rank(:), next(:)
+    integer :: i, n, j, q, k
+
+    allocate(shared_count(0:layout%nranks - 1), neighbour_of_rank(0:layout%nranks - 1))
+    shared_count = 0
+    do i = 1, layout%nnode_local
+      n = layout%node_global(i)
+      do j = node_rank_start(n), node_rank_start(n + 1) - 1
+        q = node_ranks(j)
+        if (q /= layout%rank) shared_count(q) = shared_count(q) + 1
+      end do
+    end do
+    layout%nneighbour = count(shared_count > 0)
+    allocate(layout%neighbour_rank(layout%nneighbour), layout%shared_start(layout%nneighbour + 1))
+    neighbour_of_rank = 0
+    layout%shared_start(1) = 1
+    k = 0
+    do q = 0, layout%nranks - 1
+      if (shared_count(q) == 0) cycle
+      k = k + 1
+      layout%neighbour_rank(k) = q
+      neighbour_of_rank(q) = k
+      layout%shared_start(k + 1) = layout%shared_start(k) + shared_count(q)
+    end do
+    allocate(layout%shared_nodes(layout%shared_start(layout%nneighbour + 1) - 1))
+    allocate(next(layout%nneighbour))
+    next = layout%shared_start(1:layout%nneighbour)
+    do i = 1, layout%nnode_local
+      n = layout%node_global(i)
+      do j = node_rank_start(n), node_rank_start(n + 1) - 1
+        q = node_ranks(j)
+        if (q == layout%rank) cycle
+        k = neighbour_of_rank(q)
+        layout%shared_nodes(next(k)) = i
+        next(k) = next(k) + 1
+      end do
+    end do
+  end subroutine build_shared_lists
+
+  !> The cells this rank computes, their local nodes, and the outer/inner split.
+  subroutine select_local_cells(layout, cells, cell_rank, node_rank_start, global_to_local)
+    type(explicit_layout_t), intent(inout) :: layout      !< nodes in, cells out
+    type(cells_t), intent(in) :: cells                    !< all cells
+    integer, intent(in) :: cell_rank(:)                   !< rank computing each cell
+    integer, intent(in) :: node_rank_start(:)             !< (nnode_global+1) offsets
+    integer, intent(in) :: global_to_local(:)             !< (nnode_global) local or 0
+    integer :: c, l, j, n, nouter, ninner
+
+    layout%ncell_local = count(cell_rank == layout%rank)
+    allocate(layout%cell_global(layout%ncell_local))
+    allocate(layout%cell_nodes(layout%slots, layout%ncell_local))
+    allocate(layout%cell_outer(layout%ncell_local))
+    layout%cell_nodes = 0
+    layout%cell_outer = .false.
+    l = 0
+    do c = 1, cells%n
+      if (cell_rank(c) /= layout%rank) cycle
+      l = l + 1
+      layout%cell_global(l) = c
+      do j = 1, cells%nnodes(c)
+        n = cells%nodes(j, c)
+        layout%cell_nodes(j, l) = global_to_local(n)
+        ! a node held by more than one rank is shared
+        if (node_rank_start(n + 1) - node_rank_start(n) > 1) layout%cell_outer(l) = .true.
+      end do
+    end do
+    layout%ncell_outer = count(layout%cell_outer)
+    allocate(layout%outer_cells(layout%ncell_outer))
+    allocate(layout%inner_cells(layout%ncell_local - layout%ncell_outer))
+    nouter = 0
+    ninner = 0
+    do l = 1, layout%ncell_local
+      if (layout%cell_outer(l)) then
+        nouter = nouter + 1
+        layout%outer_cells(nouter) = l
+      else
+        ninner = ninner + 1
+        layout%inner_cells(ninner) = l
+      end if
+    end do
+  end subroutine select_local_cells
+
+  !> The order-fixed assembly plan: per local node, the source of every contribution in
+  !> ascending global cell order; per neighbour, what to send and where its data lands.
+  subroutine build_assembly_plan(layout, cells, cell_rank)
+    type(explicit_layout_t), intent(inout) :: layout      !< cells, nodes and halo lists in
+    type(cells_t), intent(in) :: cells                    !< all cells
+    integer, intent(in) :: cell_rank(:)                   !< rank computing each cell
+    integer, allocatable :: touch_start(:), touch_cell(:), touch_slot(:), next(:)
+    integer, allocatable :: cell_local(:)
+    integer :: nall, c, j, n, i, k, s, t, q, position, nsend
+
+    ! node -> (cell, slot) incidence over the whole model, cells ascending per node
+    nall = layout%nnode_global
+    allocate(touch_start(nall + 1), next(nall))
+    touch_start = 0
+    do c = 1, cells%n
+      do j = 1, cells%nnodes(c)
+        touch_start(cells%nodes(j, c) + 1) = touch_start(cells%nodes(j, c) + 1) + 1
+      end do
+    end do
+    touch_start(1) = 1
+    do n = 1, nall
+      touch_start(n + 1) = touch_start(n + 1) + touch_start(n)
+    end do
+    allocate(touch_cell(touch_start(nall + 1) - 1), touch_slot(touch_start(nall + 1) - 1))
+    next = touch_start(1:nall)
+    do c = 1, cells%n
+      do j = 1, cells%nnodes(c)
+        n = cells%nodes(j, c)
+        touch_cell(next(n)) = c
+        touch_slot(next(n)) = j
+        next(n) = next(n) + 1
+      end do
+    end do
+    allocate(cell_local(cells%n))
+    cell_local = 0
+    cell_local(layout%cell_global) = [(i, i = 1, layout%ncell_local)]
+
+    ! every contribution to a local node: own cells point into the cell array
+    allocate(layout%assembly_start(layout%nnode_local + 1))
+    layout%assembly_start(1) = 1
+    do i = 1, layout%nnode_local
+      n = layout%node_global(i)
+      layout%assembly_start(i + 1) = layout%assembly_start(i) + touch_start(n + 1) - touch_start(n)
+    end do
+    allocate(layout%assembly_source(layout%assembly_start(layout%nnode_local + 1) - 1))
+    layout%assembly_source = 0
+    do i = 1, layout%nnode_local
+      n = layout%node_global(i)
+      do t = touch_start(n), touch_start(n + 1) - 1
+        c = touch_cell(t)
+        if (cell_rank(c) == layout%rank) layout%assembly_source(layout%assembly_start(i) + &
+            t - touch_start(n)) = touch_slot(t) + layout%slots*(cell_local(c) - 1)
+      end do
+    end do
+
+    ! others' cells: neighbour q sends, node by node of the shared list, its cells ascending
+    allocate(layout%receive_start(layout%nneighbour + 1), layout%send_start(layout%nneighbour + 1))
+    layout%receive_start(1) = 1
+    layout%send_start(1) = 1
+    position = 0
+    nsend = 0
+    do k = 1, layout%nneighbour
+      q = layout%neighbour_rank(k)
+      do s = layout%shared_start(k), layout%shared_start(k + 1) - 1
+        i = layout%shared_nodes(s)
+        n = layout%node_global(i)
+        do t = touch_start(n), touch_start(n + 1) - 1
+          if (cell_rank(touch_cell(t)) == q) then
+            position = position + 1
+            layout%assembly_source(layout%assembly_start(i) + t - touch_start(n)) = -position
+          else if (cell_rank(touch_cell(t)) == layout%rank) then
+            nsend = nsend + 1
+          end if
+        end do
+      end do
+      layout%receive_start(k + 1) = position + 1
+      layout%send_start(k + 1) = nsend + 1
+    end do
+    if (any(layout%assembly_source == 0)) call fatal_local('explicit_layout_build: a '// &
+        'contribution to a local node comes from a rank that does not share the node')
+
+    ! what this rank sends: the same walk, its own cells' contributions
+    allocate(layout%send_source(nsend))
+    nsend = 0
+    do k = 1, layout%nneighbour
+      do s = layout%shared_start(k), layout%shared_start(k + 1) - 1
+        n = layout%node_global(layout%shared_nodes(s))
+        do t = touch_start(n), touch_start(n + 1) - 1
+          c = touch_cell(t)
+          if (cell_rank(c) /= layout%rank) cycle
+          nsend = nsend + 1
+          layout%send_source(nsend) = touch_slot(t) + layout%slots*(cell_local(c) - 1)
+        end do
+      end do
+    end do
+  end subroutine build_assembly_plan
+
+end module mefem_explicit_layout

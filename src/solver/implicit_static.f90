@@ -1,0 +1,414 @@
+!> Nonlinear quasi-static analysis: load/time stepping with Newton-Raphson on MUMPS
+!> (*CONTROL_IMPLICIT_GENERAL IMFLAG=1 with a nonlinear *CONTROL_IMPLICIT_SOLUTION NSOLVR).
+!>
+!> Per step t_n -> t_{n+1} = t_n + dt (Simo & Hughes; formulation 2.7 and 6):
+!>   u_{n+1}^0 = u_n with the prescribed displacements of t_{n+1};
+!>   repeat: R = f_ext(t_{n+1}) - f_int(u),  K = dR/du (consistent: material + geometric),
+!>           K du = R (free dofs),  u = u + s du  (s from a line search when LSTOL is violated);
+!>   until the displacement (DCTOL) and energy (ECTOL) norms, and the residual (RCTOL, ABSTOL),
+!>   say converged, at most MAXREF iterations. A step that diverges, exceeds the iteration
+!>   limit or inverts a cell (det F <= 0) is cut in half and redone from the last converged
+!>   state (*CONTROL_IMPLICIT_AUTO); easy steps grow again. The material history is committed
+!>   only when a step converges. Every rank computes the cells of its own elements; the
+!>   residual is summed over ranks and MUMPS solves on all of them.
+module mefem_implicit_static
+  use mefem_kinds, only: wp
+  use mefem_comm, only: comm_sum, comm_is_root, comm_wtime, comm_any
+  use mefem_errors, only: status_t, fatal, say
+  use mefem_strings, only: itoa, rtoa
+  use mefem_model, only: model_t, ON_PART, MAT_RIGID
+  use mefem_decomposition, only: decomposition_t
+  use mefem_cells, only: cells_t, cells_build, CELL_MAX_NODES
+  use mefem_cell_finite_strain, only: cell_deformation_gradient, cell_internal_force, &
+                                      cell_tangent, inverse_3x3
+  use mefem_material_state, only: NHIST, HIST_ALPHA, material_state_init
+  use mefem_material_update, only: material_update
+  use mefem_boundary_conditions, only: fixed_dofs, prescribed_displacements, external_forces
+  use mefem_sparse_assembly, only: coo_matrix_t, coo_init, coo_add_block, coo_reset_values, &
+                                   coo_free
+  use mefem_mumps, only: mumps_solver_t, mumps_init, mumps_factorise, mumps_solve, &
+                         mumps_free, MUMPS_UNSYMMETRIC
+  use mefem_output_mesh, only: output_field_t
+  use mefem_results, only: results_write_state
+  use mefem_solver_common, only: number_equations, stress_fields
+  implicit none
+  private
+
+  public :: implicit_static_run
+
+  !> What one evaluation of the cells gives.
+  type :: cell_state_t
+    real(wp), allocatable :: hist_new(:,:)   !< (NHIST, cells) trial history
+    real(wp), allocatable :: cauchy(:,:)     !< (6, cells) Cauchy stress (Voigt)
+  end type cell_state_t
+
+contains
+
+  !> Run the nonlinear quasi-static analysis and write output states along the way.
+  subroutine implicit_static_run(model, decomp)
+    type(model_t), intent(in) :: model              !< resolved model
+    type(decomposition_t), intent(in) :: decomp     !< this rank's share
+    type(cells_t) :: cells
+    type(status_t) :: status
+    type(coo_matrix_t) :: tangent
+    type(mumps_solver_t) :: solver
+    type(cell_state_t) :: trial
+    integer, allocatable :: equation(:,:)
+    logical, allocatable :: fixed(:,:), owned(:)
+    real(wp), allocatable :: prescribed(:,:), force(:,:), u(:,:), u_step(:,:), hist(:,:)
+    real(wp) :: t, dt, dt_min, dt_max, end_time, next_output, t0
+    integer :: dim, n_all, n_equations, step, iterations, output_step, c, cuts
+    logical :: converged
+
+    t0 = comm_wtime()
+    call cells_build(model, cells, status)
+    if (.not. status%ok) call fatal('element set-up: '//status%message)
+    call check_supported(model)
+    dim = cells%dim
+    n_all = cells%n_mesh_nodes + cells%n_enriched
+    allocate(owned(cells%n))
+    block
+      logical :: owned_element(model%elements%n)
+      owned_element = .false.
+      owned_element(decomp%elem_global(1:decomp%nelem_local)) = .true.
+      owned = owned_element(cells%elements(1, 1:cells%n))
+    end block
+    allocate(hist(NHIST, cells%n))
+    do c = 1, cells%n
+      call material_state_init(hist(:, c))
+    end do
+    allocate(fixed(dim, n_all), prescribed(dim, n_all), force(dim, n_all), u(dim, n_all))
+    u = 0.0_wp
+    ! the fixed set is the same in every step (SPCs, TC codes, VAD=2 motions)
+    fixed = .false.
+    prescribed = 0.0_wp
+    call fixed_dofs(model, 0.0_wp, fixed(:, 1:cells%n_mesh_nodes))
+    call prescribed_displacements(model, 0.0_wp, fixed(:, 1:cells%n_mesh_nodes), &
+                                  prescribed(:, 1:cells%n_mesh_nodes))
+    call number_equations(cells, fixed, equation, n_equations)
+    call say('implicit: '//itoa(n_equations)//' equations, '//itoa(cells%n)//' cells')
+    call mumps_init(solver, MUMPS_UNSYMMETRIC, status)
+    if (.not. status%ok) call fatal('implicit: '//status%message)
+
+    end_time = model%controls%end_time
+    dt = model%controls%dt0
+    if (dt <= 0.0_wp) dt = end_time/10.0_wp
+    dt_max = model%controls%auto_dtmax
+    if (dt_max <= 0.0_wp) dt_max = end_time
+    dt_min = model%controls%auto_dtmin
+    if (dt_min <= 0.0_wp) dt_min = 1.0e-6_wp*end_time
+    next_output = output_interval(model)
+    output_step = 1
+    t = 0.0_wp
+    step = 0
+    cuts = 0
+    do while (t < end_time*(1.0_wp - 1.0e-12_wp))
+      dt = min(dt, end_time - t)
+      step = step + 1
+      u_step = u
+      call newton_step(model, cells, owned, equation, n_equations, t + dt, hist, u, &
+                       tangent, solver, trial, iterations, converged)
+      if (.not. converged) then
+        u = u_step
+        cuts = cuts + 1
+        dt = 0.5_wp*dt
+        call say('  step '//itoa(step)//' not converged: cut back to dt = '//rtoa(dt))
+        if (dt < dt_min) then
+          call write_state(model, decomp, cells, u, hist, t, output_step)
+          call fatal('implicit: the time step fell below its minimum '//rtoa(dt_min)// &
+              ' at t = '//rtoa(t)//'; the last converged state (t = '//rtoa(t)// &
+              ') was written')
+        end if
+        step = step - 1
+        cycle
+      end if
+      t = t + dt
+      hist = trial%hist_new
+      call say('step '//itoa(step)//': t = '//rtoa(t)//', dt = '//rtoa(dt)//', '// &
+               itoa(iterations)//' iterations')
+      if (t >= next_output*(1.0_wp - 1.0e-9_wp) .or. t >= end_time*(1.0_wp - 1.0e-12_wp)) then
+        call write_state(model, decomp, cells, u, hist, t, output_step)
+        output_step = output_step + 1
+        next_output = next_output + output_interval(model)
+      end if
+      ! step growth when the Newton loop was easy (*CONTROL_IMPLICIT_AUTO ITEOPT/ITEWIN)
+      if (model%controls%iauto /= 0 .and. iterations <= max(1, model%controls%iteopt - &
+          model%controls%itewin)) dt = min(dt_max, 1.5_wp*dt)
+    end do
+    call mumps_free(solver)
+    call coo_free(tangent)
+    call say('implicit: '//itoa(step)//' steps, '//itoa(cuts)//' cut-backs, '// &
+             rtoa(comm_wtime() - t0)//' s')
+  end subroutine implicit_static_run
+
+  !> Time between output states: *DATABASE_BINARY_D3PLOT DT (or ENDTIM/NPLTC), else the end.
+  real(wp) function output_interval(model)
+    type(model_t), intent(in) :: model   !< resolved model
+    output_interval = model%controls%plot_interval
+    if (model%controls%plot_count > 0) output_interval = model%controls%end_time/ &
+        real(model%controls%plot_count, wp)
+    if (output_interval <= 0.0_wp) output_interval = model%controls%end_time
+  end function output_interval
+
+  !> Nonlinear statics takes deformable parts, displacement-type motions on nodes, no contact.
+  subroutine check_supported(model)
+    type(model_t), intent(in) :: model   !< resolved model
+    integer :: k
+    do k = 1, model%n_motions
+      if (model%motions(k)%vad /= 2 .or. model%motions(k)%target_kind == ON_PART) call fatal( &
+          'implicit analysis takes prescribed displacements (VAD=2) on nodes and node sets '// &
+          'only for now; see *BOUNDARY_PRESCRIBED_MOTION at line '// &
+          itoa(model%motions(k)%src%line))
+    end do
+    if (model%n_contacts > 0 .or. model%n_rigid_walls > 0) call fatal( &
+        'implicit analysis does not take contact or rigid walls yet')
+    if (model%controls%end_time <= 0.0_wp) call fatal('implicit analysis needs '// &
+        '*CONTROL_TERMINATION ENDTIM')
+    do k = 1, model%n_parts
+      if (model%parts(k)%material == 0) cycle
+      if (model%materials(model%parts(k)%material)%kind == MAT_RIGID) call fatal( &
+          'implicit analysis does not take rigid parts yet')
+    end do
+  end subroutine check_supported
+
+  !> One load step by Newton-Raphson; u holds the converged displacements on success.
+  subroutine newton_step(model, cells, owned, equation, n_equations, t_new, hist, u, tangent, &
+                         solver, trial, iterations, converged)
+    type(model_t), intent(in) :: model                 !< resolved model
+    type(cells_t), intent(in) :: cells                 !< cells
+    logical, intent(in) :: owned(:)                    !< cells this rank computes
+    integer, intent(in) :: equation(:,:)               !< equation numbers
+    integer, intent(in) :: n_equations                 !< number of equations
+    real(wp), intent(in) :: t_new                      !< time at the end of the step
+    real(wp), intent(in) :: hist(:,:)                  !< converged history
+    real(wp), intent(inout) :: u(:,:)                  !< displacements
+    type(coo_matrix_t), intent(inout) :: tangent       !< tangent matrix (pattern kept)
+    type(mumps_solver_t), intent(inout) :: solver      !< linear solver
+    type(cell_state_t), intent(inout) :: trial         !< trial history and stress
+    integer, intent(out) :: iterations                 !< iterations used
+    logical, intent(out) :: converged                  !< the step converged
+    real(wp), allocatable :: residual(:), du(:), force(:,:), fixed_u(:,:), u_start(:,:)
+    logical, allocatable :: fixed(:,:)
+    type(status_t) :: status
+    real(wp) :: energy0, energy, norm_du, norm_step, norm_r, norm_r0, ratio
+    integer :: k, dim, n, i
+    logical :: ok
+    dim = cells%dim
+    allocate(residual(n_equations), du(n_equations), force(dim, size(u, 2)), &
+             fixed_u(dim, size(u, 2)), fixed(dim, size(u, 2)))
+    ! prescribed displacements of the new time
+    fixed = .false.
+    fixed_u = u
+    call prescribed_displacements(model, t_new, fixed(:, 1:cells%n_mesh_nodes), &
+                                  fixed_u(:, 1:cells%n_mesh_nodes))
+    where (fixed) u = fixed_u
+    u_start = u
+    force = 0.0_wp
+    call external_forces(model, t_new, force(:, 1:cells%n_mesh_nodes))
+    converged = .false.
+    energy0 = 0.0_wp
+    norm_r0 = 0.0_wp
+    do k = 1, max(1, model%controls%maxref)
+      iterations = k
+      call evaluate_cells(model, cells, owned, equation, u, hist, force, residual, tangent, &
+                          trial, ok)
+      if (.not. ok) return                                  ! a cell inverted: cut the step
+      norm_r = norm2(residual)
+      if (k == 1) norm_r0 = max(norm_r, tiny(1.0_wp))
+      call mumps_factorise(solver, tangent, status)
+      if (status%ok) call mumps_solve(solver, residual, du, status)
+      if (.not. status%ok) then
+        call say('  iteration '//itoa(k)//': '//status%message)
+        return
+      end if
+      energy = abs(dot_product(du, residual))
+      if (k == 1) energy0 = max(energy, tiny(1.0_wp))
+      do n = 1, size(u, 2)
+        do i = 1, dim
+          if (equation(i, n) > 0) u(i, n) = u(i, n) + du(equation(i, n))
+        end do
+      end do
+      norm_du = norm2(du)
+      norm_step = norm2(u - u_start)
+      ratio = norm_r/norm_r0
+      if (model%controls%nlprint > 0 .or. k > 1) call say('  iteration '//itoa(k)// &
+          ': |R| = '//rtoa(norm_r)//' ('//rtoa(ratio)//'), |du|/|u_step| = '// &
+          rtoa(norm_du/max(norm_step, tiny(1.0_wp)))//', energy ratio '//rtoa(energy/energy0))
+      if (norm_r /= norm_r) return                          ! NaN: cut the step
+      if (norm_r < model%controls%abstol .or. (k > 1 .and. &
+          norm_du <= model%controls%dctol*norm_step .and. &
+          energy <= model%controls%ectol*energy0 .and. ratio <= model%controls%rctol)) then
+        ! one more evaluation so that history and stress belong to the final u
+        call evaluate_cells(model, cells, owned, equation, u, hist, force, residual, &
+                            tangent, trial, ok)
+        converged = ok
+        return
+      end if
+      if (k > 2 .and. norm_r > 1.0e6_wp*norm_r0) return     ! diverging
+    end do
+  end subroutine newton_step
+
+  !> Residual f_ext - f_int and tangent of all owned cells at displacements u.
+  subroutine evaluate_cells(model, cells, owned, equation, u, hist, force_ext, residual, &
+                            tangent, trial, ok)
+    type(model_t), intent(in) :: model                 !< resolved model
+    type(cells_t), intent(in) :: cells                 !< cells
+    logical, intent(in) :: owned(:)                    !< cells this rank computes
+    integer, intent(in) :: equation(:,:)               !< equation numbers
+    real(wp), intent(in) :: u(:,:)                     !< displacements
+    real(wp), intent(in) :: hist(:,:)                  !< converged history
+    real(wp), intent(in) :: force_ext(:,:)             !< external forces
+    real(wp), intent(out) :: residual(:)               !< free-dof residual, summed over ranks
+    type(coo_matrix_t), intent(inout) :: tangent       !< tangent matrix
+    type(cell_state_t), intent(inout) :: trial         !< trial history and Cauchy stress
+    logical, intent(out) :: ok                         !< no cell failed (on every rank)
+    real(wp) :: f(3, 3), finv(3, 3), tau(3, 3), c(3, 3, 3, 3), fc(3, CELL_MAX_NODES), det, sound
+    real(wp) :: ke(3*CELL_MAX_NODES, 3*CELL_MAX_NODES), ue(3, CELL_MAX_NODES)
+    integer :: dofs(3*CELL_MAX_NODES), cell, nn, nd, dim, a, i, n
+    type(status_t) :: status
+    logical :: failed
+    dim = cells%dim
+    if (.not. allocated(trial%hist_new)) then
+      allocate(trial%hist_new(NHIST, cells%n), trial%cauchy(6, cells%n))
+      call coo_init(tangent, maxval(equation), int(count(owned), kind(1))*(dim*6)**2)
+    else
+      call coo_reset_values(tangent)
+    end if
+    trial%hist_new = hist
+    trial%cauchy = 0.0_wp
+    residual = 0.0_wp
+    failed = .false.
+    do cell = 1, cells%n
+      if (.not. owned(cell)) cycle
+      nn = cells%nnodes(cell)
+      nd = dim*nn
+      ue(1:dim, 1:nn) = u(:, cells%nodes(1:nn, cell))
+      call cell_deformation_gradient(dim, nn, cells%grad(:, :, cell), ue, f)
+      call material_update(model%materials(cells%material(cell)), model%curves, f, &
+                           hist(:, cell), trial%hist_new(:, cell), tau, c, sound, status)
+      if (.not. status%ok) then
+        if (.not. failed) call say('  cell '//itoa(cell)//' (element '// &
+            itoa(model%elements%id(cells%elements(1, cell)))//'): '//status%message)
+        failed = .true.
+        cycle
+      end if
+      call inverse_3x3(f, finv, det)
+      trial%cauchy(:, cell) = [tau(1, 1), tau(2, 2), tau(3, 3), tau(1, 2), tau(2, 3), &
+                               tau(3, 1)]/det
+      call cell_internal_force(dim, nn, cells%grad(:, :, cell), cells%weight(cell), f, tau, &
+                               fc(1:dim, 1:nn))
+      call cell_tangent(dim, nn, cells%grad(:, :, cell), cells%weight(cell), f, tau, c, &
+                        ke(1:nd, 1:nd))
+      do a = 1, nn
+        do i = 1, dim
+          dofs(dim*(a-1) + i) = equation(i, cells%nodes(a, cell))
+          if (dofs(dim*(a-1) + i) > 0) residual(dofs(dim*(a-1) + i)) = &
+              residual(dofs(dim*(a-1) + i)) - fc(i, a)
+        end do
+      end do
+      call coo_add_block(tangent, dofs(1:nd), ke(1:nd, 1:nd), .false.)
+    end do
+    ok = .not. comm_any(failed)
+    if (comm_is_root()) then
+      do n = 1, size(u, 2)
+        do i = 1, dim
+          if (equation(i, n) > 0) residual(equation(i, n)) = residual(equation(i, n)) + &
+              force_ext(i, n)
+        end do
+      end do
+    end if
+    call comm_sum(residual)
+    call comm_sum(trial%cauchy)
+  end subroutine evaluate_cells
+
+  !> Output state: displacement, Cauchy stress, pressure, von Mises and plastic strain
+  !> at nodes (cell-weighted means) and elements (means of their cells).
+  subroutine write_state(model, decomp, cells, u, hist, time, step)
+    type(model_t), intent(in) :: model              !< resolved model
+    type(decomposition_t), intent(in) :: decomp     !< this rank's share
+    type(cells_t), intent(in) :: cells              !< cells
+    real(wp), intent(in) :: u(:,:)                  !< displacements
+    real(wp), intent(in) :: hist(:,:)               !< committed history
+    real(wp), intent(in) :: time                    !< analysis time
+    integer, intent(in) :: step                     !< output state number
+    real(wp), allocatable :: stress(:,:), es(:,:), ew(:), ns(:,:), nw(:)
+    type(output_field_t) :: point_fields(5), cell_fields(4)
+    integer :: c, a, node, slot, e, local, nnode
+    real(wp) :: alpha_sum_e(model%elements%n), alpha_sum_n(cells%n_mesh_nodes)
+    call final_stresses(model, cells, u, hist, stress)
+    nnode = cells%n_mesh_nodes
+    allocate(es(6, model%elements%n), ew(model%elements%n), ns(6, nnode), nw(nnode))
+    es = 0.0_wp
+    ew = 0.0_wp
+    ns = 0.0_wp
+    nw = 0.0_wp
+    alpha_sum_e = 0.0_wp
+    alpha_sum_n = 0.0_wp
+    do c = 1, cells%n
+      do slot = 1, 2
+        e = cells%elements(slot, c)
+        if (e == 0) cycle
+        es(:, e) = es(:, e) + stress(:, c)
+        ew(e) = ew(e) + 1.0_wp
+        alpha_sum_e(e) = alpha_sum_e(e) + hist(HIST_ALPHA, c)
+      end do
+      do a = 1, cells%nnodes(c)
+        node = cells%nodes(a, c)
+        if (node > nnode) cycle
+        ns(:, node) = ns(:, node) + cells%weight(c)*stress(:, c)
+        nw(node) = nw(node) + cells%weight(c)
+        alpha_sum_n(node) = alpha_sum_n(node) + cells%weight(c)*hist(HIST_ALPHA, c)
+      end do
+    end do
+    point_fields(1)%name = 'displacement'
+    point_fields(1)%ncomp = 3
+    allocate(point_fields(1)%values(3, decomp%nnode_local))
+    point_fields(1)%values = 0.0_wp
+    do local = 1, decomp%nnode_local
+      point_fields(1)%values(1:cells%dim, local) = u(:, decomp%node_global(local))
+    end do
+    call stress_fields(ns(:, decomp%node_global(1:decomp%nnode_local)), &
+                       nw(decomp%node_global(1:decomp%nnode_local)), point_fields(2:4))
+    point_fields(5)%name = 'plastic_strain'
+    point_fields(5)%values = reshape(merge(alpha_sum_n(decomp%node_global(1:decomp%nnode_local)) &
+        /max(nw(decomp%node_global(1:decomp%nnode_local)), tiny(1.0_wp)), 0.0_wp, &
+        nw(decomp%node_global(1:decomp%nnode_local)) > 0.0_wp), [1, decomp%nnode_local])
+    call stress_fields(es(:, decomp%elem_global(1:decomp%nelem_local)), &
+                       ew(decomp%elem_global(1:decomp%nelem_local)), cell_fields(1:3))
+    cell_fields(4)%name = 'plastic_strain'
+    cell_fields(4)%values = reshape(merge(alpha_sum_e(decomp%elem_global(1:decomp%nelem_local)) &
+        /max(ew(decomp%elem_global(1:decomp%nelem_local)), tiny(1.0_wp)), 0.0_wp, &
+        ew(decomp%elem_global(1:decomp%nelem_local)) > 0.0_wp), [1, decomp%nelem_local])
+    call results_write_state(step, time, point_fields, cell_fields)
+  end subroutine write_state
+
+  !> Cauchy stress of every cell in the committed state: the material is evaluated with the
+  !> committed history, which holds F_{n+1} itself, so the increment is the identity and the
+  !> update returns the committed stress without further plastic flow.
+  subroutine final_stresses(model, cells, u, hist, stress)
+    type(model_t), intent(in) :: model                 !< resolved model
+    type(cells_t), intent(in) :: cells                 !< cells
+    real(wp), intent(in) :: u(:,:)                     !< displacements
+    real(wp), intent(in) :: hist(:,:)                  !< committed history
+    real(wp), allocatable, intent(out) :: stress(:,:)  !< (6, cells) Cauchy stress
+    real(wp) :: f(3, 3), finv(3, 3), tau(3, 3), c(3, 3, 3, 3), sound, det
+    real(wp) :: ue(3, CELL_MAX_NODES)
+    real(wp) :: scratch(NHIST)
+    type(status_t) :: status
+    integer :: cell, nn
+    allocate(stress(6, cells%n))
+    stress = 0.0_wp
+    do cell = 1, cells%n
+      nn = cells%nnodes(cell)
+      ue(1:cells%dim, 1:nn) = u(:, cells%nodes(1:nn, cell))
+      call cell_deformation_gradient(cells%dim, nn, cells%grad(:, :, cell), ue, f)
+      ! the committed history already holds F_{n+1}: re-evaluating from it is elastic
+      call material_update(model%materials(cells%material(cell)), model%curves, f, &
+                           hist(:, cell), scratch, tau, c, sound, status)
+      if (.not. status%ok) cycle
+      call inverse_3x3(f, finv, det)
+      stress(:, cell) = [tau(1, 1), tau(2, 2), tau(3, 3), tau(1, 2), tau(2, 3), tau(3, 1)]/det
+    end do
+  end subroutine final_stresses
+
+end module mefem_implicit_static

@@ -1,0 +1,742 @@
+!> Material library (src/materials): point kernels driven along deformation paths.
+!> 1 uniaxial tension/compression of J2 (linear and power-law hardening) against the
+!>   hardening curve and Hooke's law; 2 simple shear (J2 on the yield surface, neo-Hookean
+!>   shear stress mu gamma); 3 objectivity under superposed (time-varying) rotations;
+!> 4 plastic incompressibility (det be_bar = 1); 5 consistent tangents against central
+!>   differences of tau(F) with the Lie-derivative identity; 6 det F <= 0 reported;
+!> 7 hardening laws (values, slopes, LS-DYNA *MAT_018 strain offset, the seed-law identity).
+program test_materials
+  use mefem_kinds, only: wp
+  use mefem_testing, only: test_start, test_finish, check, check_close
+  use mefem_errors, only: status_t
+  use mefem_strings, only: rtoa
+  use mefem_model, only: material_t, curve_t, MAT_ELASTIC, MAT_PIECEWISE_LINEAR, MAT_POWER_LAW, &
+                         MAT_MOONEY_RIVLIN, MAT_RIGID
+  use mefem_material_state, only: NHIST, HIST_ALPHA, material_state_init, &
+                                  state_get_elastic_strain, state_get_deformation
+  use mefem_material_update, only: material_update
+  use mefem_hardening, only: hardening_yield, piecewise_linear_law, power_law_strain_offset, &
+                             plastic_modulus, HARDENING_POWER_LAW, HARDENING_LINEAR, &
+                             HARDENING_TABLE, HARDENING_CURVE
+  use mefem_tensor_algebra, only: IDENTITY, determinant, deviator, frobenius_norm
+  implicit none
+
+  type(curve_t), allocatable :: curves(:)
+
+  call test_start('materials')
+  call make_curves()
+  call test_hardening()
+  call test_uniaxial(linear_steel(), 'linear hardening', 1.3_wp)
+  call test_uniaxial(linear_steel(), 'linear hardening', 1.0_wp/1.3_wp)
+  call test_uniaxial(power_law_steel(), 'power law', 1.3_wp)
+  call test_uniaxial(power_law_steel(), 'power law', 1.0_wp/1.3_wp)
+  call test_small_strain_hooke()
+  call test_simple_shear()
+  call test_objectivity()
+  call test_tangents()
+  call test_failures()
+  call test_finish()
+
+contains
+
+  ! ---------------------------------------------------------------- materials and helpers
+
+  !> *MAT_024 with SIGY and ETAN (MPa, mm, t).
+  type(material_t) function linear_steel() result(mat)
+    mat%id = 1
+    mat%kind = MAT_PIECEWISE_LINEAR
+    mat%density = 7.85e-9_wp
+    mat%young = 210000.0_wp
+    mat%poisson = 0.3_wp
+    mat%yield_stress = 250.0_wp
+    mat%tangent_modulus = 2000.0_wp
+  end function linear_steel
+
+  !> *MAT_018 with K, N and SIGY.
+  type(material_t) function power_law_steel() result(mat)
+    mat%id = 2
+    mat%kind = MAT_POWER_LAW
+    mat%density = 7.85e-9_wp
+    mat%young = 210000.0_wp
+    mat%poisson = 0.3_wp
+    mat%k_strength = 530.0_wp
+    mat%n_exponent = 0.26_wp
+    mat%yield_stress = 250.0_wp
+  end function power_law_steel
+
+  !> *MAT_024 with an EPS/ES table.
+  type(material_t) function table_steel() result(mat)
+    mat = linear_steel()
+    mat%id = 3
+    mat%n_points = 4
+    mat%eps(1:4) = [0.0_wp, 0.05_wp, 0.2_wp, 0.5_wp]
+    mat%es(1:4) = [250.0_wp, 300.0_wp, 350.0_wp, 380.0_wp]
+  end function table_steel
+
+  !> *MAT_024 with LCSS (curve 1 of `curves`).
+  type(material_t) function curve_steel() result(mat)
+    mat = linear_steel()
+    mat%id = 4
+    mat%lcss = 11
+    mat%lcss_curve = 1
+  end function curve_steel
+
+  !> *MAT_ELASTIC.
+  type(material_t) function elastic_steel() result(mat)
+    mat%id = 5
+    mat%kind = MAT_ELASTIC
+    mat%density = 7.85e-9_wp
+    mat%young = 210000.0_wp
+    mat%poisson = 0.3_wp
+  end function elastic_steel
+
+  !> *MAT_027 (B = 0: neo-Hookean), E stored as the reader does.
+  type(material_t) function rubber(a, b) result(mat)
+    real(wp), intent(in) :: a, b
+    mat%id = 6
+    mat%kind = MAT_MOONEY_RIVLIN
+    mat%density = 1.1e-9_wp
+    mat%poisson = 0.49_wp
+    mat%mr_a = a
+    mat%mr_b = b
+    mat%young = 4.0_wp*(a + b)*(1.0_wp + mat%poisson)
+  end function rubber
+
+  !> Curve 1: yield stress vs plastic strain for LCSS.
+  subroutine make_curves()
+    allocate(curves(1))
+    curves(1)%id = 11
+    curves(1)%n = 4
+    curves(1)%t = [0.0_wp, 0.02_wp, 0.1_wp, 0.4_wp]
+    curves(1)%f = [250.0_wp, 280.0_wp, 320.0_wp, 360.0_wp]
+  end subroutine make_curves
+
+  !> Von Mises value sqrt(3/2) |dev a|.
+  real(wp) function von_mises(a)
+    real(wp), intent(in) :: a(3,3)
+    von_mises = sqrt(1.5_wp)*frobenius_norm(deviator(a))
+  end function von_mises
+
+  !> Yield stress of a J2 material at alpha.
+  real(wp) function yield_of(mat, alpha)
+    type(material_t), intent(in) :: mat
+    real(wp), intent(in) :: alpha
+    real(wp) :: slope
+    integer :: law
+    if (mat%kind == MAT_POWER_LAW) then
+      law = HARDENING_POWER_LAW
+    else
+      law = piecewise_linear_law(mat)
+    end if
+    call hardening_yield(law, mat, curves, alpha, yield_of, slope)
+  end function yield_of
+
+  !> Rotation by angle about axis (Rodrigues).
+  function rotation(axis, angle) result(q)
+    real(wp), intent(in) :: axis(3), angle
+    real(wp) :: q(3,3), e(3), w(3,3)
+    e = axis/norm2(axis)
+    w = reshape([0.0_wp, e(3), -e(2), -e(3), 0.0_wp, e(1), e(2), -e(1), 0.0_wp], [3, 3])
+    q = IDENTITY + sin(angle)*w + (1.0_wp - cos(angle))*matmul(w, w)
+  end function rotation
+
+  !> F = diag(stretch, lateral, lateral) with lateral solved (Newton, central-difference
+  !> slope) for |tau_22| <= tolerance from hist_old; returns the update at the solution.
+  subroutine uniaxial_step(mat, stretch, lateral, hist_old, hist_new, tau, tolerance, ok)
+    type(material_t), intent(in) :: mat
+    real(wp), intent(in) :: stretch, tolerance
+    real(wp), intent(inout) :: lateral
+    real(wp), intent(in) :: hist_old(NHIST)
+    real(wp), intent(out) :: hist_new(NHIST), tau(3,3)
+    logical, intent(out) :: ok
+    real(wp) :: plus, minus, h, tau_h(3,3), hist_h(NHIST)
+    integer :: iteration
+    ok = .false.
+    do iteration = 1, 50
+      call update_diagonal(mat, stretch, lateral, hist_old, tau, hist_new)
+      if (abs(tau(2,2)) <= tolerance) then
+        ok = .true.
+        return
+      end if
+      h = 1.0e-7_wp*lateral
+      call update_diagonal(mat, stretch, lateral + h, hist_old, tau_h, hist_h)
+      plus = tau_h(2,2)
+      call update_diagonal(mat, stretch, lateral - h, hist_old, tau_h, hist_h)
+      minus = tau_h(2,2)
+      lateral = lateral - tau(2,2)*2.0_wp*h/(plus - minus)
+    end do
+  end subroutine uniaxial_step
+
+  !> Update at F = diag(stretch, lateral, lateral) from hist_old.
+  subroutine update_diagonal(mat, stretch, lateral, hist_old, tau, hist_new)
+    type(material_t), intent(in) :: mat
+    real(wp), intent(in) :: stretch, lateral, hist_old(NHIST)
+    real(wp), intent(out) :: tau(3,3), hist_new(NHIST)
+    real(wp) :: f(3,3), speed
+    type(status_t) :: status
+    f = 0.0_wp
+    f(1,1) = stretch
+    f(2,2) = lateral
+    f(3,3) = lateral
+    call material_update(mat, curves, f, hist_old, hist_new, tau, sound_speed=speed, &
+                         status=status)
+  end subroutine update_diagonal
+
+  ! ---------------------------------------------------------------- 7 hardening
+
+  !> Values and slopes of every hardening law, the *MAT_018 strain offset rules and the
+  !> seed-paper identity.
+  subroutine test_hardening()
+    type(material_t) :: mat
+    real(wp) :: k, slope, kp, km, h, alpha, worst, eps_yp, sigma0, a, b
+    real(wp), parameter :: ALPHAS(5) = [0.0013_wp, 0.013_wp, 0.07_wp, 0.31_wp, 0.9_wp]
+    integer :: i, law, i_alpha
+    character(len=24) :: name
+    ! K' against central differences for all laws, away from table/curve points:
+    ! the power law has K'' ~ K N(1-N)/eps^2: h = 1e-6 alpha gives truncation ~1e-12
+    ! relative; table and curve are linear between points (round-off only)
+    do law = 1, 5
+      select case (law)
+      case (1)
+        mat = power_law_steel()
+        name = 'power law SIGY>=0.02'
+      case (2)
+        mat = power_law_steel()
+        mat%yield_stress = 0.0_wp
+        name = 'power law SIGY=0'
+      case (3)
+        mat = linear_steel()
+        name = 'linear'
+      case (4)
+        mat = table_steel()
+        name = 'EPS/ES table'
+      case (5)
+        mat = curve_steel()
+        name = 'LCSS curve'
+      end select
+      worst = 0.0_wp
+      do i = 1, size(ALPHAS)
+        alpha = ALPHAS(i)
+        h = 1.0e-6_wp*alpha
+        k = yield_of(mat, alpha)
+        call slope_of(mat, alpha, slope)
+        kp = yield_of(mat, alpha + h)
+        km = yield_of(mat, alpha - h)
+        worst = max(worst, abs((kp - km)/(2.0_wp*h) - slope)/max(abs(slope), 1.0_wp))
+      end do
+      call check(worst < 1.0e-6_wp, trim(name)//': K'' matches central differences', &
+                 'worst relative error '//rtoa(worst))
+    end do
+    ! law selection of *MAT_024 (LCSS before table before SIGY/ETAN)
+    call check(piecewise_linear_law(linear_steel()) == HARDENING_LINEAR .and. &
+               piecewise_linear_law(table_steel()) == HARDENING_TABLE .and. &
+               piecewise_linear_law(curve_steel()) == HARDENING_CURVE, &
+               '*MAT_024 law: LCSS, then EPS/ES, then SIGY/ETAN')
+    ! linear: Ep = E ETAN/(E - ETAN) exactly
+    mat = linear_steel()
+    call check_close(plastic_modulus(mat), 210000.0_wp*2000.0_wp/208000.0_wp, 1.0e-15_wp, &
+                     'linear: plastic modulus E ETAN/(E - ETAN)')
+    call check_close(yield_of(mat, 0.1_wp), 250.0_wp + 0.1_wp*plastic_modulus(mat), 1.0e-15_wp, &
+                     'linear: K(0.1) = SIGY + 0.1 Ep')
+    ! table: the points, and the last slope beyond the last point
+    mat = table_steel()
+    worst = 0.0_wp
+    do i = 1, 4
+      worst = max(worst, abs(yield_of(mat, mat%eps(i)) - mat%es(i)))
+    end do
+    call check(worst < 1.0e-12_wp, 'table: K(EPS_i) = ES_i')
+    call check_close(yield_of(mat, 0.8_wp), 380.0_wp + 0.3_wp*30.0_wp/0.3_wp, 1.0e-14_wp, &
+                     'table: linear extrapolation with the last slope')
+    call slope_of(mat, 0.05_wp, slope)
+    call check_close(slope, 50.0_wp/0.15_wp, 1.0e-13_wp, 'table: slope at a point is the '// &
+                     'slope of the segment to the right')
+    ! curve: values at points and extrapolation
+    mat = curve_steel()
+    call check_close(yield_of(mat, 0.1_wp), 320.0_wp, 1.0e-15_wp, 'LCSS: value at a point')
+    call check_close(yield_of(mat, 0.7_wp), 360.0_wp + 0.3_wp*40.0_wp/0.3_wp, 1.0e-14_wp, &
+                     'LCSS: linear extrapolation with the last slope')
+    ! *MAT_018 strain offset
+    mat = power_law_steel()
+    call check_close(yield_of(mat, 0.0_wp), 250.0_wp, 1.0e-14_wp, &
+                     'power law, SIGY >= 0.02: K(0) = SIGY')
+    mat%yield_stress = 0.0_wp
+    eps_yp = power_law_strain_offset(mat)
+    call check_close(eps_yp, (210000.0_wp/530.0_wp)**(1.0_wp/(0.26_wp - 1.0_wp)), 1.0e-14_wp, &
+                     'power law, SIGY = 0: eps_yp = (E/K)^(1/(N-1))')
+    call check_close(yield_of(mat, 0.0_wp), 210000.0_wp*eps_yp, 1.0e-13_wp, &
+                     'power law, SIGY = 0: initial yield on the elastic line (K(0) = E eps_yp)')
+    mat%yield_stress = 0.004_wp
+    call check_close(power_law_strain_offset(mat), 0.004_wp, 1.0e-15_wp, &
+                     'power law, 0 < SIGY < 0.02: eps_yp = SIGY')
+    ! seed law sigma_y0 (1 + a alpha)^b = *MAT_018 with K = sigma_y0 a^b, N = b, SIGY = sigma_y0
+    do i = 1, 2
+      if (i == 1) then
+        sigma0 = 20.0_wp
+        a = 1.0_wp
+        b = 1.1_wp
+      else
+        sigma0 = 137.0_wp
+        a = 2.5_wp
+        b = 0.3_wp
+      end if
+      mat = power_law_steel()
+      mat%k_strength = sigma0*a**b
+      mat%n_exponent = b
+      mat%yield_stress = sigma0
+      call check_close(power_law_strain_offset(mat), 1.0_wp/a, 1.0e-14_wp, &
+                       'seed law '//rtoa(a)//', '//rtoa(b)//': eps_yp = 1/a')
+      worst = 0.0_wp
+      do i_alpha = 0, 20
+        alpha = 0.05_wp*i_alpha
+        worst = max(worst, abs(yield_of(mat, alpha)/(sigma0*(1.0_wp + a*alpha)**b) - 1.0_wp))
+      end do
+      call check(worst < 1.0e-13_wp, 'seed law '//rtoa(a)//', '//rtoa(b)//': K(alpha) = '// &
+                 'sigma_y0 (1 + a alpha)^b on [0, 1]', 'worst '//rtoa(worst))
+    end do
+    ! formulation.md 3: sigma_y(0, 0.1, 0.5, 1.0) = 20.0, 22.2, 31.2, 42.9 MPa (3 digits)
+    mat = power_law_steel()
+    mat%k_strength = 20.0_wp
+    mat%n_exponent = 1.1_wp
+    mat%yield_stress = 20.0_wp
+    call check_close([yield_of(mat, 0.0_wp), yield_of(mat, 0.1_wp), yield_of(mat, 0.5_wp), &
+                      yield_of(mat, 1.0_wp)], [20.0_wp, 22.2_wp, 31.2_wp, 42.9_wp], 0.0_wp, &
+                     'seed punch law against the reference values (rounded to 0.05)', &
+                     atol=0.05_wp)
+  end subroutine test_hardening
+
+  !> K'(alpha) of a J2 material.
+  subroutine slope_of(mat, alpha, slope)
+    type(material_t), intent(in) :: mat
+    real(wp), intent(in) :: alpha
+    real(wp), intent(out) :: slope
+    real(wp) :: k
+    integer :: law
+    if (mat%kind == MAT_POWER_LAW) then
+      law = HARDENING_POWER_LAW
+    else
+      law = piecewise_linear_law(mat)
+    end if
+    call hardening_yield(law, mat, curves, alpha, k, slope)
+  end subroutine slope_of
+
+  ! ---------------------------------------------------------------- 1, 4 uniaxial
+
+  !> Uniaxial stress path F = diag(s, l, l), s from 1 to final_stretch in 120 steps, lateral
+  !> stretch l solved for tau_22 = 0. Once plastic: von Mises of tau = K(alpha) (return map),
+  !> true stress against the hardening curve at the logarithmic plastic strain, alpha
+  !> against that strain; det be_bar = 1 all along; volume change only elastic.
+  subroutine test_uniaxial(mat, name, final_stretch)
+    type(material_t), intent(in) :: mat
+    character(len=*), intent(in) :: name
+    real(wp), intent(in) :: final_stretch
+    real(wp) :: hist_old(NHIST), hist_new(NHIST), tau(3,3), be(3,3), f(3,3)
+    real(wp) :: stretch, lateral, j, kappa, mu, alpha, log_plastic, sigma, k_alpha
+    real(wp) :: worst_yield, worst_curve, worst_alpha, worst_det, worst_volume, worst_lateral
+    integer :: step, n_plastic
+    logical :: ok, all_ok
+    character(len=64) :: tag
+    integer, parameter :: STEPS = 120
+    tag = trim(name)//merge(' tension    ', ' compression', final_stretch > 1.0_wp)
+    kappa = mat%young/(3.0_wp*(1.0_wp - 2.0_wp*mat%poisson))
+    mu = mat%young/(2.0_wp*(1.0_wp + mat%poisson))
+    call material_state_init(hist_old)
+    lateral = 1.0_wp
+    worst_yield = 0.0_wp
+    worst_curve = 0.0_wp
+    worst_alpha = 0.0_wp
+    worst_det = 0.0_wp
+    worst_volume = 0.0_wp
+    worst_lateral = 0.0_wp
+    n_plastic = 0
+    all_ok = .true.
+    do step = 1, STEPS
+      stretch = final_stretch**(real(step, wp)/STEPS)
+      call uniaxial_step(mat, stretch, lateral, hist_old, hist_new, tau, &
+                         1.0e-11_wp*mat%yield_stress, ok)
+      all_ok = all_ok .and. ok
+      hist_old = hist_new
+      worst_lateral = max(worst_lateral, abs(tau(2,2)) + abs(tau(3,3)))
+      call state_get_elastic_strain(hist_new, be)
+      worst_det = max(worst_det, abs(determinant(be) - 1.0_wp))
+      call state_get_deformation(hist_new, f)
+      j = determinant(f)
+      ! J from the elastic bulk law alone: tr(tau)/3 = kappa/2 (J^2 - 1)
+      worst_volume = max(worst_volume, abs(j - sqrt(1.0_wp + 2.0_wp*(tau(1,1)/3.0_wp)/kappa)))
+      alpha = hist_new(HIST_ALPHA)
+      if (alpha <= 0.0_wp) cycle
+      n_plastic = n_plastic + 1
+      k_alpha = yield_of(mat, alpha)
+      worst_yield = max(worst_yield, abs(von_mises(tau) - k_alpha)/k_alpha)
+      ! logarithmic plastic strain: ln(stretch) - ln(elastic stretch), b_e = J^(2/3) be_bar
+      log_plastic = abs(log(stretch) - 0.5_wp*log(j**(2.0_wp/3.0_wp)*be(1,1)))
+      sigma = abs(tau(1,1))/j
+      if (log_plastic > 0.01_wp) then
+        worst_alpha = max(worst_alpha, abs(alpha - log_plastic)/log_plastic)
+        worst_curve = max(worst_curve, abs(sigma - yield_of(mat, log_plastic))/sigma)
+      end if
+    end do
+    call check(all_ok .and. worst_lateral < 1.0e-9_wp, trim(tag)//': lateral stress solved '// &
+               'to zero')
+    call check(n_plastic > 100, trim(tag)//': path is plastic ('//rtoa(real(n_plastic, wp))// &
+               ' of 120 steps)')
+    ! return-map tolerance 1e-13 plus the lateral residual 1e-11 SIGY
+    call check(worst_yield < 1.0e-10_wp, trim(tag)//': von Mises of tau = K(alpha)', &
+               'worst '//rtoa(worst_yield))
+    ! alpha vs the logarithmic plastic strain: Simo's update moves be_bar by -2 I_bar dgamma n
+    ! (not by the exponential map), so the axial log plastic strain grows at the rate
+    ! alpha' I_bar/be_bar_11 = alpha' (1 -+ 2/3 sigma/mu): a model difference of 2/3 sigma/mu
+    ! (~2e-3 here) plus a first-order step error (~1e-3 with 120 steps); tolerance 2 sigma/mu
+    call check(worst_alpha < 2.0_wp*yield_of(mat, hist_old(HIST_ALPHA))/mu, trim(tag)// &
+               ': alpha = logarithmic plastic strain to O(sigma/mu)', 'worst '//rtoa(worst_alpha))
+    ! sigma = tau/J differs from K(alpha) by |J - 1| < 1.5e-3 (elastic volume change) and
+    ! K(eps_p) from K(alpha) by K' |alpha - eps_p| (< 1e-3 relative here): tolerance 3e-3
+    call check(worst_curve < 3.0e-3_wp, trim(tag)//': true stress = hardening curve at the '// &
+               'logarithmic plastic strain', 'worst '//rtoa(worst_curve))
+    ! 4: plastic incompressibility, det be_bar = 1 enforced to round-off
+    call check(worst_det < 1.0e-12_wp, trim(tag)//': det be_bar = 1', 'worst '//rtoa(worst_det))
+    call check(worst_volume < 1.0e-12_wp, trim(tag)//': J from the elastic bulk response only', &
+               'worst '//rtoa(worst_volume))
+  end subroutine test_uniaxial
+
+  !> Elastic part of the uniaxial path at strain 1e-6: sigma = E eps, lateral strain = -nu eps
+  !> (Hooke) to 1e-5 (finite-strain terms are O(eps)); for J2, neo-Hookean and Mooney-Rivlin.
+  subroutine test_small_strain_hooke()
+    type(material_t) :: mat
+    real(wp) :: hist_old(NHIST), hist_new(NHIST), tau(3,3), lateral, strain, j
+    integer :: m
+    logical :: ok
+    character(len=32) :: tag
+    strain = 1.0e-6_wp
+    do m = 1, 3
+      select case (m)
+      case (1)
+        mat = linear_steel()
+        tag = 'Hooke limit, J2'
+      case (2)
+        mat = elastic_steel()
+        tag = 'Hooke limit, neo-Hookean'
+      case (3)
+        mat = rubber(0.4_wp, 0.1_wp)
+        tag = 'Hooke limit, Mooney-Rivlin'
+      end select
+      call material_state_init(hist_old)
+      lateral = 1.0_wp
+      ! lateral residual 1e-7 E eps: above the round-off of kappa (J^2 - 1) at J - 1 ~ 1e-7
+      call uniaxial_step(mat, 1.0_wp + strain, lateral, hist_old, hist_new, tau, &
+                         1.0e-7_wp*mat%young*strain, ok)
+      j = (1.0_wp + strain)*lateral**2
+      call check(ok, trim(tag)//': lateral stress solved')
+      call check_close(tau(1,1)/j, mat%young*strain, 1.0e-5_wp, trim(tag)// &
+                       ': sigma = E eps at eps = 1e-6')
+      call check_close(lateral - 1.0_wp, -mat%poisson*strain, 1.0e-5_wp, trim(tag)// &
+                       ': lateral strain = -nu eps')
+      call check(hist_new(HIST_ALPHA) == 0.0_wp, trim(tag)//': no plastic strain')
+    end do
+  end subroutine test_small_strain_hooke
+
+  ! ---------------------------------------------------------------- 2 simple shear
+
+  !> Simple shear F = I + gamma e1 (x) e2. Neo-Hookean: tau_12 = mu gamma, tau_11 = mu gamma^2,
+  !> tau_22 = tau_33 = 0 exactly (J = 1). J2: mu gamma while elastic, then von Mises = K(alpha).
+  subroutine test_simple_shear()
+    type(material_t) :: mat
+    real(wp) :: hist_old(NHIST), hist_new(NHIST), tau(3,3), f(3,3), gamma, mu, speed
+    real(wp) :: worst, worst_elastic, k_alpha
+    type(status_t) :: status
+    integer :: i, step, n_plastic
+    mat = elastic_steel()
+    mu = mat%young/(2.0_wp*(1.0_wp + mat%poisson))
+    call material_state_init(hist_old)
+    worst = 0.0_wp
+    do i = 1, 4
+      gamma = 0.25_wp*i
+      f = IDENTITY
+      f(1,2) = gamma
+      call material_update(mat, curves, f, hist_old, hist_new, tau, sound_speed=speed, &
+                           status=status)
+      worst = max(worst, abs(tau(1,2) - mu*gamma)/(mu*gamma), abs(tau(2,1) - mu*gamma)/(mu*gamma), &
+                  abs(tau(1,1) - mu*gamma**2)/(mu*gamma**2), abs(tau(2,2))/mu, abs(tau(3,3))/mu)
+    end do
+    ! round-off only: ln J = 0 exactly and b is formed with a few operations
+    call check(worst < 1.0e-14_wp, 'neo-Hookean simple shear: tau_12 = mu gamma, tau_11 = mu '// &
+               'gamma^2 for gamma up to 1', 'worst '//rtoa(worst))
+    ! J2 with linear hardening and perfectly plastic
+    do i = 1, 2
+      mat = linear_steel()
+      if (i == 2) mat%tangent_modulus = 0.0_wp
+      mu = mat%young/(2.0_wp*(1.0_wp + mat%poisson))
+      call material_state_init(hist_old)
+      worst = 0.0_wp
+      worst_elastic = 0.0_wp
+      n_plastic = 0
+      do step = 1, 100
+        ! elastic up to gamma = 0.0016 (yield at sqrt(3) mu gamma = 250: gamma = 0.00179)
+        gamma = 0.0004_wp*min(step, 4) + 0.005_wp*max(step - 4, 0)
+        f = IDENTITY
+        f(1,2) = gamma
+        call material_update(mat, curves, f, hist_old, hist_new, tau, sound_speed=speed, &
+                             status=status)
+        hist_old = hist_new
+        if (hist_new(HIST_ALPHA) > 0.0_wp) then
+          n_plastic = n_plastic + 1
+          k_alpha = yield_of(mat, hist_new(HIST_ALPHA))
+          worst = max(worst, abs(von_mises(tau) - k_alpha)/k_alpha)
+        else
+          worst_elastic = max(worst_elastic, abs(tau(1,2) - mu*gamma)/(mu*gamma))
+        end if
+      end do
+      call check(n_plastic == 96 .and. status%ok, 'J2 simple shear ETAN='// &
+                 rtoa(mat%tangent_modulus)//': 4 elastic steps, then plastic')
+      call check(worst_elastic < 1.0e-13_wp, 'J2 simple shear ETAN='// &
+                 rtoa(mat%tangent_modulus)//': tau_12 = mu gamma while elastic')
+      ! return-map tolerance 1e-13
+      call check(worst < 1.0e-11_wp, 'J2 simple shear ETAN='//rtoa(mat%tangent_modulus)// &
+                 ': von Mises of tau = K(alpha) while plastic', 'worst '//rtoa(worst))
+    end do
+  end subroutine test_simple_shear
+
+  ! ---------------------------------------------------------------- 3 objectivity
+
+  !> The same path with F -> Q_k F_k, Q_k a rotation changing every step (and a constant one):
+  !> tau -> Q tau Q^T and the same alpha at every step, det be_bar = 1 on both paths.
+  subroutine test_objectivity()
+    type(material_t) :: mat
+    real(wp) :: hist_a(NHIST), hist_b(NHIST), new_a(NHIST), new_b(NHIST)
+    real(wp) :: tau_a(3,3), tau_b(3,3), f(3,3), q(3,3), be(3,3), direction(3,3), t, speed
+    real(wp) :: worst_tau, worst_alpha, worst_det, scale
+    type(status_t) :: status_a, status_b
+    integer :: m, step, variant
+    character(len=64) :: tag
+    direction = reshape([0.3_wp, 0.05_wp, 0.0_wp, 0.1_wp, -0.1_wp, 0.02_wp, 0.0_wp, 0.08_wp, &
+                         -0.12_wp], [3, 3])
+    do m = 1, 6
+      select case (m)
+      case (1)
+        mat = linear_steel()
+      case (2)
+        mat = power_law_steel()
+      case (3)
+        mat = table_steel()
+      case (4)
+        mat = curve_steel()
+      case (5)
+        mat = elastic_steel()
+      case (6)
+        mat = rubber(0.4_wp, 0.1_wp)
+      end select
+      do variant = 1, 2
+        write(tag, '(a,i0,a)') 'objectivity, material ', mat%id, &
+            merge(', rotation varying ', ', constant rotation', variant == 1)
+        call material_state_init(hist_a)
+        call material_state_init(hist_b)
+        worst_tau = 0.0_wp
+        worst_alpha = 0.0_wp
+        worst_det = 0.0_wp
+        do step = 1, 30
+          t = real(step, wp)/30.0_wp
+          f = IDENTITY + t*direction
+          if (variant == 1) then
+            q = rotation([1.0_wp, 2.0_wp, 3.0_wp], 0.2_wp*step)
+          else
+            q = rotation([-1.0_wp, 0.5_wp, 0.2_wp], 1.3_wp)
+          end if
+          call material_update(mat, curves, f, hist_a, new_a, tau_a, sound_speed=speed, &
+                               status=status_a)
+          call material_update(mat, curves, matmul(q, f), hist_b, new_b, tau_b, &
+                               sound_speed=speed, status=status_b)
+          hist_a = new_a
+          hist_b = new_b
+          scale = max(frobenius_norm(tau_a), 1.0_wp)
+          worst_tau = max(worst_tau, maxval(abs(tau_b - matmul(q, matmul(tau_a, &
+                                                transpose(q)))))/scale)
+          worst_alpha = max(worst_alpha, abs(new_a(HIST_ALPHA) - new_b(HIST_ALPHA))/ &
+                            max(new_a(HIST_ALPHA), 1.0e-3_wp))
+          call state_get_elastic_strain(new_b, be)
+          if (mat%kind /= MAT_ELASTIC .and. mat%kind /= MAT_MOONEY_RIVLIN) &
+            worst_det = max(worst_det, abs(determinant(be) - 1.0_wp))
+        end do
+        call check(status_a%ok .and. status_b%ok, trim(tag)//': updates succeed')
+        ! round-off of the products with Q, F_n^-1 and the return map, relative to |tau|
+        call check(worst_tau < 1.0e-12_wp, trim(tag)//': tau -> Q tau Q^T', &
+                   'worst '//rtoa(worst_tau))
+        call check(worst_alpha < 1.0e-12_wp, trim(tag)//': same alpha', &
+                   'worst '//rtoa(worst_alpha))
+        call check(worst_det < 1.0e-12_wp, trim(tag)//': det be_bar = 1 on the rotated path', &
+                   'worst '//rtoa(worst_det))
+        if (mat%kind == MAT_PIECEWISE_LINEAR .or. mat%kind == MAT_POWER_LAW) &
+          call check(hist_a(HIST_ALPHA) > 0.1_wp, trim(tag)//': path is plastic (alpha = '// &
+                     rtoa(hist_a(HIST_ALPHA))//')')
+      end do
+    end do
+  end subroutine test_objectivity
+
+  ! ---------------------------------------------------------------- 5 tangents
+
+  !> c_tau against central differences: for dF = h F, h = e_k (x) e_l, the derivative of tau
+  !> is c : sym(h) + h tau + tau h^T. Relative error (max over entries / max |c|) < 1e-6:
+  !> with step 1e-6 the truncation is ~1e-12 and the round-off ~1e-16 |tau|/(1e-6 |c|).
+  subroutine test_tangents()
+    real(wp) :: f_general(3,3), f_large(3,3), f_path(3,3), f_small(3,3)
+    f_general = reshape([1.1_wp, 0.05_wp, -0.08_wp, 0.2_wp, 0.9_wp, 0.1_wp, -0.1_wp, 0.15_wp, &
+                         1.05_wp], [3, 3])
+    f_large = reshape([1.5_wp, 0.1_wp, 0.0_wp, 0.3_wp, 0.8_wp, 0.1_wp, 0.0_wp, 0.2_wp, 0.9_wp], &
+                      [3, 3])
+    f_small = IDENTITY + 4.0e-4_wp*reshape([1.0_wp, 0.3_wp, -0.2_wp, 0.5_wp, -0.4_wp, 0.1_wp, &
+                                            0.2_wp, 0.6_wp, -0.3_wp], [3, 3])
+    ! plastic states: after a plastic pre-path to F_path, a further step in another direction
+    f_path = IDENTITY + reshape([0.06_wp, 0.01_wp, 0.0_wp, 0.02_wp, -0.03_wp, 0.0_wp, 0.0_wp, &
+                                 0.01_wp, -0.03_wp], [3, 3])
+    call tangent_case(elastic_steel(), 'neo-Hookean', IDENTITY, f_general, 0)
+    call tangent_case(rubber(0.4_wp, 0.1_wp), 'Mooney-Rivlin', IDENTITY, f_large, 0)
+    call tangent_case(rubber(0.5_wp, 0.0_wp), 'Mooney-Rivlin B = 0', IDENTITY, f_large, 0)
+    call tangent_case(linear_steel(), 'J2 elastic at small strain', IDENTITY, f_small, 0)
+    call tangent_case(linear_steel(), 'J2 elastic unloading after plastic flow', f_path, &
+                      matmul(IDENTITY - 2.0e-4_wp*reshape([1.0_wp, 0.0_wp, 0.0_wp, 0.0_wp, &
+                      -0.5_wp, 0.0_wp, 0.0_wp, 0.0_wp, -0.5_wp], [3, 3]), f_path), -1)
+    call tangent_case(linear_steel(), 'J2 plastic, linear hardening', f_path, &
+                      plastic_step(f_path), 1)
+    call tangent_case(perfect_steel(), 'J2 plastic, no hardening', f_path, plastic_step(f_path), 1)
+    call tangent_case(power_law_steel(), 'J2 plastic, power law', f_path, plastic_step(f_path), 1)
+    call tangent_case(table_steel(), 'J2 plastic, EPS/ES table', f_path, plastic_step(f_path), 1)
+    call tangent_case(curve_steel(), 'J2 plastic, LCSS curve', f_path, plastic_step(f_path), 1)
+    call tangent_case(linear_steel(), 'J2 plastic, large rotation and strain', f_path, &
+                      matmul(f_large, f_path), 1)
+  end subroutine test_tangents
+
+  !> *MAT_024 with ETAN = 0.
+  type(material_t) function perfect_steel() result(mat)
+    mat = linear_steel()
+    mat%tangent_modulus = 0.0_wp
+  end function perfect_steel
+
+  !> A further plastic step from F_path in a different (shear) direction.
+  function plastic_step(f_path) result(f)
+    real(wp), intent(in) :: f_path(3,3)
+    real(wp) :: f(3,3)
+    f = matmul(IDENTITY + reshape([0.004_wp, 0.003_wp, -0.001_wp, 0.006_wp, -0.002_wp, &
+                                   0.002_wp, 0.001_wp, 0.002_wp, -0.001_wp], [3, 3]), f_path)
+  end function plastic_step
+
+  !> One tangent check: hist after the path I -> f_path (20 steps), then c_tau at f_new
+  !> against the Lie-derivative identity. expect_plastic: 1 plastic step, -1 elastic step
+  !> after plastic flow, 0 no requirement.
+  subroutine tangent_case(mat, name, f_path, f_new, expect_plastic)
+    type(material_t), intent(in) :: mat
+    character(len=*), intent(in) :: name
+    real(wp), intent(in) :: f_path(3,3), f_new(3,3)
+    integer, intent(in) :: expect_plastic
+    real(wp) :: hist(NHIST), hist_new(NHIST), tau(3,3), c(3,3,3,3), tau_p(3,3), tau_m(3,3)
+    real(wp) :: h(3,3), fd(3,3), expected(3,3), sym_h(3,3), speed, eps, worst, scale, minor
+    real(wp) :: c_dummy(3,3,3,3)
+    type(status_t) :: status
+    integer :: step, k, l, i, jj
+    call material_state_init(hist)
+    do step = 1, 20
+      call material_update(mat, curves, IDENTITY + real(step, wp)/20.0_wp*(f_path - IDENTITY), &
+                           hist, hist_new, tau, sound_speed=speed, status=status)
+      hist = hist_new
+    end do
+    call material_update(mat, curves, f_new, hist, hist_new, tau, c, speed, status)
+    call check(status%ok, trim(name)//': update succeeds')
+    if (expect_plastic == 1) call check(hist_new(HIST_ALPHA) > hist(HIST_ALPHA) + 1.0e-4_wp, &
+        trim(name)//': the step is plastic')
+    if (expect_plastic == -1) call check(hist(HIST_ALPHA) > 0.0_wp .and. &
+        hist_new(HIST_ALPHA) == hist(HIST_ALPHA), trim(name)//': the step is elastic')
+    eps = 1.0e-6_wp
+    scale = maxval(abs(c))
+    worst = 0.0_wp
+    do l = 1, 3
+      do k = 1, 3
+        h = 0.0_wp
+        h(k,l) = 1.0_wp
+        sym_h = 0.5_wp*(h + transpose(h))
+        call material_update(mat, curves, f_new + eps*matmul(h, f_new), hist, hist_new, tau_p, &
+                             c_dummy, speed, status)
+        call material_update(mat, curves, f_new - eps*matmul(h, f_new), hist, hist_new, tau_m, &
+                             c_dummy, speed, status)
+        fd = (tau_p - tau_m)/(2.0_wp*eps)
+        do jj = 1, 3
+          do i = 1, 3
+            expected(i,jj) = sum(c(i,jj,:,:)*sym_h)
+          end do
+        end do
+        expected = expected + matmul(h, tau) + matmul(tau, transpose(h))
+        worst = max(worst, maxval(abs(fd - expected))/scale)
+      end do
+    end do
+    call check(worst < 1.0e-6_wp, trim(name)//': c_tau matches central differences of tau(F)', &
+               'relative error '//rtoa(worst))
+    minor = max(maxval(abs(c - reshape(c, [3, 3, 3, 3], order=[2, 1, 3, 4]))), &
+                maxval(abs(c - reshape(c, [3, 3, 3, 3], order=[1, 2, 4, 3]))))/scale
+    call check(minor < 1.0e-14_wp, trim(name)//': c_tau has the minor symmetries')
+  end subroutine tangent_case
+
+  ! ---------------------------------------------------------------- 6 failures
+
+  !> det F <= 0 fails with a message for every law; *MAT_RIGID and unknown kinds fail; the
+  !> optional tangent may be left out.
+  subroutine test_failures()
+    type(material_t) :: mats(6), mat
+    real(wp) :: hist_old(NHIST), hist_new(NHIST), tau(3,3), f(3,3), speed
+    type(status_t) :: status
+    integer :: m, variant
+    logical :: all_failed
+    mats = [linear_steel(), power_law_steel(), table_steel(), curve_steel(), elastic_steel(), &
+            rubber(0.4_wp, 0.1_wp)]
+    call material_state_init(hist_old)
+    all_failed = .true.
+    do m = 1, size(mats)
+      do variant = 1, 2
+        f = IDENTITY
+        if (variant == 1) then
+          f(1,1) = -1.0_wp
+        else
+          f(2,:) = 0.0_wp
+        end if
+        call material_update(mats(m), curves, f, hist_old, hist_new, tau, sound_speed=speed, &
+                             status=status)
+        if (status%ok) then
+          all_failed = .false.
+        else if (.not. allocated(status%message)) then
+          all_failed = .false.
+        else if (index(status%message, 'det F') == 0) then
+          all_failed = .false.
+        end if
+        if (any(tau /= 0.0_wp)) all_failed = .false.
+      end do
+    end do
+    call check(all_failed, 'det F < 0 and det F = 0: status false with a message, zero '// &
+               'stress, for every law')
+    if (allocated(status%message)) call check(index(status%message, 'material 6') > 0, &
+        'message names the material: "'//status%message//'"')
+    mat = linear_steel()
+    mat%kind = MAT_RIGID
+    call material_update(mat, curves, IDENTITY, hist_old, hist_new, tau, sound_speed=speed, &
+                         status=status)
+    call check(.not. status%ok, '*MAT_RIGID has no stress update (status false)')
+    mat%kind = 999
+    call material_update(mat, curves, IDENTITY, hist_old, hist_new, tau, sound_speed=speed, &
+                         status=status)
+    call check(.not. status%ok, 'unknown material kind: status false')
+    ! wave speed at F = I: sqrt((K + 4/3 G)/rho0)
+    mat = linear_steel()
+    call material_update(mat, curves, IDENTITY, hist_old, hist_new, tau, sound_speed=speed, &
+                         status=status)
+    call check_close(speed, sqrt(mat%young*(1.0_wp - mat%poisson)/((1.0_wp + mat%poisson)* &
+                     (1.0_wp - 2.0_wp*mat%poisson)*mat%density)), 1.0e-14_wp, &
+                     'J2 wave speed at F = I is sqrt((K + 4/3 G)/rho0)')
+    mat = elastic_steel()
+    call material_update(mat, curves, IDENTITY, hist_old, hist_new, tau, sound_speed=speed, &
+                         status=status)
+    call check_close(speed, sqrt(mat%young*(1.0_wp - mat%poisson)/((1.0_wp + mat%poisson)* &
+                     (1.0_wp - 2.0_wp*mat%poisson)*mat%density)), 1.0e-14_wp, &
+                     'neo-Hookean wave speed at F = I is sqrt((K + 4/3 G)/rho0)')
+    mat = rubber(0.4_wp, 0.1_wp)
+    call material_update(mat, curves, IDENTITY, hist_old, hist_new, tau, sound_speed=speed, &
+                         status=status)
+    call check_close(speed, sqrt(mat%young*(1.0_wp - mat%poisson)/((1.0_wp + mat%poisson)* &
+                     (1.0_wp - 2.0_wp*mat%poisson)*mat%density)), 1.0e-14_wp, &
+                     'Mooney-Rivlin wave speed at F = I is sqrt((K + 4/3 G)/rho0)')
+  end subroutine test_failures
+
+end program test_materials
