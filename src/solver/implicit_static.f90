@@ -56,7 +56,7 @@ contains
     integer, allocatable :: equation(:,:)
     logical, allocatable :: fixed(:,:), owned(:)
     real(wp), allocatable :: prescribed(:,:), force(:,:), u(:,:), u_step(:,:), hist(:,:)
-    real(wp) :: t, dt, dt_min, dt_max, end_time, next_output, t0
+    real(wp) :: t, dt, dt_min, dt_max, end_time, next_output, t0, dt_planned
     integer :: dim, n_all, n_equations, step, iterations, output_step, c, cuts
     logical :: converged
 
@@ -104,6 +104,9 @@ contains
     cuts = 0
     do while (t < end_time*(1.0_wp - 1.0e-12_wp))
       dt = min(dt, end_time - t)
+      ! land on the next output time rather than step over it (then go on with the planned dt)
+      dt_planned = dt
+      if (next_output > t .and. next_output - t < dt*(1.0_wp + 1.0e-9_wp)) dt = next_output - t
       step = step + 1
       u_step = u
       call newton_step(model, cells, owned, equation, n_equations, t + dt, hist, u, &
@@ -114,7 +117,7 @@ contains
         dt = 0.5_wp*dt
         call say('  step '//itoa(step)//' not converged: cut back to dt = '//rtoa(dt))
         if (dt < dt_min) then
-          call write_state(model, decomp, cells, u, hist, t, output_step)
+          call write_state(model, decomp, cells, u, hist, equation, t, output_step)
           call fatal('implicit: the time step fell below its minimum '//rtoa(dt_min)// &
               ' at t = '//rtoa(t)//'; the last converged state (t = '//rtoa(t)// &
               ') was written')
@@ -123,11 +126,18 @@ contains
         cycle
       end if
       t = t + dt
+      ! commit the history: each cell's from the rank that computed it, known on every rank
+      ! (output and reactions use all cells)
+      do c = 1, cells%n
+        if (.not. owned(c)) trial%hist_new(:, c) = 0.0_wp
+      end do
+      call comm_sum(trial%hist_new)
       hist = trial%hist_new
       call say('step '//itoa(step)//': t = '//rtoa(t)//', dt = '//rtoa(dt)//', '// &
                itoa(iterations)//' iterations')
+      if (dt < dt_planned) dt = dt_planned
       if (t >= next_output*(1.0_wp - 1.0e-9_wp) .or. t >= end_time*(1.0_wp - 1.0e-12_wp)) then
-        call write_state(model, decomp, cells, u, hist, t, output_step)
+        call write_state(model, decomp, cells, u, hist, equation, t, output_step)
         output_step = output_step + 1
         next_output = next_output + output_interval(model)
       end if
@@ -323,19 +333,21 @@ contains
 
   !> Output state: displacement, Cauchy stress, pressure, von Mises and plastic strain
   !> at nodes (cell-weighted means) and elements (means of their cells).
-  subroutine write_state(model, decomp, cells, u, hist, time, step)
+  subroutine write_state(model, decomp, cells, u, hist, equation, time, step)
     type(model_t), intent(in) :: model              !< resolved model
     type(decomposition_t), intent(in) :: decomp     !< this rank's share
     type(cells_t), intent(in) :: cells              !< cells
     real(wp), intent(in) :: u(:,:)                  !< displacements
     real(wp), intent(in) :: hist(:,:)               !< committed history
+    integer, intent(in) :: equation(:,:)            !< equation numbers (0: fixed dof)
     real(wp), intent(in) :: time                    !< analysis time
     integer, intent(in) :: step                     !< output state number
-    real(wp), allocatable :: stress(:,:), es(:,:), ew(:), ns(:,:), nw(:)
-    type(output_field_t) :: point_fields(5), cell_fields(4)
+    real(wp), allocatable :: stress(:,:), es(:,:), ew(:), ns(:,:), nw(:), internal(:,:)
+    real(wp), allocatable :: force_ext(:,:)
+    type(output_field_t) :: point_fields(6), cell_fields(4)
     integer :: c, a, node, slot, e, local, nnode
     real(wp) :: alpha_sum_e(model%elements%n), alpha_sum_n(cells%n_mesh_nodes)
-    call final_stresses(model, cells, u, hist, stress)
+    call final_stresses(model, cells, u, hist, stress, internal)
     nnode = cells%n_mesh_nodes
     allocate(es(6, model%elements%n), ew(model%elements%n), ns(6, nnode), nw(nnode))
     es = 0.0_wp
@@ -373,6 +385,19 @@ contains
     point_fields(5)%values = reshape(merge(alpha_sum_n(decomp%node_global(1:decomp%nnode_local)) &
         /max(nw(decomp%node_global(1:decomp%nnode_local)), tiny(1.0_wp)), 0.0_wp, &
         nw(decomp%node_global(1:decomp%nnode_local)) > 0.0_wp), [1, decomp%nnode_local])
+    ! reaction forces: internal minus external force at the fixed degrees of freedom
+    allocate(force_ext(cells%dim, nnode))
+    force_ext = 0.0_wp
+    call external_forces(model, time, force_ext)
+    point_fields(6)%name = 'reaction_force'
+    point_fields(6)%ncomp = 3
+    allocate(point_fields(6)%values(3, decomp%nnode_local))
+    point_fields(6)%values = 0.0_wp
+    do local = 1, decomp%nnode_local
+      node = decomp%node_global(local)
+      where (equation(:, node) == 0) point_fields(6)%values(1:cells%dim, local) = &
+          internal(:, node) - force_ext(:, node)
+    end do
     call stress_fields(es(:, decomp%elem_global(1:decomp%nelem_local)), &
                        ew(decomp%elem_global(1:decomp%nelem_local)), cell_fields(1:3))
     cell_fields(4)%name = 'plastic_strain'
@@ -385,19 +410,21 @@ contains
   !> Cauchy stress of every cell in the committed state: the material is evaluated with the
   !> committed history, which holds F_{n+1} itself, so the increment is the identity and the
   !> update returns the committed stress without further plastic flow.
-  subroutine final_stresses(model, cells, u, hist, stress)
+  subroutine final_stresses(model, cells, u, hist, stress, internal)
     type(model_t), intent(in) :: model                 !< resolved model
     type(cells_t), intent(in) :: cells                 !< cells
     real(wp), intent(in) :: u(:,:)                     !< displacements
     real(wp), intent(in) :: hist(:,:)                  !< committed history
     real(wp), allocatable, intent(out) :: stress(:,:)  !< (6, cells) Cauchy stress
+    real(wp), allocatable, intent(out) :: internal(:,:) !< (dim, nodes) internal forces
     real(wp) :: f(3, 3), finv(3, 3), tau(3, 3), c(3, 3, 3, 3), sound, det
     real(wp) :: ue(3, CELL_MAX_NODES)
-    real(wp) :: scratch(NHIST)
+    real(wp) :: scratch(NHIST), fc(3, CELL_MAX_NODES)
     type(status_t) :: status
-    integer :: cell, nn
-    allocate(stress(6, cells%n))
+    integer :: cell, nn, a
+    allocate(stress(6, cells%n), internal(cells%dim, size(u, 2)))
     stress = 0.0_wp
+    internal = 0.0_wp
     do cell = 1, cells%n
       nn = cells%nnodes(cell)
       ue(1:cells%dim, 1:nn) = u(:, cells%nodes(1:nn, cell))
@@ -408,6 +435,11 @@ contains
       if (.not. status%ok) cycle
       call inverse_3x3(f, finv, det)
       stress(:, cell) = [tau(1, 1), tau(2, 2), tau(3, 3), tau(1, 2), tau(2, 3), tau(3, 1)]/det
+      call cell_internal_force(cells%dim, nn, cells%grad(:, :, cell), cells%weight(cell), f, &
+                               tau, fc(1:cells%dim, 1:nn))
+      do a = 1, nn
+        internal(:, cells%nodes(a, cell)) = internal(:, cells%nodes(a, cell)) + fc(1:cells%dim, a)
+      end do
     end do
   end subroutine final_stresses
 

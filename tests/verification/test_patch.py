@@ -164,11 +164,12 @@ def traction_patch(dim, elform, poisson, checks):
                  'max relative error %.3e' % serr)
 
 
-checks = Checks('patch')
-for dim in (2, 3):
-    for elform in ((43, 13) if dim == 2 else (43, 10)):
-        for nu in (0.3, 0.4999):
-            patch(dim, elform, nu, checks)
-        traction_patch(dim, elform, 0.3, checks)
-        traction_patch(dim, elform, 0.4999, checks)
-checks.exit()
+if __name__ == '__main__':
+    checks = Checks('patch')
+    for dim in (2, 3):
+        for elform in ((43, 13) if dim == 2 else (43, 10)):
+            for nu in (0.3, 0.4999):
+                patch(dim, elform, nu, checks)
+            traction_patch(dim, elform, 0.3, checks)
+            traction_patch(dim, elform, 0.4999, checks)
+    checks.exit()
