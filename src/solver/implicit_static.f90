@@ -201,7 +201,8 @@ contains
     logical, allocatable :: fixed(:,:)
     type(status_t) :: status
     real(wp) :: energy0, energy, norm_du, norm_step, norm_r, norm_r0, ratio
-    integer :: k, dim, n, i
+    real(wp) :: last_energy, slope, step_length
+    integer :: k, dim
     logical :: ok
     dim = cells%dim
     allocate(residual(n_equations), du(n_equations), force(dim, size(u, 2)), &
@@ -223,6 +224,22 @@ contains
       call evaluate_cells(model, cells, owned, equation, u, hist, force, residual, tangent, &
                           trial, ok)
       if (.not. ok) return                                  ! a cell inverted: cut the step
+      ! line search (LSTOL): if the last increment left too much energy, g(1) = du.R(u), take
+      ! the secant step s = g(0)/(g(0) - g(1)) in [0.1, 1] along it and re-evaluate
+      if (k > 1 .and. model%controls%lstol > 0.0_wp) then
+        slope = dot_product(du, residual)
+        if (abs(slope) > model%controls%lstol*last_energy .and. last_energy - slope > 0.0_wp) then
+          step_length = min(1.0_wp, max(0.1_wp, last_energy/(last_energy - slope)))
+          if (step_length < 1.0_wp) then
+            call add_increment(u, equation, du, step_length - 1.0_wp)
+            call evaluate_cells(model, cells, owned, equation, u, hist, force, residual, &
+                                tangent, trial, ok)
+            if (.not. ok) return
+            if (model%controls%nlprint > 0) call say('  line search: step length '// &
+                rtoa(step_length))
+          end if
+        end if
+      end if
       norm_r = norm2(residual)
       if (k == 1) norm_r0 = max(norm_r, tiny(1.0_wp))
       call mumps_factorise(solver, tangent, status)
@@ -231,13 +248,10 @@ contains
         call say('  iteration '//itoa(k)//': '//status%message)
         return
       end if
-      energy = abs(dot_product(du, residual))
+      last_energy = dot_product(du, residual)
+      energy = abs(last_energy)
       if (k == 1) energy0 = max(energy, tiny(1.0_wp))
-      do n = 1, size(u, 2)
-        do i = 1, dim
-          if (equation(i, n) > 0) u(i, n) = u(i, n) + du(equation(i, n))
-        end do
-      end do
+      call add_increment(u, equation, du, 1.0_wp)
       norm_du = norm2(du)
       norm_step = norm2(u - u_start)
       ratio = norm_r/norm_r0
@@ -257,6 +271,20 @@ contains
       if (k > 2 .and. norm_r > 1.0e6_wp*norm_r0) return     ! diverging
     end do
   end subroutine newton_step
+
+  !> u = u + factor du at the free degrees of freedom.
+  pure subroutine add_increment(u, equation, du, factor)
+    real(wp), intent(inout) :: u(:,:)        !< (dim, nodes) displacements
+    integer, intent(in) :: equation(:,:)     !< equation numbers
+    real(wp), intent(in) :: du(:)            !< increment of the free dofs
+    real(wp), intent(in) :: factor           !< multiple of du to add
+    integer :: n, i
+    do n = 1, size(u, 2)
+      do i = 1, size(u, 1)
+        if (equation(i, n) > 0) u(i, n) = u(i, n) + factor*du(equation(i, n))
+      end do
+    end do
+  end subroutine add_increment
 
   !> Residual f_ext - f_int and tangent of all owned cells at displacements u.
   subroutine evaluate_cells(model, cells, owned, equation, u, hist, force_ext, residual, &
