@@ -110,6 +110,7 @@ bench: deps
 	@$(MAKE) --no-print-directory bin/mefem
 	@bash tests/bench/run_bench.sh
 	@bash tests/bench/run_linear_static_bench.sh
+	@bash tests/bench/run_plasticity_bench.sh
 
 lint:
 	@bash tests/lint.sh

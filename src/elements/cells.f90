@@ -15,8 +15,8 @@
 !> of a side averages them over its one or two elements with weights A_e/(dim+1).
 module mefem_cells
   use mefem_kinds, only: wp
-  use mefem_errors, only: status_t
-  use mefem_strings, only: itoa
+  use mefem_errors, only: status_t, say
+  use mefem_strings, only: itoa, rtoa
   use mefem_model, only: model_t, MAT_RIGID, ELEM_SOLID, ELEM_SHELL
   use mefem_model_resolve, only: ELFORM_MEFEM
   use mefem_enrichment, only: enrichment_t, enrichment_setup
@@ -24,7 +24,7 @@ module mefem_cells
   implicit none
   private
 
-  public :: cells_build
+  public :: cells_build, cells_summary
 
   integer, parameter, public :: CELL_MAX_NODES = 7   !< 3D interior face: 5 corners + 2 enriched
 
@@ -96,6 +96,19 @@ contains
       if (.not. status%ok) return
     end do
   end subroutine cells_build
+
+  !> Print the cell counts and, for ME-FEM, the enrichment constants (run log, rank 0).
+  subroutine cells_summary(cells)
+    type(cells_t), intent(in) :: cells   !< cells
+    if (cells%n_enriched > 0) then
+      call say('ME-FEM enrichment: a/L = '//rtoa(cells%enrichment%support_ratio)// &
+          ', kappa = '//rtoa(cells%enrichment%kappa)//', mass fraction = '// &
+          rtoa(cells%enrichment%mass_fraction)//', '//itoa(cells%n_enriched)// &
+          ' enriched nodes, '//itoa(cells%n)//' cells (smoothing domains and elements)')
+    else
+      call say('elements: '//itoa(cells%n)//' cells')
+    end if
+  end subroutine cells_summary
 
   !> True for an element of a deformable (non-rigid) part.
   logical function is_deformable(model, e)

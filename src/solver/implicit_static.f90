@@ -18,7 +18,7 @@ module mefem_implicit_static
   use mefem_strings, only: itoa, rtoa
   use mefem_model, only: model_t, ON_PART, MAT_RIGID
   use mefem_decomposition, only: decomposition_t
-  use mefem_cells, only: cells_t, cells_build, CELL_MAX_NODES
+  use mefem_cells, only: cells_t, cells_build, cells_summary, CELL_MAX_NODES
   use mefem_cell_finite_strain, only: cell_deformation_gradient, cell_internal_force, &
                                       cell_tangent, inverse_3x3
   use mefem_material_state, only: NHIST, HIST_ALPHA, material_state_init
@@ -35,6 +35,15 @@ module mefem_implicit_static
   private
 
   public :: implicit_static_run
+
+  !> Wall time spent in the phases of the Newton iterations (for the run summary).
+  type :: timing_t
+    real(wp) :: assembly = 0.0_wp        !< material updates, forces, tangent assembly
+    real(wp) :: factorisation = 0.0_wp   !< MUMPS analysis + numerical factorisation
+    real(wp) :: solve = 0.0_wp           !< MUMPS solves
+    integer :: iterations = 0            !< Newton iterations in total
+  end type timing_t
+  type(timing_t) :: timing
 
   !> What one evaluation of the cells gives.
   type :: cell_state_t
@@ -64,6 +73,7 @@ contains
     call cells_build(model, cells, status)
     if (.not. status%ok) call fatal('element set-up: '//status%message)
     call check_supported(model)
+    call cells_summary(cells)
     dim = cells%dim
     n_all = cells%n_mesh_nodes + cells%n_enriched
     allocate(owned(cells%n))
@@ -148,7 +158,11 @@ contains
     call mumps_free(solver)
     call coo_free(tangent)
     call say('implicit: '//itoa(step)//' steps, '//itoa(cuts)//' cut-backs, '// &
-             rtoa(comm_wtime() - t0)//' s')
+             itoa(timing%iterations)//' Newton iterations, '//rtoa(comm_wtime() - t0)//' s')
+    if (timing%iterations > 0) call say('implicit: per iteration: assembly '// &
+        rtoa(timing%assembly/timing%iterations)//' s, MUMPS factorisation '// &
+        rtoa(timing%factorisation/timing%iterations)//' s, solve '// &
+        rtoa(timing%solve/timing%iterations)//' s')
   end subroutine implicit_static_run
 
   !> Time between output states: *DATABASE_BINARY_D3PLOT DT (or ENDTIM/NPLTC), else the end.
@@ -201,7 +215,7 @@ contains
     logical, allocatable :: fixed(:,:)
     type(status_t) :: status
     real(wp) :: energy0, energy, norm_du, norm_step, norm_r, norm_r0, ratio
-    real(wp) :: last_energy, slope, step_length
+    real(wp) :: last_energy, slope, step_length, clock
     integer :: k, dim
     logical :: ok
     dim = cells%dim
@@ -221,8 +235,11 @@ contains
     norm_r0 = 0.0_wp
     do k = 1, max(1, model%controls%maxref)
       iterations = k
+      clock = comm_wtime()
       call evaluate_cells(model, cells, owned, equation, u, hist, force, residual, tangent, &
                           trial, ok)
+      timing%assembly = timing%assembly + (comm_wtime() - clock)
+      timing%iterations = timing%iterations + 1
       if (.not. ok) return                                  ! a cell inverted: cut the step
       ! line search (LSTOL): if the last increment left too much energy, g(1) = du.R(u), take
       ! the secant step s = g(0)/(g(0) - g(1)) in [0.1, 1] along it and re-evaluate
@@ -242,8 +259,12 @@ contains
       end if
       norm_r = norm2(residual)
       if (k == 1) norm_r0 = max(norm_r, tiny(1.0_wp))
+      clock = comm_wtime()
       call mumps_factorise(solver, tangent, status)
+      timing%factorisation = timing%factorisation + (comm_wtime() - clock)
+      clock = comm_wtime()
       if (status%ok) call mumps_solve(solver, residual, du, status)
+      timing%solve = timing%solve + (comm_wtime() - clock)
       if (.not. status%ok) then
         call say('  iteration '//itoa(k)//': '//status%message)
         return

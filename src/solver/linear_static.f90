@@ -13,7 +13,7 @@ module mefem_linear_static
   use mefem_strings, only: itoa, rtoa
   use mefem_model, only: model_t, MAT_ELASTIC, ON_PART
   use mefem_decomposition, only: decomposition_t
-  use mefem_cells, only: cells_t, cells_build, CELL_MAX_NODES
+  use mefem_cells, only: cells_t, cells_build, cells_summary, CELL_MAX_NODES
   use mefem_cell_linear, only: lame_parameters, cell_strain, isotropic_stress, cell_stiffness
   use mefem_boundary_conditions, only: fixed_dofs, prescribed_displacements, external_forces
   use mefem_sparse_assembly, only: coo_matrix_t, coo_init, coo_add_block, coo_free
@@ -50,10 +50,7 @@ contains
     call check_supported(model, cells)
     dim = cells%dim
     n_all = cells%n_mesh_nodes + cells%n_enriched
-    if (cells%n_enriched > 0) call say('ME-FEM enrichment: a/L = '// &
-        rtoa(cells%enrichment%support_ratio)//', kappa = '//rtoa(cells%enrichment%kappa)// &
-        ', mass fraction = '//rtoa(cells%enrichment%mass_fraction)//', '// &
-        itoa(cells%n_enriched)//' enriched nodes, '//itoa(cells%n)//' smoothing domains')
+    call cells_summary(cells)
 
     ! boundary conditions and loads at the end time
     t_end = model%controls%end_time
