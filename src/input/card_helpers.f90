@@ -10,6 +10,7 @@ module mefem_card_helpers
   private
 
   public :: has_option, read_title_card, read_id_card, reject_extra_cards, skip_extra_cards
+  public :: read_id_option
   public :: quoted_real
 
   integer, parameter :: W_ID(2) = [10, 70]   !< ID/HEADING card: I10 A70
@@ -88,6 +89,20 @@ contains
   end subroutine reject_extra_cards
 
   !> Skip the remaining data cards of the current keyword (optional cards mefem ignores).
+  !> The _ID option's card, when the keyword has that option: ok is false (and the keyword's
+  !> cards are skipped) when the card is missing or bad.
+  subroutine read_id_option(rd, options, id, heading, ok)
+    type(reader_t), intent(inout) :: rd             !< reading state
+    character(len=*), intent(in) :: options         !< keyword options
+    integer, intent(inout) :: id                    !< the ID (unchanged without the option)
+    character(len=*), intent(inout) :: heading      !< the heading
+    logical, intent(out) :: ok                      !< reading may go on
+    ok = .true.
+    if (.not. has_option(options, 'ID')) return
+    call read_id_card(rd, id, heading, ok)
+    if (.not. ok) call skip_extra_cards(rd)
+  end subroutine read_id_option
+
   subroutine skip_extra_cards(rd)
     type(reader_t), intent(inout) :: rd           !< reading state
     type(card_t) :: card

@@ -11,7 +11,7 @@ module mefem_read_conditions
   use mefem_cards, only: reader_t, card_t, next_card, split_card, get_int, get_real, &
                          card_error, keyword_error
   use mefem_card_helpers, only: has_option, read_title_card, read_id_card, quoted_real, &
-                                skip_extra_cards
+                                skip_extra_cards, read_id_option
   use mefem_deck_source, only: location
   use mefem_model, only: model_t, source_t, spc_t, prescribed_motion_t, curve_t, &
                          nodal_load_t, pressure_load_t, initial_velocity_t, ON_NODE, &
@@ -44,13 +44,8 @@ contains
     character(len=80) :: heading
     character(len=5), parameter :: DOF_NAMES(6) = ['DOFX ', 'DOFY ', 'DOFZ ', 'DOFRX', &
                                                    'DOFRY', 'DOFRZ']
-    if (has_option(options, 'ID')) then
-      call read_id_card(rd, id, heading, ok)
-      if (.not. ok) then
-        call skip_extra_cards(rd)
-        return
-      end if
-    end if
+    call read_id_option(rd, options, id, heading, ok)
+    if (.not. ok) return
     birth_death = has_option(options, 'BIRTH') .or. has_option(options, 'DEATH')
     if (birth_death .and. .not. (has_option(options, 'BIRTH') .and. &
                                  has_option(options, 'DEATH'))) then
@@ -133,13 +128,8 @@ contains
     case default
       target_name = 'PID'
     end select
-    if (has_option(options, 'ID')) then
-      call read_id_card(rd, id, heading, ok)
-      if (.not. ok) then
-        call skip_extra_cards(rd)
-        return
-      end if
-    end if
+    call read_id_option(rd, options, id, heading, ok)
+    if (.not. ok) return
     do
       call next_card(rd, card, got)
       if (.not. got) exit
@@ -372,13 +362,8 @@ contains
     logical :: got, ok
     integer :: i, n5, id
     character(len=80) :: heading
-    if (has_option(options, 'ID')) then
-      call read_id_card(rd, id, heading, ok)
-      if (.not. ok) then
-        call skip_extra_cards(rd)
-        return
-      end if
-    end if
+    call read_id_option(rd, options, id, heading, ok)
+    if (.not. ok) return
     do
       call next_card(rd, card, got)
       if (.not. got) exit
@@ -424,13 +409,8 @@ contains
     logical :: got, ok
     integer :: id
     character(len=80) :: heading
-    if (has_option(options, 'ID')) then
-      call read_id_card(rd, id, heading, ok)
-      if (.not. ok) then
-        call skip_extra_cards(rd)
-        return
-      end if
-    end if
+    call read_id_option(rd, options, id, heading, ok)
+    if (.not. ok) return
     do
       call next_card(rd, card, got)
       if (.not. got) exit

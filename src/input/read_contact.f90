@@ -12,7 +12,7 @@ module mefem_read_contact
   use mefem_cards, only: reader_t, card_t, next_card, split_card, get_int, get_real, &
                          card_error, keyword_error
   use mefem_card_helpers, only: has_option, read_id_card, quoted_real, reject_extra_cards, &
-                                skip_extra_cards
+                                skip_extra_cards, read_id_option
   use mefem_deck_source, only: deck_push_back
   use mefem_model, only: model_t, contact_t, rigid_wall_t, source_t
   implicit none
@@ -221,13 +221,8 @@ contains
     integer :: boxid, id
     character(len=80) :: heading
     id = 0
-    if (has_option(options, 'ID')) then
-      call read_id_card(rd, id, heading, ok)
-      if (.not. ok) then
-        call skip_extra_cards(rd)
-        return
-      end if
-    end if
+    call read_id_option(rd, options, id, heading, ok)
+    if (.not. ok) return
     do
       call next_card(rd, card, got)
       if (.not. got) exit
