@@ -35,9 +35,10 @@ contains
   end subroutine element_csr
 
   !> Partition the elements over all ranks and build this rank's decomposition.
-  subroutine partition_model(model, decomp)
+  subroutine partition_model(model, decomp, element_rank)
     type(model_t), intent(in) :: model               !< resolved model
     type(decomposition_t), intent(out) :: decomp     !< this rank's share
+    integer, allocatable, intent(out), optional :: element_rank(:) !< rank of every element
     integer, allocatable :: elem_start(:), elem_nodes(:), elem_part(:)
     type(status_t) :: status
     integer :: ncommon
@@ -62,6 +63,7 @@ contains
     end if
     call build_decomposition(comm_rank(), comm_size(), model%elements%n, model%nodes%n, &
                              elem_start, elem_nodes, elem_part, decomp)
+    if (present(element_rank)) call move_alloc(elem_part, element_rank)
   end subroutine partition_model
 
 end module mefem_model_partition
