@@ -6,6 +6,7 @@
 #   make run        install, build, run the main example deck
 #   make test       install, build (release + debug), run every test; last line "N passed, N failed"
 #   make bench      benchmarks: deck reading, linear static (ME-FEM vs standard tets); figures
+#   make punch      the seed paper's punch study (post/punch_study.py; ~5-10 min)
 #   make deps       install the Debian packages that are missing (no-op when all present)
 #   make clean
 
@@ -53,7 +54,7 @@ UNIT_SRC := $(sort $(wildcard tests/unit/test_*.f90))
 UNIT_EXE := $(patsubst tests/unit/%.f90,$(BUILD)/tests/%,$(UNIT_SRC))
 HARNESS  := $(BUILD)/tests/testing.o
 
-.PHONY: all deps build run test bench clean lint unit-tests
+.PHONY: all deps build run test bench punch clean lint unit-tests
 .DEFAULT_GOAL := all
 
 all: deps $(EXE)
@@ -111,6 +112,12 @@ bench: deps
 	@bash tests/bench/run_bench.sh
 	@bash tests/bench/run_linear_static_bench.sh
 	@bash tests/bench/run_plasticity_bench.sh
+
+# The seed paper's punch study (doc/verification.md): ten runs, figures and tables in
+# doc/verification_data/punch_*; about 5-10 minutes on 2 cores.
+punch: deps
+	@$(MAKE) --no-print-directory bin/mefem
+	/usr/bin/python3 post/punch_study.py
 
 lint:
 	@bash tests/lint.sh
