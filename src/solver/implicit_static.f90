@@ -30,7 +30,7 @@ module mefem_implicit_static
                          mumps_free, MUMPS_UNSYMMETRIC
   use mefem_output_mesh, only: output_field_t
   use mefem_results, only: results_write_state
-  use mefem_solver_common, only: number_equations, stress_fields
+  use mefem_solver_common, only: number_equations, cell_result_fields
   implicit none
   private
 
@@ -381,7 +381,7 @@ contains
   end subroutine evaluate_cells
 
   !> Output state: displacement, Cauchy stress, pressure, von Mises and plastic strain
-  !> at nodes (cell-weighted means) and elements (means of their cells).
+  !> at nodes (cell-weighted means) and elements (means of their cells), reaction forces.
   subroutine write_state(model, decomp, cells, u, hist, equation, time, step)
     type(model_t), intent(in) :: model              !< resolved model
     type(decomposition_t), intent(in) :: decomp     !< this rank's share
@@ -391,36 +391,10 @@ contains
     integer, intent(in) :: equation(:,:)            !< equation numbers (0: fixed dof)
     real(wp), intent(in) :: time                    !< analysis time
     integer, intent(in) :: step                     !< output state number
-    real(wp), allocatable :: stress(:,:), es(:,:), ew(:), ns(:,:), nw(:), internal(:,:)
-    real(wp), allocatable :: force_ext(:,:)
+    real(wp), allocatable :: stress(:,:), internal(:,:), force_ext(:,:)
     type(output_field_t) :: point_fields(6), cell_fields(4)
-    integer :: c, a, node, slot, e, local, nnode
-    real(wp) :: alpha_sum_e(model%elements%n), alpha_sum_n(cells%n_mesh_nodes)
+    integer :: node, local
     call final_stresses(model, cells, u, hist, stress, internal)
-    nnode = cells%n_mesh_nodes
-    allocate(es(6, model%elements%n), ew(model%elements%n), ns(6, nnode), nw(nnode))
-    es = 0.0_wp
-    ew = 0.0_wp
-    ns = 0.0_wp
-    nw = 0.0_wp
-    alpha_sum_e = 0.0_wp
-    alpha_sum_n = 0.0_wp
-    do c = 1, cells%n
-      do slot = 1, 2
-        e = cells%elements(slot, c)
-        if (e == 0) cycle
-        es(:, e) = es(:, e) + stress(:, c)
-        ew(e) = ew(e) + 1.0_wp
-        alpha_sum_e(e) = alpha_sum_e(e) + hist(HIST_ALPHA, c)
-      end do
-      do a = 1, cells%nnodes(c)
-        node = cells%nodes(a, c)
-        if (node > nnode) cycle
-        ns(:, node) = ns(:, node) + cells%weight(c)*stress(:, c)
-        nw(node) = nw(node) + cells%weight(c)
-        alpha_sum_n(node) = alpha_sum_n(node) + cells%weight(c)*hist(HIST_ALPHA, c)
-      end do
-    end do
     point_fields(1)%name = 'displacement'
     point_fields(1)%ncomp = 3
     allocate(point_fields(1)%values(3, decomp%nnode_local))
@@ -428,14 +402,10 @@ contains
     do local = 1, decomp%nnode_local
       point_fields(1)%values(1:cells%dim, local) = u(:, decomp%node_global(local))
     end do
-    call stress_fields(ns(:, decomp%node_global(1:decomp%nnode_local)), &
-                       nw(decomp%node_global(1:decomp%nnode_local)), point_fields(2:4))
-    point_fields(5)%name = 'plastic_strain'
-    point_fields(5)%values = reshape(merge(alpha_sum_n(decomp%node_global(1:decomp%nnode_local)) &
-        /max(nw(decomp%node_global(1:decomp%nnode_local)), tiny(1.0_wp)), 0.0_wp, &
-        nw(decomp%node_global(1:decomp%nnode_local)) > 0.0_wp), [1, decomp%nnode_local])
+    call cell_result_fields(model, decomp, cells, stress, hist(HIST_ALPHA, :), &
+                            point_fields(2:5), cell_fields)
     ! reaction forces: internal minus external force at the fixed degrees of freedom
-    allocate(force_ext(cells%dim, nnode))
+    allocate(force_ext(cells%dim, cells%n_mesh_nodes))
     force_ext = 0.0_wp
     call external_forces(model, time, force_ext)
     point_fields(6)%name = 'reaction_force'
@@ -447,12 +417,6 @@ contains
       where (equation(:, node) == 0) point_fields(6)%values(1:cells%dim, local) = &
           internal(:, node) - force_ext(:, node)
     end do
-    call stress_fields(es(:, decomp%elem_global(1:decomp%nelem_local)), &
-                       ew(decomp%elem_global(1:decomp%nelem_local)), cell_fields(1:3))
-    cell_fields(4)%name = 'plastic_strain'
-    cell_fields(4)%values = reshape(merge(alpha_sum_e(decomp%elem_global(1:decomp%nelem_local)) &
-        /max(ew(decomp%elem_global(1:decomp%nelem_local)), tiny(1.0_wp)), 0.0_wp, &
-        ew(decomp%elem_global(1:decomp%nelem_local)) > 0.0_wp), [1, decomp%nelem_local])
     call results_write_state(step, time, point_fields, cell_fields)
   end subroutine write_state
 

@@ -1,12 +1,14 @@
-!> Pieces shared by the implicit analyses: equation numbering and stress output fields.
+!> Pieces shared by the analyses: equation numbering and the stress output fields.
 module mefem_solver_common
   use mefem_kinds, only: wp
+  use mefem_model, only: model_t
+  use mefem_decomposition, only: decomposition_t
   use mefem_cells, only: cells_t
   use mefem_output_mesh, only: output_field_t
   implicit none
   private
 
-  public :: number_equations, stress_fields
+  public :: number_equations, stress_fields, cell_result_fields
 
 contains
 
@@ -59,5 +61,56 @@ contains
           (s(3) - s(1))**2) + 3.0_wp*(s(4)**2 + s(5)**2 + s(6)**2))
     end do
   end subroutine stress_fields
+
+  !> Output fields of the cells' Cauchy stress and plastic strain (global arrays, the same on
+  !> every rank): at this rank's nodes the cell-weight means of the cells touching the node
+  !> ('stress', 'pressure', 'von_mises', 'plastic_strain'), at its elements the plain means
+  !> of the element's cells (same names).
+  subroutine cell_result_fields(model, decomp, cells, stress, alpha, point_fields, cell_fields)
+    type(model_t), intent(in) :: model                    !< resolved model
+    type(decomposition_t), intent(in) :: decomp           !< this rank's output piece
+    type(cells_t), intent(in) :: cells                    !< all cells
+    real(wp), intent(in) :: stress(:,:)                   !< (6, cells) Cauchy stress (Voigt)
+    real(wp), intent(in) :: alpha(:)                      !< (cells) equivalent plastic strain
+    type(output_field_t), intent(inout) :: point_fields(4) !< nodal fields
+    type(output_field_t), intent(inout) :: cell_fields(4)  !< element fields
+    real(wp), allocatable :: es(:,:), ew(:), ns(:,:), nw(:), alpha_e(:), alpha_n(:)
+    integer, allocatable :: nodes(:), elements(:)
+    integer :: c, a, node, slot, e
+    allocate(es(6, model%elements%n), ew(model%elements%n), ns(6, cells%n_mesh_nodes), &
+             nw(cells%n_mesh_nodes), alpha_e(model%elements%n), alpha_n(cells%n_mesh_nodes))
+    es = 0.0_wp
+    ew = 0.0_wp
+    ns = 0.0_wp
+    nw = 0.0_wp
+    alpha_e = 0.0_wp
+    alpha_n = 0.0_wp
+    do c = 1, cells%n
+      do slot = 1, 2
+        e = cells%elements(slot, c)
+        if (e == 0) cycle
+        es(:, e) = es(:, e) + stress(:, c)
+        ew(e) = ew(e) + 1.0_wp
+        alpha_e(e) = alpha_e(e) + alpha(c)
+      end do
+      do a = 1, cells%nnodes(c)
+        node = cells%nodes(a, c)
+        if (node > cells%n_mesh_nodes) cycle
+        ns(:, node) = ns(:, node) + cells%weight(c)*stress(:, c)
+        nw(node) = nw(node) + cells%weight(c)
+        alpha_n(node) = alpha_n(node) + cells%weight(c)*alpha(c)
+      end do
+    end do
+    nodes = decomp%node_global(1:decomp%nnode_local)
+    elements = decomp%elem_global(1:decomp%nelem_local)
+    call stress_fields(ns(:, nodes), nw(nodes), point_fields(1:3))
+    point_fields(4)%name = 'plastic_strain'
+    point_fields(4)%values = reshape(merge(alpha_n(nodes)/max(nw(nodes), tiny(1.0_wp)), &
+        0.0_wp, nw(nodes) > 0.0_wp), [1, size(nodes)])
+    call stress_fields(es(:, elements), ew(elements), cell_fields(1:3))
+    cell_fields(4)%name = 'plastic_strain'
+    cell_fields(4)%values = reshape(merge(alpha_e(elements)/max(ew(elements), tiny(1.0_wp)), &
+        0.0_wp, ew(elements) > 0.0_wp), [1, size(elements)])
+  end subroutine cell_result_fields
 
 end module mefem_solver_common
