@@ -19,7 +19,7 @@ module mefem_lumped_mass
   implicit none
   private
 
-  public :: lumped_mass
+  public :: lumped_mass, simplex_measure
 
 contains
 

@@ -31,13 +31,13 @@ module mefem_material_update
   use mefem_strings, only: itoa
   use mefem_material_state, only: NHIST
   use mefem_hardening, only: HARDENING_POWER_LAW, piecewise_linear_law
-  use mefem_mat_elastic, only: mat_elastic_update
+  use mefem_mat_elastic, only: mat_elastic_update, lame_constants
   use mefem_mat_j2_plasticity, only: mat_j2_update
   use mefem_mat_mooney_rivlin, only: mat_mooney_rivlin_update
   implicit none
   private
 
-  public :: material_update
+  public :: material_update, material_elastic_moduli
 
 contains
 
@@ -79,5 +79,25 @@ contains
       end if
     end select
   end subroutine material_update
+
+  !> Small-strain Lame constants of a material (for the explicit stable time step):
+  !> *MAT_ELASTIC and the J2 laws from E and PR; *MAT_MOONEY-RIVLIN_RUBBER mu = 2 (A + B) and
+  !> lambda = kappa - 2 mu/3 with its bulk modulus kappa = 2 mu (1 + PR)/(3 (1 - 2 PR)), i.e.
+  !> the Lame constants of E = 2 mu (1 + PR) and PR. Zero for *MAT_RIGID and unknown kinds.
+  pure subroutine material_elastic_moduli(mat, lambda, mu)
+    type(material_t), intent(in) :: mat     !< the material card
+    real(wp), intent(out) :: lambda         !< Lame's first constant
+    real(wp), intent(out) :: mu             !< shear modulus
+    select case (mat%kind)
+    case (MAT_ELASTIC, MAT_PIECEWISE_LINEAR, MAT_POWER_LAW)
+      call lame_constants(mat%young, mat%poisson, lambda, mu)
+    case (MAT_MOONEY_RIVLIN)
+      call lame_constants(4.0_wp*(mat%mr_a + mat%mr_b)*(1.0_wp + mat%poisson), mat%poisson, &
+                          lambda, mu)
+    case default
+      lambda = 0.0_wp
+      mu = 0.0_wp
+    end select
+  end subroutine material_elastic_moduli
 
 end module mefem_material_update

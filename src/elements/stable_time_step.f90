@@ -1,0 +1,197 @@
+!> Stable time step of the explicit central-difference solver, per integration cell
+!> (formulation 2.9, doc/theory.md "Explicit stable time step").
+!>
+!> Element-eigenvalue bound applied to cells: every element's lumped nodal masses (mefem_
+!> lumped_mass) are split equally among its dim+1 sides, so the cell of a side (shared by one
+!> or two elements, holding all their nodes) gets m_I^e/(dim+1) at each node I of each of its
+!> elements e; a standard element is its own cell and keeps its full nodal masses. Then
+!> M = sum_c M_c and K = sum_c K_c, K_c = A_c B_c^T C B_c, and
+!>   omega_max^2 <= max_c omega_c^2,   omega_c^2 = lambda_max(K_c, M_c).
+!> For one cell with gradients g_I and mass shares m_I, W = sum_I g_I g_I^T / m_I (dim x dim):
+!>   omega_c^2 <= A (max(lambda, 0) tr W + 2 mu lambda_max(W))
+!>            <= A (dim max(lambda, 0) + 2 mu) lambda_max(W)
+!> (K_c depends on u only through H = sum_I u_I (x) g_I, and min sum m_I |u_I|^2 over the u
+!> giving H is tr(H W^-1 H^T); with H = Z W^1/2 that is |Z|^2, while (tr H)^2 = <Z, W^1/2>^2
+!> <= |Z|^2 tr W and |sym H|^2 <= |Z W^1/2|^2 <= lambda_max(W) |Z|^2). Both are equalities for
+!> an isotropic W (regular simplex); the first, used here, is much closer for the anisotropic
+!> W of ME-FEM cells (doc/theory.md). In the current configuration g_I -> F^-T g_I, A -> J A,
+!> the masses are unchanged: W = F^-T W0 F^-1, and dt_c = 2/omega_c.
+!> Every rank computes the shares from the global model in cell order (same bits everywhere).
+module mefem_stable_time_step
+  use mefem_kinds, only: wp
+  use mefem_model, only: model_t
+  use mefem_cells, only: cells_t, CELL_MAX_NODES
+  use mefem_lumped_mass, only: simplex_measure
+  use mefem_cell_finite_strain, only: inverse_3x3
+  implicit none
+  private
+
+  public :: cell_mass_shares, cell_inverse_mass_metric, cell_critical_omega_squared, &
+            symmetric_max_eigenvalue
+
+contains
+
+  !> Per-cell nodal mass shares: share(j, c) is the mass of node cells%nodes(j, c) that cell c
+  !> carries. ME-FEM: each element's corner mass rho V (1 - psibar)/(dim+1) and enriched mass
+  !> rho V psibar, divided by dim+1 (one share per side); standard: rho V/(dim+1) per corner.
+  !> Summed over the cells they give lumped_mass (same formulas; up to round-off).
+  subroutine cell_mass_shares(model, cells, share)
+    type(model_t), intent(in) :: model                 !< resolved model (densities, geometry)
+    type(cells_t), intent(in) :: cells                 !< cells built from the same model
+    real(wp), allocatable, intent(out) :: share(:,:)   !< (CELL_MAX_NODES, cells%n) shares
+    integer :: nv, c, slot, e, local, material
+    real(wp) :: rho, volume, psibar, corner_share, enriched_share
+
+    nv = cells%dim + 1
+    psibar = cells%enrichment%mass_fraction
+    allocate(share(CELL_MAX_NODES, cells%n))
+    share = 0.0_wp
+    do c = 1, cells%n
+      if (cells%enriched_of(cells%elements(1, c)) == 0) then
+        ! standard element = its own cell: the element's nodal masses
+        rho = model%materials(cells%material(c))%density
+        share(1:nv, c) = rho*cells%weight(c)/real(nv, wp)
+        cycle
+      end if
+      do slot = 1, 2
+        e = cells%elements(slot, c)
+        if (e == 0) cycle
+        material = model%parts(model%elements%part(e))%material
+        rho = model%materials(material)%density
+        volume = simplex_measure(cells%dim, model%nodes%x(:, model%elements%conn(1:nv, e)))
+        corner_share = rho*volume*(1.0_wp - psibar)/real(nv, wp)
+        enriched_share = rho*volume*psibar
+        do local = 1, nv
+          call add_share(cells, c, model%elements%conn(local, e), corner_share/real(nv, wp), &
+                         share)
+        end do
+        call add_share(cells, c, cells%enriched_of(e), enriched_share/real(nv, wp), share)
+      end do
+    end do
+  end subroutine cell_mass_shares
+
+  !> Add a mass share to the slot of node in cell c (every node of the cell's elements is
+  !> one of its nodes, by construction in mefem_cells).
+  pure subroutine add_share(cells, c, node, m, share)
+    type(cells_t), intent(in) :: cells        !< cells
+    integer, intent(in) :: c                  !< cell
+    integer, intent(in) :: node               !< node number
+    real(wp), intent(in) :: m                 !< mass to add
+    real(wp), intent(inout) :: share(:,:)     !< (CELL_MAX_NODES, cells%n) shares
+    integer :: j
+    do j = 1, cells%nnodes(c)
+      if (cells%nodes(j, c) == node) then
+        share(j, c) = share(j, c) + m
+        return
+      end if
+    end do
+  end subroutine add_share
+
+  !> Inverse-mass metric of every cell in the reference configuration:
+  !> w0(:,:,c) = sum_I g_I g_I^T / m_I over the cell's nodes (nodes with zero share skipped:
+  !> such a node must have a zero gradient for the bound to hold).
+  subroutine cell_inverse_mass_metric(cells, share, w0)
+    type(cells_t), intent(in) :: cells                 !< cells
+    real(wp), intent(in) :: share(:,:)                 !< (CELL_MAX_NODES, cells%n) shares
+    real(wp), allocatable, intent(out) :: w0(:,:,:)    !< (dim, dim, cells%n) metric
+    integer :: dim, c, j, a, b
+    dim = cells%dim
+    allocate(w0(dim, dim, cells%n))
+    w0 = 0.0_wp
+    do c = 1, cells%n
+      do j = 1, cells%nnodes(c)
+        if (.not. (share(j, c) > 0.0_wp)) cycle
+        do b = 1, dim
+          do a = 1, dim
+            w0(a, b, c) = w0(a, b, c) + cells%grad(a, j, c)*cells%grad(b, j, c)/share(j, c)
+          end do
+        end do
+      end do
+    end do
+  end subroutine cell_inverse_mass_metric
+
+  !> Upper bound of omega^2 of one cell at the deformation gradient f:
+  !>   J weight (max(lambda, 0) tr W + 2 mu lambda_max(W)),  W = F^-T W0 F^-1,  J = det F,
+  !> with the small-strain Lame constants of the cell's material (material_elastic_moduli;
+  !> plane strain: the same lambda, mu with dim = 2). Returns huge() for det F <= 0 (the
+  !> material update reports the failure). Allocation-free; the cell's stable step is
+  !> 2/sqrt(result).
+  pure real(wp) function cell_critical_omega_squared(dim, weight, w0, f, lambda, mu) &
+      result(omega_squared)
+    integer, intent(in) :: dim           !< 2 (plane strain) or 3
+    real(wp), intent(in) :: weight       !< reference area (unit thickness) or volume
+    real(wp), intent(in) :: w0(:,:)      !< (dim, dim) reference inverse-mass metric
+    real(wp), intent(in) :: f(3, 3)      !< deformation gradient (F33 = 1 in plane strain)
+    real(wp), intent(in) :: lambda       !< Lame's first constant (lambda < 0 counts as 0)
+    real(wp), intent(in) :: mu           !< shear modulus
+    real(wp) :: finv(3, 3), det, wf(3, 3), w(3, 3), trace_w
+    integer :: a, b, k
+    call inverse_3x3(f, finv, det)
+    if (.not. (det > 0.0_wp)) then
+      omega_squared = huge(1.0_wp)
+      return
+    end if
+    ! wf = W0 F^-1, w = F^-T W0 F^-1 (the in-plane block in 2D: F^-1 is block diagonal)
+    do b = 1, dim
+      do a = 1, dim
+        wf(a, b) = 0.0_wp
+        do k = 1, dim
+          wf(a, b) = wf(a, b) + w0(a, k)*finv(k, b)
+        end do
+      end do
+    end do
+    do b = 1, dim
+      do a = 1, b
+        w(a, b) = 0.0_wp
+        do k = 1, dim
+          w(a, b) = w(a, b) + finv(k, a)*wf(k, b)
+        end do
+        w(b, a) = w(a, b)
+      end do
+    end do
+    trace_w = 0.0_wp
+    do a = 1, dim
+      trace_w = trace_w + w(a, a)
+    end do
+    omega_squared = det*weight*(max(lambda, 0.0_wp)*trace_w + &
+                                2.0_wp*mu*symmetric_max_eigenvalue(dim, w))
+  end function cell_critical_omega_squared
+
+  !> Largest eigenvalue of a symmetric n x n matrix, n = 1, 2, 3, in closed form (2x2: mean
+  !> plus the radius; 3x3: the trigonometric solution of the characteristic cubic, Smith 1961).
+  !> Only a(1:n, 1:n) is read (both triangles, assumed equal). Round-off: ~1e-15 relative of
+  !> the spectral radius, up to ~1e-8 when the two largest eigenvalues (nearly) coincide (the
+  !> cubic's double root; measured in tests/unit/test_stable_time_step.f90).
+  pure real(wp) function symmetric_max_eigenvalue(n, a) result(lambda_max)
+    integer, intent(in) :: n             !< 1, 2 or 3
+    real(wp), intent(in) :: a(:,:)       !< (>= n, >= n) symmetric matrix
+    real(wp) :: q, p1, p2, p, b(3, 3), r, phi
+    integer :: i
+    select case (n)
+    case (1)
+      lambda_max = a(1, 1)
+    case (2)
+      lambda_max = 0.5_wp*(a(1, 1) + a(2, 2)) + hypot(0.5_wp*(a(1, 1) - a(2, 2)), a(1, 2))
+    case default
+      q = (a(1, 1) + a(2, 2) + a(3, 3))/3.0_wp
+      p1 = a(1, 2)**2 + a(1, 3)**2 + a(2, 3)**2
+      p2 = (a(1, 1) - q)**2 + (a(2, 2) - q)**2 + (a(3, 3) - q)**2 + 2.0_wp*p1
+      if (.not. (p2 > 0.0_wp)) then
+        lambda_max = q                   ! a multiple of the identity
+        return
+      end if
+      p = sqrt(p2/6.0_wp)
+      b = a(1:3, 1:3)/p
+      do i = 1, 3
+        b(i, i) = b(i, i) - q/p
+      end do
+      r = 0.5_wp*(b(1, 1)*(b(2, 2)*b(3, 3) - b(2, 3)*b(3, 2)) &
+                - b(1, 2)*(b(2, 1)*b(3, 3) - b(2, 3)*b(3, 1)) &
+                + b(1, 3)*(b(2, 1)*b(3, 2) - b(2, 2)*b(3, 1)))
+      r = min(1.0_wp, max(-1.0_wp, r))
+      phi = acos(r)/3.0_wp                 ! in [0, pi/3]: cos(phi) gives the largest root
+      lambda_max = q + 2.0_wp*p*cos(phi)
+    end select
+  end function symmetric_max_eigenvalue
+
+end module mefem_stable_time_step
