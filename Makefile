@@ -97,9 +97,10 @@ $(BUILD)/tests/test_%: $(BUILD)/tests/test_%.o $(HARNESS) $(LIB_OBJ)
 
 unit-tests: $(UNIT_EXE)
 
+# The explicit example: Taylor impact of an aluminium cylinder on a rigid wall, 2 MPI ranks.
 run: deps
 	@$(MAKE) --no-print-directory $(EXE)
-	./$(EXE) -o results/main_example input/main_example.k
+	mpirun --oversubscribe -np 2 ./$(EXE) -o results/taylor_bar input/taylor_bar.k
 
 # All tests: unit tests on the debug build, deck tests, output and MPI tests.
 test: deps

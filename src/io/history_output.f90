@@ -61,6 +61,7 @@ module mefem_history_output
   public :: glstat_open, glstat_write, glstat_close, glstat_is_open
   public :: glstat_total_energy, glstat_energy_ratio
   public :: nodout_open, nodout_write, nodout_close, nodout_is_open
+  public :: rwforc_open, rwforc_write, rwforc_close
 
   integer, parameter :: LABEL_WIDTH = 32        !< columns of " label......" before a value
   character(len=*), parameter :: GLSTAT_VALUE = 'es21.11e3'   !< glstat value edit descriptor
@@ -96,6 +97,9 @@ module mefem_history_output
   logical :: nodout_opened = .false.
   character(len=:), allocatable :: nodout_path
   integer, allocatable :: nodout_ids(:)           !< user ids of the history nodes
+  integer :: rwforc_unit = -1                     !< unit of the open rwforc file
+  logical :: rwforc_opened = .false.
+  character(len=:), allocatable :: rwforc_path
 
 contains
 
@@ -276,6 +280,55 @@ contains
     end do
     flush(nodout_unit)
   end subroutine nodout_write
+
+  !> Open <dir>/rwforc on rank 0 (rigid wall forces): banner, title and column header
+  !> "time wall# normal-force x-force y-force z-force", one row per wall and output time.
+  subroutine rwforc_open(dir, title)
+    character(len=*), intent(in) :: dir              !< output directory (must exist)
+    character(len=*), intent(in), optional :: title  !< run title for line 1 (default "mefem")
+    integer :: ios
+    if (.not. comm_is_root()) return
+    if (rwforc_opened) call rwforc_close()
+    rwforc_path = join_path(dir, 'rwforc')
+    call open_history(rwforc_path, .false., rwforc_unit)
+    rwforc_opened = .true.
+    if (present(title)) then
+      call write_banner(rwforc_unit, rwforc_path, title)
+    else
+      call write_banner(rwforc_unit, rwforc_path, DEFAULT_TITLE)
+    end if
+    write(rwforc_unit, '(a/a/a)', iostat=ios) '', ' r i g i d   w a l l   f o r c e s', ''
+    call check_write(ios, rwforc_path)
+    write(rwforc_unit, '(a)', iostat=ios) '                time   wall#'// &
+        '        normal-force             x-force             y-force             z-force'
+    call check_write(ios, rwforc_path)
+    flush(rwforc_unit)
+  end subroutine rwforc_open
+
+  !> Append one row per wall: the force the structure exerts on it and its normal part.
+  subroutine rwforc_write(time, wall_ids, normal_force, force)
+    real(wp), intent(in) :: time              !< simulation time
+    integer, intent(in) :: wall_ids(:)        !< wall ids (RWID, or their order)
+    real(wp), intent(in) :: normal_force(:)   !< (walls) force along the wall normal
+    real(wp), intent(in) :: force(:,:)        !< (3, walls) force components
+    integer :: k, ios
+    if (.not. comm_is_root()) return
+    if (.not. rwforc_opened) call fatal_local('rwforc_write called before rwforc_open')
+    do k = 1, size(wall_ids)
+      write(rwforc_unit, '('//NODOUT_VALUE//',i8,4'//NODOUT_VALUE//')', iostat=ios) time, &
+          merge(wall_ids(k), k, wall_ids(k) > 0), normal_force(k), force(:, k)
+      call check_write(ios, rwforc_path)
+    end do
+    flush(rwforc_unit)
+  end subroutine rwforc_write
+
+  !> Close rwforc (no-op when it is not open).
+  subroutine rwforc_close()
+    if (.not. rwforc_opened) return
+    close(rwforc_unit)
+    rwforc_opened = .false.
+    rwforc_unit = -1
+  end subroutine rwforc_close
 
   !> Close nodout (no-op when it is not open).
   subroutine nodout_close()

@@ -19,7 +19,7 @@ module mefem_results
   implicit none
   private
 
-  public :: results_open, results_write_state, results_close, node_set_fields
+  public :: results_open, results_write_state, results_close, node_set_fields, results_directory
 
   type(output_mesh_t), save :: piece               !< this rank's output mesh
   character(len=:), allocatable :: out_dir, stem   !< output directory and file stem
@@ -54,6 +54,12 @@ contains
     call vtk_write_state(out_dir, stem, step, time, piece, point_fields, cell_fields)
     call h5_output_write_state(step, time, point_fields, cell_fields)
   end subroutine results_write_state
+
+  !> The output directory given to results_open (for the time-history files).
+  function results_directory() result(dir)
+    character(len=:), allocatable :: dir
+    dir = out_dir
+  end function results_directory
 
   !> Close the files.
   subroutine results_close()

@@ -18,6 +18,7 @@ program mefem
   use mefem_progress, only: peak_memory_mib
   use mefem_linear_static, only: linear_static_run
   use mefem_implicit_static, only: implicit_static_run
+  use mefem_explicit_dynamics, only: explicit_dynamics_run
   use mefem_errors, only: input_error_count
   implicit none
 
@@ -25,6 +26,7 @@ program mefem
   type(model_t) :: model
   type(decomposition_t) :: decomp
   type(output_field_t), allocatable :: point_fields(:), cell_fields(:)
+  integer, allocatable :: element_rank(:)
   integer :: n_errors
   real(wp) :: t_start, t_read
 
@@ -50,7 +52,7 @@ program mefem
   end if
 
   ! split the mesh over the ranks (METIS)
-  call partition_model(model, decomp)
+  call partition_model(model, decomp, element_rank)
 
   ! write the model as read: the mesh, its parts and node sets (state 0)
   call results_open(options%output_dir, deck_stem(options%deck), model, decomp)
@@ -64,8 +66,7 @@ program mefem
   else if (model%controls%imflag == 1) then
     call implicit_static_run(model, decomp)
   else
-    call say('explicit analysis is not available yet: the model was read, checked and '// &
-             'written')
+    call explicit_dynamics_run(model, decomp, element_rank)
   end if
   call results_close()
   call say('results: '//options%output_dir//'/'//deck_stem(options%deck)//'.pvd (ParaView), '// &

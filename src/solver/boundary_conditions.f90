@@ -9,12 +9,13 @@
 module mefem_boundary_conditions
   use mefem_kinds, only: wp
   use mefem_vector_math, only: cross
-  use mefem_model, only: model_t, ON_NODE, ON_NODE_SET, ON_ALL_NODES
+  use mefem_model, only: model_t, ON_NODE, ON_NODE_SET, ON_ALL_NODES, ON_PART, ON_PART_SET
   use mefem_curves, only: curve_value
   implicit none
   private
 
-  public :: fixed_dofs, prescribed_displacements, external_forces
+  public :: fixed_dofs, prescribed_displacements, external_forces, target_nodes
+  public :: initial_velocities
 
   !> TC code of *NODE -> fixed x, y, z (1 x, 2 y, 3 z, 4 xy, 5 yz, 6 zx, 7 xyz).
   logical, parameter :: TC_FIXED(3, 0:7) = reshape([ &
@@ -24,12 +25,14 @@ module mefem_boundary_conditions
 
 contains
 
-  !> Nodes a node-targeted condition applies to (one node, a node set, or all nodes).
+  !> Nodes a condition applies to: one node, a node set, all nodes, or the nodes of the
+  !> elements of a part or of the parts of a part set (ascending, each once).
   subroutine target_nodes(model, kind, target, nodes)
     type(model_t), intent(in) :: model                !< resolved model
     integer, intent(in) :: kind, target               !< ON_* and index
     integer, allocatable, intent(out) :: nodes(:)     !< node indices
-    integer :: i
+    logical, allocatable :: in_part(:), marked(:)
+    integer :: i, e
     select case (kind)
     case (ON_NODE)
       nodes = [target]
@@ -37,10 +40,63 @@ contains
       nodes = pack(model%sets(target)%members, model%sets(target)%members > 0)
     case (ON_ALL_NODES)
       nodes = [(i, i = 1, model%nodes%n)]
+    case (ON_PART, ON_PART_SET)
+      allocate(in_part(model%n_parts), marked(model%nodes%n))
+      in_part = .false.
+      if (kind == ON_PART) then
+        in_part(target) = .true.
+      else
+        do i = 1, size(model%sets(target)%members)
+          if (model%sets(target)%members(i) > 0) in_part(model%sets(target)%members(i)) = .true.
+        end do
+      end if
+      marked = .false.
+      do e = 1, model%elements%n
+        if (.not. in_part(model%elements%part(e))) cycle
+        do i = 1, size(model%elements%conn, 1)
+          if (model%elements%conn(i, e) > 0) marked(model%elements%conn(i, e)) = .true.
+        end do
+      end do
+      nodes = pack([(i, i = 1, model%nodes%n)], marked)
     case default
       allocate(nodes(0))
     end select
   end subroutine target_nodes
+
+  !> Initial velocities of the mesh nodes (*INITIAL_VELOCITY, _NODE, _GENERATION), applied
+  !> in deck order (a later card overrides an earlier one at the same node); v(dim, nnode).
+  !> _GENERATION: v + omega n x (x - centre). *INITIAL_VELOCITY: VX.. plus the rotational
+  !> velocities VXR.. about the origin are not used for solids (translational nodes only).
+  subroutine initial_velocities(model, v)
+    type(model_t), intent(in) :: model       !< resolved model
+    real(wp), intent(out) :: v(:,:)          !< (dim, nnode) velocities
+    integer, allocatable :: nodes(:), exempt(:)
+    real(wp) :: w(3), r(3), spin(3)
+    integer :: k, n, dim
+    dim = size(v, 1)
+    v = 0.0_wp
+    do k = 1, model%n_initial_velocities
+      associate (iv => model%initial_velocities(k))
+        call target_nodes(model, iv%target_kind, iv%target, nodes)
+        w = iv%omega*iv%axis
+        do n = 1, size(nodes)
+          r = model%nodes%x(:, nodes(n)) - iv%center
+          if (iv%generation) then
+            spin = cross(w, r)
+            v(:, nodes(n)) = iv%v(1:dim) + spin(1:dim)
+          else
+            v(:, nodes(n)) = iv%v(1:dim)
+          end if
+        end do
+        if (iv%exempt_set > 0) then
+          call target_nodes(model, ON_NODE_SET, iv%exempt_set, exempt)
+          do n = 1, size(exempt)
+            v(:, exempt(n)) = iv%v_exempt(1:dim)
+          end do
+        end if
+      end associate
+    end do
+  end subroutine initial_velocities
 
   !> Degrees of freedom held fixed (zero displacement) at time t; fixed(dim, nnode).
   subroutine fixed_dofs(model, t, fixed)

@@ -1,0 +1,990 @@
+!> Explicit dynamics: central difference with lumped mass (seed section 3.2; formulation 2.8,
+!> 2.9), domain-decomposed.
+!>
+!> Cycle n, from t^n to t^{n+1} = t^n + dt^{n+1/2}, with LS-DYNA's half-step velocities:
+!>   v^{n+1/2} = v^{n-1/2} + dt_avg a^n,           dt_avg = (dt^{n-1/2} + dt^{n+1/2})/2
+!>   essential conditions on v^{n+1/2}: SPC and TC codes (0), prescribed motion
+!>     (VAD 0 velocity, 1 acceleration, 2 displacement);
+!>   u^{n+1} = u^n + dt^{n+1/2} v^{n+1/2}
+!>   f_int^{n+1}: per cell the smoothed F, the material update and f = w P grad, assembled
+!>     in ascending global cell order (bit-identical for any number of ranks);
+!>   a^{n+1} = (f_ext^{n+1} - f_int^{n+1}) / m
+!>   dt^{n+3/2} = TSSFAC min over cells of 2/omega_cell (global minimum), optionally with
+!>     mass scaling (DT2MS < 0: mass added only to cells whose step is below TSSFAC |DT2MS|).
+!>
+!> Parallel layout (mefem_explicit_layout): each rank computes the cells of its own elements
+!> (METIS partition) and holds every node they touch; the nodal forces of shared nodes are
+!> completed by a halo exchange of the cells' contributions, started after the outer cells
+!> and finished after the inner ones. Every rank then updates all its local nodes, shared ones
+!> included, with identical data, so copies never drift and no second exchange is needed.
+!> Reductions: the time step (one per cycle), energies and histories (at output times).
+!>
+!> Energies (glstat): internal energy by the trapezoidal rule on the nodal forces,
+!> E_int += (f_int^n + f_int^{n+1})/2 . du (the same as the cells' stress power, F being
+!> linear in u); external work likewise from f_ext and the reactions of prescribed motions;
+!> kinetic energy with v^{n+1} = v^{n+1/2} + dt/2 a^{n+1}. Sums run over owned nodes.
+module mefem_explicit_dynamics
+  use, intrinsic :: iso_fortran_env, only: error_unit
+  use mefem_kinds, only: wp
+  use mefem_comm, only: comm_sum, comm_min, comm_max, comm_wtime, comm_size
+  use mefem_errors, only: status_t, fatal, say, warn
+  use mefem_strings, only: itoa, rtoa
+  use mefem_model, only: model_t, ON_NODE, ON_NODE_SET, MAT_RIGID, TOPO_TET4, TOPO_TRI3
+  use mefem_decomposition, only: decomposition_t
+  use mefem_model_partition, only: element_csr
+  use mefem_explicit_layout, only: explicit_layout_t, explicit_layout_build, &
+                                   explicit_layout_local_node
+  use mefem_halo, only: halo_t, halo_build, halo_assemble_start, halo_assemble_finish, &
+                        halo_assemble
+  use mefem_cells, only: cells_t, cells_build, cells_summary, CELL_MAX_NODES
+  use mefem_cell_finite_strain, only: cell_deformation_gradient, cell_internal_force, &
+                                      inverse_3x3
+  use mefem_lumped_mass, only: lumped_mass
+  use mefem_stable_time_step, only: cell_mass_shares, cell_inverse_mass_metric, &
+                                    cell_critical_omega_squared
+  use mefem_material_state, only: NHIST, HIST_ALPHA, material_state_init
+  use mefem_material_update, only: material_update, material_elastic_moduli
+  use mefem_curves, only: curve_value
+  use mefem_boundary_conditions, only: fixed_dofs, external_forces, target_nodes, &
+                                       initial_velocities
+  use mefem_output_mesh, only: output_field_t
+  use mefem_results, only: results_write_state, results_directory
+  use mefem_solver_common, only: cell_result_fields
+  use mefem_history_output, only: glstat_record_t, glstat_open, glstat_write, glstat_close, &
+                                  glstat_total_energy, glstat_energy_ratio, nodout_open, &
+                                  nodout_write, nodout_close
+  use mefem_progress, only: progress_start, progress_update, progress_finish
+  use mefem_rigid_walls, only: rigid_wall_nodes, rigid_wall_constrain, rigid_wall_normal
+  use mefem_history_output, only: rwforc_open, rwforc_write, rwforc_close
+  implicit none
+  private
+
+  public :: explicit_dynamics_run
+
+  integer, parameter :: VAD_VELOCITY = 0, VAD_ACCELERATION = 1, VAD_DISPLACEMENT = 2
+
+  !> Local nodes one rigid wall tests.
+  type :: node_list_t
+    integer, allocatable :: nodes(:)           !< local node numbers
+  end type node_list_t
+
+  !> One rank's share of the explicit model: local nodes (layout numbering: mesh nodes, then
+  !> enriched nodes) and the cells it computes, in flat contiguous arrays.
+  type :: explicit_state_t
+    integer :: dim = 3                         !< 2 (plane strain) or 3
+    integer :: nnode = 0                       !< local nodes
+    integer :: ncell = 0                       !< local cells
+    ! nodes
+    real(wp), allocatable :: x0(:,:)           !< (dim, nnode) reference coordinates
+    real(wp), allocatable :: u(:,:)            !< (dim, nnode) displacements u^n
+    real(wp), allocatable :: v(:,:)            !< (dim, nnode) velocities v^{n+1/2}
+    real(wp), allocatable :: v_old(:,:)        !< (dim, nnode) velocities v^{n-1/2}
+    real(wp), allocatable :: a(:,:)            !< (dim, nnode) accelerations a^n
+    real(wp), allocatable :: f_int(:,:)        !< (dim, nnode) internal forces at t^n
+    real(wp), allocatable :: f_int_new(:,:)    !< (dim, nnode) internal forces being assembled
+    real(wp), allocatable :: f_ext(:,:)        !< (dim, nnode) external forces at t^n
+    real(wp), allocatable :: f_ext_new(:,:)    !< (dim, nnode) external forces at t^{n+1}
+    real(wp), allocatable :: mass(:)           !< (nnode) lumped mass (with added mass)
+    real(wp), allocatable :: physical_mass(:)  !< (nnode) lumped mass without mass scaling
+    integer, allocatable :: node_global(:)     !< (nnode) global node (mesh, then enriched)
+    logical, allocatable :: owned(:)           !< (nnode) this rank owns the node
+    logical, allocatable :: active(:)          !< (nnode) has mass: integrated
+    logical, allocatable :: fixed(:,:)         !< (dim, nnode) SPC / TC fixed dof
+    logical, allocatable :: constrained(:,:)   !< (dim, nnode) fixed or prescribed dof
+    ! prescribed motions of deformable nodes: entry k moves dof prescribed_dof(k) of local
+    ! node prescribed_node(k) as model%motions(prescribed_motion(k)) says
+    integer :: nprescribed = 0
+    integer, allocatable :: prescribed_node(:), prescribed_dof(:), prescribed_motion(:)
+    ! cells
+    integer, allocatable :: outer(:)           !< local cells touching a shared node
+    integer, allocatable :: inner(:)           !< the other local cells
+    integer, allocatable :: cell_global(:)     !< (ncell) global cell index
+    integer, allocatable :: cell_element(:)    !< (ncell) first model element of the cell
+    integer, allocatable :: nnodes(:)          !< (ncell) nodes of the cell
+    integer, allocatable :: nodes(:,:)         !< (CELL_MAX_NODES, ncell) local nodes
+    real(wp), allocatable :: grad(:,:,:)       !< (dim, CELL_MAX_NODES, ncell) gradients
+    real(wp), allocatable :: weight(:)         !< (ncell) reference area/volume
+    integer, allocatable :: material(:)        !< (ncell) material index
+    real(wp), allocatable :: lame(:,:)         !< (2, ncell) lambda, mu of the material
+    real(wp), allocatable :: w0(:,:,:)         !< (dim, dim, ncell) sum g g^T / m_share
+    real(wp), allocatable :: share(:,:)        !< (CELL_MAX_NODES, ncell) mass shares
+    real(wp), allocatable :: hist(:,:)         !< (NHIST, ncell) material history
+    real(wp), allocatable :: cell_force(:,:,:) !< (dim, CELL_MAX_NODES, ncell) contributions
+    real(wp), allocatable :: added(:,:,:)      !< (1, CELL_MAX_NODES, ncell) added masses
+    logical :: mass_scaling = .false.          !< DT2MS < 0 given
+    ! time step of the last force evaluation
+    real(wp) :: dt_stable = huge(1.0_wp)       !< TSSFAC min 2/omega over local cells
+    integer :: dt_cell = 0                     !< local cell that set it
+    logical :: failed = .false.                !< a cell failed (message in failure)
+    character(len=256) :: failure = ''
+    ! rigid walls
+    integer :: nwall = 0
+    type(node_list_t), allocatable :: wall_nodes(:)  !< (nwall) nodes each wall tests
+    real(wp), allocatable :: wall_force(:,:)   !< (3, nwall) force of the owned nodes, last cycle
+    real(wp), allocatable :: u_old(:,:)        !< (dim, nnode) u^n while walls need it
+    real(wp), allocatable :: v_trial(:,:)      !< (dim, nnode) v^{n+1/2} before the walls
+    real(wp) :: wall_work = 0.0_wp             !< work of the walls on the owned nodes
+    ! energies accumulated over owned nodes (summed over ranks when written)
+    real(wp) :: internal_energy = 0.0_wp
+    real(wp) :: external_work = 0.0_wp
+  end type explicit_state_t
+
+  !> Output schedule and counters.
+  type :: schedule_t
+    real(wp) :: plot_interval = 0.0_wp, next_plot = 0.0_wp
+    real(wp) :: glstat_interval = 0.0_wp, next_glstat = 0.0_wp
+    real(wp) :: nodout_interval = 0.0_wp, next_nodout = 0.0_wp
+    real(wp) :: last_plot = -1.0_wp, last_glstat = -1.0_wp, last_nodout = -1.0_wp
+    integer :: plot_state = 1                  !< next output state number
+    real(wp) :: initial_energy = 0.0_wp        !< total energy at t = 0
+    logical :: have_initial_energy = .false.
+  end type schedule_t
+
+  !> Wall time spent in the phases of the cycle (for the run summary).
+  type :: timing_t
+    real(wp) :: forces = 0.0_wp                !< cells: F, material, forces, time step
+    real(wp) :: exchange = 0.0_wp              !< waiting for the halo and the reductions
+    real(wp) :: update = 0.0_wp                !< nodal update, conditions, energies
+    real(wp) :: output = 0.0_wp                !< states and histories
+  end type timing_t
+
+contains
+
+  !> Run the explicit analysis from t = 0 to ENDTIM (or ENDCYC cycles).
+  subroutine explicit_dynamics_run(model, decomp, element_rank)
+    type(model_t), intent(in) :: model                !< resolved model
+    type(decomposition_t), intent(in) :: decomp       !< this rank's output piece
+    integer, intent(in) :: element_rank(:)            !< rank of every element (METIS)
+    type(cells_t) :: cells
+    type(explicit_layout_t) :: layout
+    type(halo_t) :: halo
+    type(explicit_state_t) :: s
+    type(schedule_t) :: schedule
+    type(timing_t) :: timing
+    type(status_t) :: status
+    real(wp) :: t, dt, dt_old, dt_first, end_time, clock, t_start, dt_floor
+    integer :: cycle, end_cycle
+    logical :: printed
+
+    t_start = comm_wtime()
+    call check_supported(model)
+    call cells_build(model, cells, status)
+    if (.not. status%ok) call fatal('element set-up: '//status%message)
+    call cells_summary(cells)
+    call set_up(model, decomp, element_rank, cells, layout, halo, s)
+    call say('explicit: '//itoa(layout%nnode_global)//' nodes (with enriched), '// &
+             itoa(cells%n)//' cells on '//itoa(comm_size())//' rank(s)')
+
+    ! initial state: forces and accelerations at t = 0, the first stable step
+    t = 0.0_wp
+    cycle = 0
+    end_time = model%controls%end_time
+    end_cycle = model%controls%end_cycle
+    call compute_forces(model, s, halo, 0.0_wp, timing)
+    s%f_int = s%f_int_new
+    s%f_ext = s%f_ext_new
+    call accelerations(s)
+    dt = next_time_step(s)
+    if (dt < 0.0_wp) call stop_on_failure(model, decomp, cells, layout, s, schedule, cycle, t, &
+                                          0.0_wp, timing)
+    if (model%controls%dt_init > 0.0_wp) dt = min(dt, model%controls%dt_init)
+    dt_first = dt
+    dt_floor = model%controls%dt_min_fraction*dt_first
+    dt_old = 0.0_wp
+    call open_histories(model, schedule)
+    call write_outputs(model, decomp, cells, layout, s, schedule, cycle, t, dt, .false., timing)
+    call progress_start('explicit', end_time, end_cycle)
+
+    do while (t < end_time*(1.0_wp - 1.0e-12_wp) .and. (end_cycle <= 0 .or. cycle < end_cycle))
+      dt = min(dt, end_time - t)
+      cycle = cycle + 1
+      clock = comm_wtime()
+      call update_velocities(model, s, t, dt_old, dt)
+      if (s%nwall > 0) s%u_old = s%u
+      s%u = s%u + dt*s%v
+      if (s%nwall > 0) call apply_rigid_walls(model, s, t + dt, dt_old, dt)
+      timing%update = timing%update + (comm_wtime() - clock)
+      t = t + dt
+      call compute_forces(model, s, halo, t, timing)
+      clock = comm_wtime()
+      call accumulate_energies(s, dt)
+      call accelerations(s)
+      timing%update = timing%update + (comm_wtime() - clock)
+      dt_old = dt
+      dt = next_time_step(s)
+      if (dt < 0.0_wp) call stop_on_failure(model, decomp, cells, layout, s, schedule, cycle, &
+                                            t, dt_old, timing)
+      call write_outputs(model, decomp, cells, layout, s, schedule, cycle, t, dt_old, .false., &
+                         timing)
+      call progress_update(cycle, t, dt_old, printed)
+      if (dt < dt_floor) then
+        call write_outputs(model, decomp, cells, layout, s, schedule, cycle, t, dt_old, .true., &
+                           timing)
+        call close_histories()
+        call fatal('explicit: the time step '//rtoa(dt)//' fell below DTMIN x the initial '// &
+                   'step = '//rtoa(dt_floor)//' at cycle '//itoa(cycle)//', t = '//rtoa(t)// &
+                   '; the state at that time was written')
+      end if
+    end do
+    call write_outputs(model, decomp, cells, layout, s, schedule, cycle, t, dt_old, .true., timing)
+    call close_histories()
+    call progress_finish()
+    call report_timing(model, s, cycle, timing, comm_wtime() - t_start)
+  end subroutine explicit_dynamics_run
+
+  !> What the explicit solver takes (anything else is reported before the run starts).
+  subroutine check_supported(model)
+    type(model_t), intent(in) :: model   !< resolved model
+    integer :: k
+    logical :: bad
+    bad = .false.
+    if (model%controls%end_time <= 0.0_wp .and. model%controls%end_cycle <= 0) then
+      call say('explicit analysis needs *CONTROL_TERMINATION ENDTIM (or ENDCYC)')
+      bad = .true.
+    end if
+    if (model%controls%dt2ms > 0.0_wp) then
+      call say('*CONTROL_TIMESTEP DT2MS > 0 (uniform mass scaling) is not supported: use a '// &
+               'negative DT2MS (mass added only where the step is too small)')
+      bad = .true.
+    end if
+    do k = 1, model%n_motions
+      associate (pm => model%motions(k))
+        if (pm%target_kind /= ON_NODE .and. pm%target_kind /= ON_NODE_SET) then
+          call say('line '//itoa(pm%src%line)//': *BOUNDARY_PRESCRIBED_MOTION_RIGID needs '// &
+                   'rigid bodies, not available in the explicit solver yet')
+          bad = .true.
+        else if (abs(pm%dof) < 1 .or. abs(pm%dof) > model%dimension .or. pm%vad < 0 .or. &
+                 pm%vad > 2) then
+          call say('line '//itoa(pm%src%line)//': *BOUNDARY_PRESCRIBED_MOTION: the explicit '// &
+                   'solver takes DOF 1..'//itoa(model%dimension)//' and VAD 0, 1, 2 (got DOF '// &
+                   itoa(pm%dof)//', VAD '//itoa(pm%vad)//')')
+          bad = .true.
+        end if
+      end associate
+    end do
+    do k = 1, model%n_parts
+      if (model%parts(k)%material == 0) cycle
+      if (model%materials(model%parts(k)%material)%kind == MAT_RIGID) then
+        call say('part '//itoa(model%parts(k)%id)//': rigid parts are not available in the '// &
+                 'explicit solver yet')
+        bad = .true.
+      end if
+    end do
+    if (model%n_contacts > 0) then
+      call say('contact is not available in the explicit solver yet')
+      bad = .true.
+    end if
+    if (bad) call fatal('explicit: the model asks for what the explicit solver does not do '// &
+                        '(see above); nothing was run')
+  end subroutine check_supported
+
+  !> This rank's layout, halo, local cells and nodes, masses, conditions and initial state.
+  subroutine set_up(model, decomp, element_rank, cells, layout, halo, s)
+    type(model_t), intent(in) :: model                !< resolved model
+    type(decomposition_t), intent(in) :: decomp       !< this rank's decomposition
+    integer, intent(in) :: element_rank(:)            !< rank of every element
+    type(cells_t), intent(in) :: cells                !< all cells
+    type(explicit_layout_t), intent(out) :: layout    !< this rank's share
+    type(halo_t), intent(out) :: halo                 !< force exchange
+    type(explicit_state_t), intent(inout) :: s        !< local state
+    integer, allocatable :: elem_start(:), elem_nodes(:)
+    real(wp), allocatable :: mass_global(:), share_global(:,:), v_global(:,:)
+    real(wp), allocatable :: w0_global(:,:,:)
+    logical, allocatable :: fixed_global(:,:)
+    real(wp) :: lambda, mu
+    integer :: dim, n, g, l, c, e, nv, k, count_entries, pass, i
+    integer, allocatable :: nodes(:)
+
+    dim = cells%dim
+    s%dim = dim
+    nv = dim + 1
+    call element_csr(model, elem_start, elem_nodes)
+    call explicit_layout_build(decomp, element_rank, elem_start, elem_nodes, cells, layout)
+    call halo_build(halo, layout, dim)
+    s%nnode = layout%nnode_local
+    s%ncell = layout%ncell_local
+
+    ! nodes: reference positions (an enriched node sits at its element's centroid), masses
+    allocate(s%x0(dim, s%nnode))
+    do l = 1, s%nnode
+      g = layout%node_global(l)
+      if (g <= cells%n_mesh_nodes) then
+        s%x0(:, l) = model%nodes%x(1:dim, g)
+      else
+        e = cells%enriched_element(g - cells%n_mesh_nodes)
+        s%x0(:, l) = 0.0_wp
+        do k = 1, nv
+          s%x0(:, l) = s%x0(:, l) + model%nodes%x(1:dim, model%elements%conn(k, e))/real(nv, wp)
+        end do
+      end if
+    end do
+    call lumped_mass(model, cells, mass_global)
+    s%physical_mass = mass_global(layout%node_global)
+    s%mass = s%physical_mass
+    s%owned = layout%node_owned
+    s%active = s%mass > 0.0_wp
+
+    ! cells: local copies in the layout's order
+    allocate(s%cell_global(s%ncell), s%nnodes(s%ncell), s%grad(dim, CELL_MAX_NODES, s%ncell), &
+             s%weight(s%ncell), s%material(s%ncell), s%lame(2, s%ncell), &
+             s%w0(dim, dim, s%ncell), s%share(CELL_MAX_NODES, s%ncell), &
+             s%hist(NHIST, s%ncell), s%cell_force(dim, CELL_MAX_NODES, s%ncell))
+    s%cell_global = layout%cell_global(1:s%ncell)
+    s%cell_element = cells%elements(1, s%cell_global)
+    s%node_global = layout%node_global
+    s%outer = layout%outer_cells
+    s%inner = layout%inner_cells
+    s%nodes = layout%cell_nodes(:, 1:s%ncell)
+    call cell_mass_shares(model, cells, share_global)
+    call cell_inverse_mass_metric(cells, share_global, w0_global)
+    do l = 1, s%ncell
+      c = s%cell_global(l)
+      s%nnodes(l) = cells%nnodes(c)
+      s%grad(:, :, l) = cells%grad(:, :, c)
+      s%weight(l) = cells%weight(c)
+      s%material(l) = cells%material(c)
+      call material_elastic_moduli(model%materials(s%material(l)), lambda, mu)
+      s%lame(:, l) = [lambda, mu]
+      s%w0(:, :, l) = w0_global(:, :, c)
+      s%share(:, l) = share_global(:, c)
+      call material_state_init(s%hist(:, l))
+    end do
+    s%cell_force = 0.0_wp
+    s%mass_scaling = model%controls%dt2ms < 0.0_wp
+    if (s%mass_scaling) allocate(s%added(1, CELL_MAX_NODES, s%ncell))
+
+    ! essential conditions: fixed dofs and the prescribed motions of local mesh nodes
+    allocate(fixed_global(dim, cells%n_mesh_nodes))
+    fixed_global = .false.
+    call fixed_dofs(model, 0.0_wp, fixed_global)
+    allocate(s%fixed(dim, s%nnode))
+    s%fixed = .false.
+    do l = 1, s%nnode
+      g = layout%node_global(l)
+      if (g <= cells%n_mesh_nodes) s%fixed(:, l) = fixed_global(:, g)
+    end do
+    s%constrained = s%fixed
+    do pass = 1, 2                      ! count, then fill
+      count_entries = 0
+      do k = 1, model%n_motions
+        call target_nodes(model, model%motions(k)%target_kind, model%motions(k)%target, nodes)
+        do i = 1, size(nodes)
+          l = explicit_layout_local_node(layout, nodes(i))
+          if (l == 0) cycle
+          count_entries = count_entries + 1
+          if (pass == 2) then
+            s%prescribed_node(count_entries) = l
+            s%prescribed_dof(count_entries) = abs(model%motions(k)%dof)
+            s%prescribed_motion(count_entries) = k
+            s%constrained(abs(model%motions(k)%dof), l) = .true.
+          end if
+        end do
+      end do
+      if (pass == 1) allocate(s%prescribed_node(count_entries), &
+                              s%prescribed_dof(count_entries), s%prescribed_motion(count_entries))
+    end do
+    s%nprescribed = count_entries
+
+    ! initial velocities: mesh nodes from the deck, an enriched node the mean of its element's
+    ! corners (the value of the linear field at the centroid, which the enrichment reproduces)
+    allocate(v_global(dim, cells%n_mesh_nodes))
+    call initial_velocities(model, v_global)
+    allocate(s%u(dim, s%nnode), s%v(dim, s%nnode), s%v_old(dim, s%nnode), s%a(dim, s%nnode), &
+             s%f_int(dim, s%nnode), s%f_int_new(dim, s%nnode), s%f_ext(dim, s%nnode), &
+             s%f_ext_new(dim, s%nnode))
+    s%u = 0.0_wp
+    s%a = 0.0_wp
+    do l = 1, s%nnode
+      g = layout%node_global(l)
+      if (g <= cells%n_mesh_nodes) then
+        s%v(:, l) = v_global(:, g)
+      else
+        e = cells%enriched_element(g - cells%n_mesh_nodes)
+        s%v(:, l) = 0.0_wp
+        do k = 1, nv
+          s%v(:, l) = s%v(:, l) + v_global(:, model%elements%conn(k, e))/real(nv, wp)
+        end do
+      end if
+    end do
+    where (s%fixed) s%v = 0.0_wp
+    s%v_old = s%v
+    do n = 1, s%nnode
+      if (.not. s%active(n)) s%v(:, n) = 0.0_wp
+    end do
+
+    ! rigid walls: the local nodes each one tests
+    s%nwall = model%n_rigid_walls
+    allocate(s%wall_nodes(s%nwall), s%wall_force(3, s%nwall))
+    s%wall_force = 0.0_wp
+    do k = 1, s%nwall
+      call rigid_wall_nodes(model, k, s%node_global, cells%n_mesh_nodes, s%wall_nodes(k)%nodes)
+    end do
+    if (s%nwall > 0) allocate(s%u_old(dim, s%nnode), s%v_trial(dim, s%nnode))
+  end subroutine set_up
+
+  !> Rigid walls after the displacement update: penetrating nodes back onto the plane, their
+  !> velocities corrected; the walls' forces on the owned nodes are kept. The wall's work is
+  !> booked like a prescribed motion's: its reaction r^n = m dv/dt_avg times the mean
+  !> displacement (du^{n-1/2} + du^{n+1/2})/2 (a node stopped on the wall loses 1/2 m v^2;
+  !> a node held there does no work).
+  subroutine apply_rigid_walls(model, s, t_new, dt_old, dt)
+    type(model_t), intent(in) :: model                !< resolved model
+    type(explicit_state_t), intent(inout) :: s        !< local state
+    real(wp), intent(in) :: t_new                     !< t^{n+1}
+    real(wp), intent(in) :: dt_old, dt                !< dt^{n-1/2}, dt^{n+1/2}
+    real(wp) :: dt_avg
+    integer :: k, j, n
+    dt_avg = 0.5_wp*(dt_old + dt)
+    do k = 1, s%nwall
+      associate (nodes => s%wall_nodes(k)%nodes)
+        s%v_trial(:, nodes) = s%v(:, nodes)
+        call rigid_wall_constrain(model%rigid_walls(k), s%dim, s%x0, s%u, s%v, s%u_old, &
+                                  s%mass, dt, t_new, nodes, s%owned, s%wall_force(:, k))
+        do j = 1, size(nodes)
+          n = nodes(j)
+          if (.not. s%owned(n)) cycle
+          s%wall_work = s%wall_work + s%mass(n)*dot_product(s%v(:, n) - s%v_trial(:, n), &
+              0.5_wp*(dt_old*s%v_old(:, n) + dt*s%v(:, n)))/dt_avg
+        end do
+      end associate
+    end do
+  end subroutine apply_rigid_walls
+
+  !> v^{n+1/2} from v^{n-1/2} and a^n, then the essential conditions.
+  subroutine update_velocities(model, s, t, dt_old, dt)
+    type(model_t), intent(in) :: model                !< resolved model
+    type(explicit_state_t), intent(inout) :: s        !< local state
+    real(wp), intent(in) :: t                         !< t^n
+    real(wp), intent(in) :: dt_old, dt                !< dt^{n-1/2} (0 at the start), dt^{n+1/2}
+    real(wp) :: dt_avg, amount, work
+    integer :: k, n, i, m
+    dt_avg = 0.5_wp*(dt_old + dt)
+    s%v_old = s%v
+    do n = 1, s%nnode
+      if (s%active(n)) s%v(:, n) = s%v(:, n) + dt_avg*s%a(:, n)
+    end do
+    where (s%fixed) s%v = 0.0_wp
+    work = 0.0_wp
+    do k = 1, s%nprescribed
+      n = s%prescribed_node(k)
+      i = s%prescribed_dof(k)
+      m = s%prescribed_motion(k)
+      associate (pm => model%motions(m))
+        if (t + dt < pm%birth .or. t > pm%death) cycle
+        select case (pm%vad)
+        case (VAD_VELOCITY)
+          amount = pm%scale*curve_value(model%curves(pm%curve), t + 0.5_wp*dt)
+          s%v(i, n) = amount
+        case (VAD_ACCELERATION)
+          amount = pm%scale*curve_value(model%curves(pm%curve), t)
+          s%v(i, n) = s%v_old(i, n) + dt_avg*amount
+        case (VAD_DISPLACEMENT)
+          amount = pm%scale*curve_value(model%curves(pm%curve), t + dt)
+          s%v(i, n) = (amount - s%u(i, n))/dt
+        end select
+        ! work of the reaction at t^n over the half steps around it (owned nodes)
+        if (s%owned(n) .and. dt_avg > 0.0_wp) work = work + &
+            (s%mass(n)*(s%v(i, n) - s%v_old(i, n))/dt_avg - s%f_ext(i, n) + s%f_int(i, n))* &
+            0.5_wp*(dt_old*s%v_old(i, n) + dt*s%v(i, n))
+      end associate
+    end do
+    s%external_work = s%external_work + work
+  end subroutine update_velocities
+
+  !> Internal and external forces at time t (into f_int_new, f_ext_new) and the local stable
+  !> time step; the halo exchange of the outer cells' contributions overlaps the inner cells.
+  subroutine compute_forces(model, s, halo, t, timing)
+    type(model_t), intent(in) :: model                !< resolved model
+    type(explicit_state_t), intent(inout) :: s        !< local state
+    type(halo_t), intent(inout) :: halo               !< force exchange
+    real(wp), intent(in) :: t                         !< time of the forces
+    type(timing_t), intent(inout) :: timing           !< phase times
+    real(wp) :: clock
+    integer :: k
+    clock = comm_wtime()
+    s%dt_stable = huge(1.0_wp)
+    s%dt_cell = 0
+    s%failed = .false.
+    do k = 1, size(s%outer)
+      call cell_forces(model, s, s%outer(k))
+    end do
+    call halo_assemble_start(halo, s%cell_force)
+    do k = 1, size(s%inner)
+      call cell_forces(model, s, s%inner(k))
+    end do
+    timing%forces = timing%forces + (comm_wtime() - clock)
+    clock = comm_wtime()
+    call halo_assemble_finish(halo, s%cell_force, s%f_int_new)
+    if (s%mass_scaling) then
+      block
+        real(wp) :: added(1, s%nnode)
+        call halo_assemble(halo, s%added, added)
+        s%mass = s%physical_mass + added(1, :)
+      end block
+    end if
+    timing%exchange = timing%exchange + (comm_wtime() - clock)
+    call external_nodal_forces(model, s, t)
+  end subroutine compute_forces
+
+  !> One cell: smoothed F, material update (history committed at once: explicit), the
+  !> nodal force contributions and the cell's stable step (with added mass if scaling).
+  subroutine cell_forces(model, s, l)
+    type(model_t), intent(in) :: model                !< resolved model
+    type(explicit_state_t), intent(inout) :: s        !< local state
+    integer, intent(in) :: l                          !< local cell
+    real(wp) :: ue(3, CELL_MAX_NODES), f(3, 3), tau(3, 3), hist_new(NHIST), sound, omega2
+    real(wp) :: dt_cell, target, factor
+    type(status_t) :: status
+    integer :: nn, dim
+    dim = s%dim
+    nn = s%nnodes(l)
+    ue(1:dim, 1:nn) = s%u(:, s%nodes(1:nn, l))
+    call cell_deformation_gradient(dim, nn, s%grad(:, :, l), ue(1:dim, 1:nn), f)
+    call material_update(model%materials(s%material(l)), model%curves, f, s%hist(:, l), &
+                         hist_new, tau, sound_speed=sound, status=status)
+    if (.not. status%ok) then
+      s%cell_force(:, :, l) = 0.0_wp
+      if (.not. s%failed) s%failure = 'element '// &
+          itoa(model%elements%id(first_element(s, l)))//': '//trim(status%message)
+      s%failed = .true.
+      return
+    end if
+    s%hist(:, l) = hist_new
+    call cell_internal_force(dim, nn, s%grad(:, :, l), s%weight(l), f, tau, &
+                             s%cell_force(:, 1:nn, l))
+    omega2 = cell_critical_omega_squared(dim, s%weight(l), s%w0(:, :, l), f, s%lame(1, l), &
+                                         s%lame(2, l))
+    if (.not. (omega2 >= 0.0_wp .and. omega2 < huge(1.0_wp))) then     ! NaN or overflow
+      if (.not. s%failed) s%failure = 'element '// &
+          itoa(model%elements%id(first_element(s, l)))//': the stable time step is not a '// &
+          'number (NaN or infinite deformation)'
+      s%failed = .true.
+      return
+    end if
+    dt_cell = 2.0_wp/sqrt(max(omega2, tiny(1.0_wp)))
+    if (s%mass_scaling) then
+      target = abs(model%controls%dt2ms)
+      factor = 0.0_wp
+      if (dt_cell < target) then
+        factor = (target/dt_cell)**2 - 1.0_wp
+        dt_cell = target
+      end if
+      s%added(1, 1:nn, l) = factor*s%share(1:nn, l)
+    end if
+    dt_cell = model%controls%tssfac*dt_cell
+    if (dt_cell < s%dt_stable) then
+      s%dt_stable = dt_cell
+      s%dt_cell = l
+    end if
+  end subroutine cell_forces
+
+  !> The model element a local cell belongs to (the first of its one or two elements).
+  integer function first_element(s, l)
+    type(explicit_state_t), intent(in) :: s     !< local state
+    integer, intent(in) :: l                    !< local cell
+    first_element = s%cell_element(l)
+  end function first_element
+
+  !> External nodal forces at time t of the local mesh nodes (loads of the global model).
+  subroutine external_nodal_forces(model, s, t)
+    type(model_t), intent(in) :: model                !< resolved model
+    type(explicit_state_t), intent(inout) :: s        !< local state
+    real(wp), intent(in) :: t                         !< time
+    real(wp), allocatable :: force(:,:)
+    integer :: l, g
+    s%f_ext_new = 0.0_wp
+    if (model%n_nodal_loads + model%n_pressure_loads == 0) return
+    allocate(force(s%dim, model%nodes%n))
+    force = 0.0_wp
+    call external_forces(model, t, force)
+    do l = 1, s%nnode
+      g = s%node_global(l)
+      if (g <= model%nodes%n) s%f_ext_new(:, l) = force(:, g)
+    end do
+  end subroutine external_nodal_forces
+
+  !> A cell failed (inverted, return map, NaN): write the state reached and stop, naming the
+  !> element (printed by the rank that found it), the cycle and the time.
+  subroutine stop_on_failure(model, decomp, cells, layout, s, schedule, cycle, t, dt, timing)
+    type(model_t), intent(in) :: model                !< resolved model
+    type(decomposition_t), intent(in) :: decomp       !< this rank's output piece
+    type(cells_t), intent(in) :: cells                !< all cells
+    type(explicit_layout_t), intent(in) :: layout     !< this rank's share
+    type(explicit_state_t), intent(in) :: s           !< local state
+    type(schedule_t), intent(inout) :: schedule       !< what is due when
+    integer, intent(in) :: cycle                      !< cycle just completed
+    real(wp), intent(in) :: t, dt                     !< time, the step that reached it
+    type(timing_t), intent(inout) :: timing           !< phase times
+    call write_outputs(model, decomp, cells, layout, s, schedule, cycle, t, dt, .true., timing)
+    call close_histories()
+    call fatal('explicit: a cell failed at cycle '//itoa(cycle)//', t = '//rtoa(t)// &
+               ' (element named above); the state at that time was written')
+  end subroutine stop_on_failure
+
+  !> a = (f_ext - f_int)/m at the integrated nodes; zero at constrained dofs (used only for
+  !> the full-step velocity of the kinetic energy there).
+  subroutine accelerations(s)
+    type(explicit_state_t), intent(inout) :: s        !< local state
+    integer :: n
+    do n = 1, s%nnode
+      if (s%active(n)) then
+        s%a(:, n) = (s%f_ext(:, n) - s%f_int(:, n))/s%mass(n)
+      else
+        s%a(:, n) = 0.0_wp
+      end if
+    end do
+    where (s%constrained) s%a = 0.0_wp
+  end subroutine accelerations
+
+  !> Trapezoidal internal energy and external work of the step just made (owned nodes), then
+  !> the new forces become the current ones (array swap, no copy).
+  subroutine accumulate_energies(s, dt)
+    type(explicit_state_t), intent(inout) :: s        !< local state
+    real(wp), intent(in) :: dt                        !< dt^{n+1/2}
+    real(wp), allocatable :: scratch(:,:)
+    real(wp) :: internal, external
+    integer :: n
+    internal = 0.0_wp
+    external = 0.0_wp
+    do n = 1, s%nnode
+      if (.not. s%owned(n)) cycle
+      internal = internal + 0.5_wp*dt*dot_product(s%f_int(:, n) + s%f_int_new(:, n), s%v(:, n))
+      external = external + 0.5_wp*dt*dot_product(s%f_ext(:, n) + s%f_ext_new(:, n), s%v(:, n))
+    end do
+    s%internal_energy = s%internal_energy + internal
+    s%external_work = s%external_work + external
+    call move_alloc(s%f_int, scratch)
+    call move_alloc(s%f_int_new, s%f_int)
+    call move_alloc(scratch, s%f_int_new)
+    call move_alloc(s%f_ext, scratch)
+    call move_alloc(s%f_ext_new, s%f_ext)
+    call move_alloc(scratch, s%f_ext_new)
+  end subroutine accumulate_energies
+
+  !> The next time step: the global minimum of the cells' stable steps (one reduction per
+  !> cycle). A failed cell anywhere gives -1; the rank that found it prints what happened.
+  real(wp) function next_time_step(s) result(dt)
+    type(explicit_state_t), intent(in) :: s           !< local state
+    dt = s%dt_stable
+    if (s%failed) dt = -1.0_wp
+    call comm_min(dt)
+    if (dt < 0.0_wp .and. s%failed) write(error_unit, '(a)') 'mefem: error: '//trim(s%failure)
+  end function next_time_step
+
+  !> Write what is due at time t: result states (d3plot interval), glstat, nodout.
+  !> final = .true. writes all of them whatever the schedule (end of run, failure).
+  subroutine write_outputs(model, decomp, cells, layout, s, schedule, cycle, t, dt, final, timing)
+    type(model_t), intent(in) :: model                !< resolved model
+    type(decomposition_t), intent(in) :: decomp       !< this rank's output piece
+    type(cells_t), intent(in) :: cells                !< all cells
+    type(explicit_layout_t), intent(in) :: layout     !< this rank's share
+    type(explicit_state_t), intent(in) :: s           !< local state
+    type(schedule_t), intent(inout) :: schedule       !< what is due when
+    integer, intent(in) :: cycle                      !< cycle just completed
+    real(wp), intent(in) :: t                         !< time reached
+    real(wp), intent(in) :: dt                        !< the step that reached it
+    logical, intent(in) :: final                      !< write everything now
+    type(timing_t), intent(inout) :: timing           !< phase times
+    real(wp) :: clock
+    clock = comm_wtime()
+    if (due(schedule%plot_interval, schedule%next_plot, schedule%last_plot, t, final) .and. &
+        t > 0.0_wp) then
+      call write_state(model, decomp, cells, layout, s, schedule%plot_state, t, dt)
+      schedule%plot_state = schedule%plot_state + 1
+    end if
+    if (due(schedule%glstat_interval, schedule%next_glstat, schedule%last_glstat, t, final)) &
+        then
+      call write_glstat(model, s, schedule, cycle, t, dt)
+      if (s%nwall > 0) call write_rwforc(model, s, t)
+    end if
+    if (due(schedule%nodout_interval, schedule%next_nodout, schedule%last_nodout, t, final)) &
+      call write_nodout(model, layout, s, cycle, t, dt)
+    timing%output = timing%output + (comm_wtime() - clock)
+  end subroutine write_outputs
+
+  !> Is an output of this interval due at time t? Advances its next time; never writes the
+  !> same time twice.
+  logical function due(interval, next, last, t, final)
+    real(wp), intent(in) :: interval                  !< output interval (<= 0: never)
+    real(wp), intent(inout) :: next                   !< next time it is due
+    real(wp), intent(inout) :: last                   !< time last written
+    real(wp), intent(in) :: t                         !< time reached
+    logical, intent(in) :: final                      !< write now whatever the schedule
+    due = .false.
+    if (interval <= 0.0_wp .or. t == last) return
+    if (final .or. t >= next - 1.0e-9_wp*interval) then
+      due = .true.
+      last = t
+      do while (next <= t + 1.0e-9_wp*interval)
+        next = next + interval
+      end do
+    end if
+  end function due
+
+  !> One result state: displacement and velocity at the nodes; stress, pressure, von Mises
+  !> and plastic strain at nodes and elements (cells gathered on every rank at output only).
+  subroutine write_state(model, decomp, cells, layout, s, state, t, dt)
+    type(model_t), intent(in) :: model                !< resolved model
+    type(decomposition_t), intent(in) :: decomp       !< this rank's output piece
+    type(cells_t), intent(in) :: cells                !< all cells
+    type(explicit_layout_t), intent(in) :: layout     !< this rank's share
+    type(explicit_state_t), intent(in) :: s           !< local state
+    integer, intent(in) :: state                      !< output state number
+    real(wp), intent(in) :: t, dt                     !< time, the step that reached it
+    type(output_field_t) :: point_fields(6), cell_fields(4)
+    real(wp), allocatable :: stress(:,:), alpha(:)
+    real(wp) :: ue(3, CELL_MAX_NODES), f(3, 3), tau(3, 3), scratch(NHIST), sound, finv(3, 3), det
+    type(status_t) :: status
+    integer :: l, c, nn, k, local
+    allocate(stress(6, cells%n), alpha(cells%n))
+    stress = 0.0_wp
+    alpha = 0.0_wp
+    do l = 1, s%ncell
+      c = s%cell_global(l)
+      nn = s%nnodes(l)
+      ue(1:s%dim, 1:nn) = s%u(:, s%nodes(1:nn, l))
+      call cell_deformation_gradient(s%dim, nn, s%grad(:, :, l), ue(1:s%dim, 1:nn), f)
+      ! the history holds this F already: re-evaluating returns the committed stress
+      call material_update(model%materials(s%material(l)), model%curves, f, s%hist(:, l), &
+                           scratch, tau, sound_speed=sound, status=status)
+      if (.not. status%ok) cycle
+      call inverse_3x3(f, finv, det)
+      stress(:, c) = [tau(1, 1), tau(2, 2), tau(3, 3), tau(1, 2), tau(2, 3), tau(3, 1)]/det
+      alpha(c) = s%hist(HIST_ALPHA, l)
+    end do
+    call comm_sum(stress)
+    call comm_sum(alpha)
+    do k = 1, 2
+      point_fields(k)%ncomp = 3
+      allocate(point_fields(k)%values(3, decomp%nnode_local))
+      point_fields(k)%values = 0.0_wp
+    end do
+    point_fields(1)%name = 'displacement'
+    point_fields(2)%name = 'velocity'
+    do k = 1, decomp%nnode_local
+      local = explicit_layout_local_node(layout, decomp%node_global(k))
+      if (local == 0) cycle
+      point_fields(1)%values(1:s%dim, k) = s%u(:, local)
+      point_fields(2)%values(1:s%dim, k) = s%v(:, local) + 0.5_wp*dt*s%a(:, local)
+    end do
+    call cell_result_fields(model, decomp, cells, stress, alpha, point_fields(3:6), cell_fields)
+    call results_write_state(state, t, point_fields, cell_fields)
+  end subroutine write_state
+
+  !> One glstat record: energies summed over ranks, the added mass, the centre-of-mass
+  !> velocity and the element that controls the time step.
+  subroutine write_glstat(model, s, schedule, cycle, t, dt)
+    type(model_t), intent(in) :: model                !< resolved model
+    type(explicit_state_t), intent(in) :: s           !< local state
+    type(schedule_t), intent(inout) :: schedule       !< holds the initial energy
+    integer, intent(in) :: cycle                      !< cycle just completed
+    real(wp), intent(in) :: t, dt                     !< time, the step that reached it
+    type(glstat_record_t) :: rec
+    real(wp) :: sums(10), v_full(3), dt_min
+    integer :: n, element, part, my_element
+    sums = 0.0_wp
+    do n = 1, s%nnode
+      if (.not. s%owned(n)) cycle
+      v_full = 0.0_wp
+      v_full(1:s%dim) = s%v(:, n) + 0.5_wp*dt*s%a(:, n)
+      sums(1) = sums(1) + 0.5_wp*s%mass(n)*dot_product(v_full, v_full)
+      sums(4) = sums(4) + s%mass(n) - s%physical_mass(n)
+      sums(5) = sums(5) + s%physical_mass(n)
+      sums(6:8) = sums(6:8) + s%mass(n)*v_full
+      sums(9) = sums(9) + s%mass(n)
+    end do
+    sums(2) = s%internal_energy
+    sums(3) = s%external_work + pending_reaction_work(s, dt)
+    sums(10) = -s%wall_work
+    call comm_sum(sums)
+    rec%cycle = cycle
+    rec%time = t
+    rec%time_step = dt
+    rec%kinetic_energy = sums(1)
+    rec%internal_energy = sums(2)
+    rec%external_work = sums(3)
+    rec%rigidwall_energy = sums(10)
+    rec%added_mass = sums(4)
+    rec%percent_mass_increase = 100.0_wp*sums(4)/max(sums(5), tiny(1.0_wp))
+    rec%global_velocity = sums(6:8)/max(sums(9), tiny(1.0_wp))
+    rec%total_energy = glstat_total_energy(rec)
+    if (.not. schedule%have_initial_energy) then
+      schedule%initial_energy = rec%total_energy
+      schedule%have_initial_energy = .true.
+    end if
+    rec%energy_ratio = glstat_energy_ratio(rec%total_energy, schedule%initial_energy, &
+                                           rec%external_work)
+    ! the element that sets the step: the lowest element id among the ranks' minima
+    dt_min = s%dt_stable
+    call comm_min(dt_min)
+    my_element = huge(1)
+    part = huge(1)
+    if (s%dt_cell > 0) then
+      if (s%dt_stable == dt_min) my_element = model%elements%id(s%cell_element(s%dt_cell))
+    end if
+    element = my_element
+    call comm_min(element)
+    if (my_element == element .and. element /= huge(1)) &
+      part = model%parts(model%elements%part(s%cell_element(s%dt_cell)))%id
+    call comm_min(part)
+    rec%controlled_by = trim(element_kind(s%dim))//' '//itoa(element)//' of part '//itoa(part)
+    call glstat_write(rec)
+  end subroutine write_glstat
+
+  !> The part of the prescribed-motion reactions' work not booked yet at an output time:
+  !> update_velocities books r^n . (du^{n-1/2} + du^{n+1/2})/2 when v^{n+1/2} is known, so at
+  !> t^n the half r^n . du^{n-1/2}/2 is missing while the internal energy already holds
+  !> f_int^n . du^{n-1/2}/2. It is estimated with the static part of the reaction,
+  !> f_int - f_ext (the inertial part is of higher order), so the balance stays O(dt^2).
+  real(wp) function pending_reaction_work(s, dt) result(work)
+    type(explicit_state_t), intent(in) :: s           !< local state, forces at t^n
+    real(wp), intent(in) :: dt                        !< the step that reached t^n
+    integer :: k, n, i
+    work = 0.0_wp
+    do k = 1, s%nprescribed
+      n = s%prescribed_node(k)
+      i = s%prescribed_dof(k)
+      if (s%owned(n)) work = work + (s%f_int(i, n) - s%f_ext(i, n))*0.5_wp*dt*s%v(i, n)
+    end do
+  end function pending_reaction_work
+
+  !> Rigid wall forces (rwforc, at the glstat interval): each wall's force from the last
+  !> cycle summed over ranks, and its normal component.
+  subroutine write_rwforc(model, s, t)
+    type(model_t), intent(in) :: model                !< resolved model
+    type(explicit_state_t), intent(in) :: s           !< local state
+    real(wp), intent(in) :: t                         !< time
+    real(wp) :: force(3, s%nwall), normal(s%nwall)
+    integer :: k
+    force = s%wall_force
+    call comm_sum(force)
+    do k = 1, s%nwall
+      normal(k) = dot_product(force(:, k), rigid_wall_normal(model%rigid_walls(k), s%dim))
+    end do
+    call rwforc_write(t, model%rigid_walls(1:s%nwall)%id, normal, force)
+  end subroutine write_rwforc
+
+  !> Element keyword word of glstat's "controlled by" line.
+  pure function element_kind(dim) result(word)
+    integer, intent(in) :: dim          !< 2 or 3
+    character(len=8) :: word
+    word = 'solid'
+    if (dim == 2) word = 'shell'
+  end function element_kind
+
+  !> One nodout block: the owner of each history node fills its row, summed over ranks.
+  subroutine write_nodout(model, layout, s, cycle, t, dt)
+    type(model_t), intent(in) :: model                !< resolved model
+    type(explicit_layout_t), intent(in) :: layout     !< this rank's share
+    type(explicit_state_t), intent(in) :: s           !< local state
+    integer, intent(in) :: cycle                      !< cycle just completed
+    real(wp), intent(in) :: t, dt                     !< time, the step that reached it
+    integer, allocatable :: nodes(:)
+    real(wp), allocatable :: rows(:,:)
+    integer :: k, l, d
+    call history_nodes(model, nodes)
+    allocate(rows(12, size(nodes)))            ! displacement, velocity, acceleration, position
+    rows = 0.0_wp
+    d = s%dim
+    do k = 1, size(nodes)
+      l = explicit_layout_local_node(layout, nodes(k))
+      if (l == 0) cycle
+      if (.not. s%owned(l)) cycle
+      rows(1:d, k) = s%u(:, l)
+      rows(4:3+d, k) = s%v(:, l) + 0.5_wp*dt*s%a(:, l)
+      rows(7:6+d, k) = s%a(:, l)
+      rows(10:9+d, k) = s%x0(:, l) + s%u(:, l)
+    end do
+    call comm_sum(rows)
+    call nodout_write(cycle, t, rows(1:3, :), rows(4:6, :), rows(7:9, :), rows(10:12, :))
+  end subroutine write_nodout
+
+  !> Global indices of the history nodes: *DATABASE_HISTORY_NODE, then _SET members.
+  subroutine history_nodes(model, nodes)
+    type(model_t), intent(in) :: model                !< resolved model
+    integer, allocatable, intent(out) :: nodes(:)     !< node indices in output order
+    integer :: k
+    nodes = model%controls%history_nodes(1:model%controls%n_history_nodes)
+    do k = 1, model%controls%n_history_sets
+      nodes = [nodes, pack(model%sets(model%controls%history_sets(k))%members, &
+                           model%sets(model%controls%history_sets(k))%members > 0)]
+    end do
+  end subroutine history_nodes
+
+  !> Open glstat and nodout when the deck asks for them; set the output schedule.
+  subroutine open_histories(model, schedule)
+    type(model_t), intent(in) :: model                !< resolved model
+    type(schedule_t), intent(inout) :: schedule       !< what is due when
+    integer, allocatable :: nodes(:)
+    schedule%plot_interval = model%controls%plot_interval
+    if (model%controls%plot_count > 0) schedule%plot_interval = model%controls%end_time/ &
+        real(model%controls%plot_count, wp)
+    schedule%next_plot = schedule%plot_interval
+    schedule%glstat_interval = model%controls%glstat_interval
+    schedule%next_glstat = 0.0_wp
+    if (schedule%glstat_interval > 0.0_wp) call glstat_open(results_directory(), &
+        title_or_default(model%controls%title))
+    if (schedule%glstat_interval > 0.0_wp .and. model%n_rigid_walls > 0) &
+      call rwforc_open(results_directory(), title_or_default(model%controls%title))
+    call history_nodes(model, nodes)
+    schedule%nodout_interval = 0.0_wp
+    if (size(nodes) > 0) schedule%nodout_interval = model%controls%nodout_interval
+    schedule%next_nodout = 0.0_wp
+    if (schedule%nodout_interval > 0.0_wp) call nodout_open(results_directory(), &
+        model%nodes%id(nodes), title_or_default(model%controls%title))
+  end subroutine open_histories
+
+  !> The deck's *TITLE, or "mefem".
+  pure function title_or_default(title) result(text)
+    character(len=*), intent(in) :: title       !< *TITLE text (may be blank)
+    character(len=:), allocatable :: text
+    text = trim(title)
+    if (len(text) == 0) text = 'mefem'
+  end function title_or_default
+
+  !> Close the history files (no-op where none is open).
+  subroutine close_histories()
+    call glstat_close()
+    call nodout_close()
+    call rwforc_close()
+  end subroutine close_histories
+
+  !> Run summary: cycles, and where the time went per element and cell cycle.
+  subroutine report_timing(model, s, cycle, timing, wall)
+    type(model_t), intent(in) :: model                !< resolved model
+    type(explicit_state_t), intent(in) :: s           !< local state
+    integer, intent(in) :: cycle                      !< cycles run
+    type(timing_t), intent(in) :: timing              !< phase times (this rank)
+    real(wp), intent(in) :: wall                      !< wall time of the whole analysis
+    real(wp) :: loop, counts(2), ranks
+    counts = [real(count(deformable_element(model)), wp), real(s%ncell, wp)]
+    counts(2) = real(s%ncell, wp)
+    call comm_sum(counts(2))
+    loop = timing%forces + timing%exchange + timing%update + timing%output
+    call comm_max(loop)
+    ranks = real(comm_size(), wp)
+    call say('explicit: '//itoa(cycle)//' cycles, '//rtoa(wall)//' s')
+    if (cycle > 0 .and. loop > 0.0_wp) then
+      call say('explicit: '//rtoa(1.0e9_wp*loop*ranks/(counts(1)*cycle))// &
+               ' ns per element-cycle, '//rtoa(1.0e9_wp*loop*ranks/(counts(2)*cycle))// &
+               ' ns per cell-cycle (core time = wall x '//itoa(comm_size())//' ranks)')
+      call say('explicit: rank 0 time in forces '//rtoa(100.0_wp*timing%forces/loop)// &
+               ' %, halo exchange and reductions '//rtoa(100.0_wp*timing%exchange/loop)// &
+               ' %, nodal update '//rtoa(100.0_wp*timing%update/loop)//' %, output '// &
+               rtoa(100.0_wp*timing%output/loop)//' %')
+    end if
+  end subroutine report_timing
+
+  !> Elements of deformable (not rigid) parts.
+  function deformable_element(model) result(mask)
+    type(model_t), intent(in) :: model                !< resolved model
+    logical :: mask(model%elements%n)
+    integer :: e, m
+    do e = 1, model%elements%n
+      m = model%parts(model%elements%part(e))%material
+      mask(e) = .false.
+      if (m > 0) mask(e) = model%materials(m)%kind /= MAT_RIGID
+    end do
+  end function deformable_element
+
+end module mefem_explicit_dynamics
