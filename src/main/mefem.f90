@@ -65,8 +65,10 @@ program mefem
     call linear_static_run(model, decomp)
   else if (model%controls%imflag == 1) then
     call implicit_static_run(model, decomp)
-  else
+  else if (model%controls%have_termination) then
     call explicit_dynamics_run(model, decomp, element_rank)
+  else
+    call say('no *CONTROL_TERMINATION: nothing to run; the model was read, checked and written')
   end if
   call results_close()
   call say('results: '//options%output_dir//'/'//deck_stem(options%deck)//'.pvd (ParaView), '// &
