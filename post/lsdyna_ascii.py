@@ -96,3 +96,28 @@ def read_rwforc(path):
         out[wall] = {'time': data[:, 0], 'normal': data[:, 1], 'x': data[:, 2],
                      'y': data[:, 3], 'z': data[:, 4]}
     return out
+
+
+RBDOUT_COLUMNS = ['x-disp', 'y-disp', 'z-disp', 'x-vel', 'y-vel', 'z-vel', 'x-reaction',
+                  'y-reaction', 'z-reaction', 'xx-reaction', 'yy-reaction', 'zz-reaction']
+
+
+def read_rbdout(path):
+    """Rows of mefem's rbdout: dict part id -> {'time', and the RBDOUT_COLUMNS} arrays."""
+    rows = []
+    with open(path) as f:
+        for line in f:
+            fields = line.split()
+            if len(fields) == 14:
+                try:
+                    rows.append([_number(fields[0]), int(fields[1])] +
+                                [_number(v) for v in fields[2:]])
+                except ValueError:
+                    continue
+    out = {}
+    for part in sorted({r[1] for r in rows}):
+        data = np.array([[r[0]] + r[2:] for r in rows if r[1] == part])
+        out[part] = {'time': data[:, 0]}
+        for k, name in enumerate(RBDOUT_COLUMNS):
+            out[part][name] = data[:, k + 1]
+    return out

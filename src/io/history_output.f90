@@ -62,6 +62,7 @@ module mefem_history_output
   public :: glstat_total_energy, glstat_energy_ratio
   public :: nodout_open, nodout_write, nodout_close, nodout_is_open
   public :: rwforc_open, rwforc_write, rwforc_close
+  public :: rbdout_open, rbdout_write, rbdout_close
 
   integer, parameter :: LABEL_WIDTH = 32        !< columns of " label......" before a value
   character(len=*), parameter :: GLSTAT_VALUE = 'es21.11e3'   !< glstat value edit descriptor
@@ -97,6 +98,9 @@ module mefem_history_output
   logical :: nodout_opened = .false.
   character(len=:), allocatable :: nodout_path
   integer, allocatable :: nodout_ids(:)           !< user ids of the history nodes
+  integer :: rbdout_unit = -1                     !< unit of the open rbdout file
+  logical :: rbdout_opened = .false.
+  character(len=:), allocatable :: rbdout_path
   integer :: rwforc_unit = -1                     !< unit of the open rwforc file
   logical :: rwforc_opened = .false.
   character(len=:), allocatable :: rwforc_path
@@ -329,6 +333,59 @@ contains
     rwforc_opened = .false.
     rwforc_unit = -1
   end subroutine rwforc_close
+
+  !> Open <dir>/rbdout on rank 0 (rigid bodies): banner, title and column header; one row per
+  !> body and output time: time, part id, centre displacement x y z, centre velocity x y z,
+  !> reaction force x y z and reaction moment x y z (what constraints and prescribed motions
+  !> apply to the body).
+  subroutine rbdout_open(dir, title)
+    character(len=*), intent(in) :: dir              !< output directory (must exist)
+    character(len=*), intent(in), optional :: title  !< run title for line 1 (default "mefem")
+    integer :: ios
+    if (.not. comm_is_root()) return
+    if (rbdout_opened) call rbdout_close()
+    rbdout_path = join_path(dir, 'rbdout')
+    call open_history(rbdout_path, .false., rbdout_unit)
+    rbdout_opened = .true.
+    if (present(title)) then
+      call write_banner(rbdout_unit, rbdout_path, title)
+    else
+      call write_banner(rbdout_unit, rbdout_path, DEFAULT_TITLE)
+    end if
+    write(rbdout_unit, '(a/a/a)', iostat=ios) '', ' r i g i d   b o d y   d a t a', ''
+    call check_write(ios, rbdout_path)
+    write(rbdout_unit, '(a)', iostat=ios) '                time    part'// &
+        '              x-disp              y-disp              z-disp'// &
+        '               x-vel               y-vel               z-vel'// &
+        '          x-reaction          y-reaction          z-reaction'// &
+        '         xx-reaction         yy-reaction         zz-reaction'
+    call check_write(ios, rbdout_path)
+    flush(rbdout_unit)
+  end subroutine rbdout_open
+
+  !> Append one row per rigid body (values(12, bodies) in the column order of the header).
+  subroutine rbdout_write(time, part_ids, values)
+    real(wp), intent(in) :: time              !< simulation time
+    integer, intent(in) :: part_ids(:)        !< part id of each body
+    real(wp), intent(in) :: values(:,:)       !< (12, bodies)
+    integer :: k, ios
+    if (.not. comm_is_root()) return
+    if (.not. rbdout_opened) call fatal_local('rbdout_write called before rbdout_open')
+    do k = 1, size(part_ids)
+      write(rbdout_unit, '('//NODOUT_VALUE//',i8,12'//NODOUT_VALUE//')', iostat=ios) time, &
+          part_ids(k), values(:, k)
+      call check_write(ios, rbdout_path)
+    end do
+    flush(rbdout_unit)
+  end subroutine rbdout_write
+
+  !> Close rbdout (no-op when it is not open).
+  subroutine rbdout_close()
+    if (.not. rbdout_opened) return
+    close(rbdout_unit)
+    rbdout_opened = .false.
+    rbdout_unit = -1
+  end subroutine rbdout_close
 
   !> Close nodout (no-op when it is not open).
   subroutine nodout_close()

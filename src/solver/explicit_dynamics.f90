@@ -55,6 +55,10 @@ module mefem_explicit_dynamics
                                   nodout_write, nodout_close
   use mefem_progress, only: progress_start, progress_update, progress_finish
   use mefem_rigid_walls, only: rigid_wall_nodes, rigid_wall_constrain, rigid_wall_normal
+  use mefem_rigid_bodies, only: rigid_bodies_t, rigid_bodies_build, rigid_bodies_set_velocity, &
+                                rigid_bodies_accumulate, rigid_bodies_advance, &
+                                rigid_body_point_motion, rigid_bodies_kinetic_energy
+  use mefem_history_output, only: rbdout_open, rbdout_write, rbdout_close
   use mefem_history_output, only: rwforc_open, rwforc_write, rwforc_close
   implicit none
   private
@@ -117,6 +121,13 @@ module mefem_explicit_dynamics
     integer :: dt_cell = 0                     !< local cell that set it
     logical :: failed = .false.                !< a cell failed (message in failure)
     character(len=256) :: failure = ''
+    ! rigid bodies (replicated on every rank) and this rank's nodes of them
+    type(rigid_bodies_t) :: bodies
+    integer :: nrigid = 0                      !< local nodes of rigid bodies
+    integer, allocatable :: rigid_node(:)      !< (nrigid) local node
+    integer, allocatable :: rigid_body(:)      !< (nrigid) its body
+    real(wp), allocatable :: body_force(:,:)   !< (3, bodies) resultant force at t^n
+    real(wp), allocatable :: body_moment(:,:)  !< (3, bodies) resultant moment at t^n
     ! rigid walls
     integer :: nwall = 0
     type(node_list_t), allocatable :: wall_nodes(:)  !< (nwall) nodes each wall tests
@@ -184,6 +195,7 @@ contains
     s%f_int = s%f_int_new
     s%f_ext = s%f_ext_new
     call accelerations(s)
+    if (s%bodies%n > 0) call rigid_body_resultants(s)
     dt = next_time_step(s)
     if (dt < 0.0_wp) call stop_on_failure(model, decomp, cells, layout, s, schedule, cycle, t, &
                                           0.0_wp, timing)
@@ -202,6 +214,7 @@ contains
       call update_velocities(model, s, t, dt_old, dt)
       if (s%nwall > 0) s%u_old = s%u
       s%u = s%u + dt*s%v
+      if (s%bodies%n > 0) call move_rigid_bodies(model, s, t, dt_old, dt)
       if (s%nwall > 0) call apply_rigid_walls(model, s, t + dt, dt_old, dt)
       timing%update = timing%update + (comm_wtime() - clock)
       t = t + dt
@@ -209,6 +222,7 @@ contains
       clock = comm_wtime()
       call accumulate_energies(s, dt)
       call accelerations(s)
+      if (s%bodies%n > 0) call rigid_body_resultants(s)
       timing%update = timing%update + (comm_wtime() - clock)
       dt_old = dt
       dt = next_time_step(s)
@@ -250,9 +264,7 @@ contains
     do k = 1, model%n_motions
       associate (pm => model%motions(k))
         if (pm%target_kind /= ON_NODE .and. pm%target_kind /= ON_NODE_SET) then
-          call say('line '//itoa(pm%src%line)//': *BOUNDARY_PRESCRIBED_MOTION_RIGID needs '// &
-                   'rigid bodies, not available in the explicit solver yet')
-          bad = .true.
+          cycle                       ! _RIGID: checked by the rigid bodies' set-up
         else if (abs(pm%dof) < 1 .or. abs(pm%dof) > model%dimension .or. pm%vad < 0 .or. &
                  pm%vad > 2) then
           call say('line '//itoa(pm%src%line)//': *BOUNDARY_PRESCRIBED_MOTION: the explicit '// &
@@ -261,14 +273,6 @@ contains
           bad = .true.
         end if
       end associate
-    end do
-    do k = 1, model%n_parts
-      if (model%parts(k)%material == 0) cycle
-      if (model%materials(model%parts(k)%material)%kind == MAT_RIGID) then
-        call say('part '//itoa(model%parts(k)%id)//': rigid parts are not available in the '// &
-                 'explicit solver yet')
-        bad = .true.
-      end if
     end do
     if (model%n_contacts > 0) then
       call say('contact is not available in the explicit solver yet')
@@ -292,6 +296,7 @@ contains
     real(wp), allocatable :: w0_global(:,:,:)
     logical, allocatable :: fixed_global(:,:)
     real(wp) :: lambda, mu
+    type(status_t) :: status
     integer :: dim, n, g, l, c, e, nv, k, count_entries, pass, i
     integer, allocatable :: nodes(:)
 
@@ -367,6 +372,9 @@ contains
     do pass = 1, 2                      ! count, then fill
       count_entries = 0
       do k = 1, model%n_motions
+        ! node and node-set motions only (_RIGID moves bodies: mefem_rigid_bodies)
+        if (model%motions(k)%target_kind /= ON_NODE .and. &
+            model%motions(k)%target_kind /= ON_NODE_SET) cycle
         call target_nodes(model, model%motions(k)%target_kind, model%motions(k)%target, nodes)
         do i = 1, size(nodes)
           l = explicit_layout_local_node(layout, nodes(i))
@@ -412,15 +420,95 @@ contains
       if (.not. s%active(n)) s%v(:, n) = 0.0_wp
     end do
 
-    ! rigid walls: the local nodes each one tests
+    ! rigid bodies: the deformable masses at their nodes are merged into them; their nodes
+    ! are moved with them (not integrated, no SPC), starting with the mean initial velocity
+    ! of their nodes
+    call rigid_bodies_build(model, mass_global(1:cells%n_mesh_nodes), s%bodies, status)
+    if (.not. status%ok) call fatal('explicit: '//status%message)
+    allocate(s%body_force(3, s%bodies%n), s%body_moment(3, s%bodies%n))
+    s%body_force = 0.0_wp
+    s%body_moment = 0.0_wp
+    do k = 1, s%bodies%n
+      block
+        real(wp) :: v_mean(3)
+        integer :: members
+        v_mean = 0.0_wp
+        members = count(s%bodies%node_body == k)
+        do g = 1, cells%n_mesh_nodes
+          if (s%bodies%node_body(g) == k) v_mean(1:dim) = v_mean(1:dim) + v_global(:, g)
+        end do
+        if (members > 0) call rigid_bodies_set_velocity(s%bodies, k, v_mean/members, &
+                                                         [0.0_wp, 0.0_wp, 0.0_wp])
+      end block
+    end do
+    s%nrigid = 0
+    if (s%bodies%n > 0) then
+      s%rigid_node = pack([(l, l = 1, s%nnode)], [(rigid_of(l) > 0, l = 1, s%nnode)])
+      s%nrigid = size(s%rigid_node)
+      s%rigid_body = [(rigid_of(s%rigid_node(k)), k = 1, s%nrigid)]
+      do k = 1, s%nrigid
+        l = s%rigid_node(k)
+        s%active(l) = .false.
+        s%fixed(:, l) = .false.
+        s%constrained(:, l) = .false.
+        call rigid_body_point_motion(s%bodies, s%rigid_body(k), s%x0(:, l), s%u(:, l), &
+                                     s%v(:, l))
+      end do
+      s%v_old = s%v
+    end if
+
+    ! rigid walls: the local nodes each one tests (not those of rigid bodies)
     s%nwall = model%n_rigid_walls
     allocate(s%wall_nodes(s%nwall), s%wall_force(3, s%nwall))
     s%wall_force = 0.0_wp
     do k = 1, s%nwall
-      call rigid_wall_nodes(model, k, s%node_global, cells%n_mesh_nodes, s%wall_nodes(k)%nodes)
+      call rigid_wall_nodes(model, k, s%node_global, cells%n_mesh_nodes, s%wall_nodes(k)%nodes, &
+                            skip=s%bodies%node_body > 0)
     end do
     if (s%nwall > 0) allocate(s%u_old(dim, s%nnode), s%v_trial(dim, s%nnode))
+  contains
+
+    !> Body of local node l (0: none).
+    integer function rigid_of(l)
+      integer, intent(in) :: l                        !< local node
+      rigid_of = 0
+      if (s%node_global(l) <= cells%n_mesh_nodes) rigid_of = s%bodies%node_body(s%node_global(l))
+    end function rigid_of
+
   end subroutine set_up
+
+  !> Rigid bodies from t^n to t^{n+1} with the resultants at t^n, then their nodes: u^{n+1}
+  !> and v^{n+1/2} on the body (after the deformable nodes' update, which they override).
+  subroutine move_rigid_bodies(model, s, t, dt_old, dt)
+    type(model_t), intent(in) :: model                !< resolved model
+    type(explicit_state_t), intent(inout) :: s        !< local state
+    real(wp), intent(in) :: t                         !< t^n
+    real(wp), intent(in) :: dt_old, dt                !< dt^{n-1/2} (0 at the start), dt^{n+1/2}
+    integer :: k, l
+    call rigid_bodies_advance(model, s%bodies, t + 0.5_wp*dt, t + dt, 0.5_wp*(dt_old + dt), dt, &
+                              s%body_force, s%body_moment)
+    do k = 1, s%nrigid
+      l = s%rigid_node(k)
+      call rigid_body_point_motion(s%bodies, s%rigid_body(k), s%x0(:, l), s%u(:, l), s%v(:, l))
+    end do
+  end subroutine move_rigid_bodies
+
+  !> Resultant force and moment on every rigid body at the current time: f_ext - f_int at
+  !> their owned nodes, summed over ranks (replicated on every rank).
+  subroutine rigid_body_resultants(s)
+    type(explicit_state_t), intent(inout) :: s        !< local state (forces current)
+    integer :: k, l
+    s%body_force = 0.0_wp
+    s%body_moment = 0.0_wp
+    do k = 1, s%nrigid
+      l = s%rigid_node(k)
+      if (.not. s%owned(l)) cycle
+      call rigid_bodies_accumulate(s%bodies, s%rigid_body(k), s%x0(:, l) + s%u(:, l), &
+                                   s%f_ext(:, l) - s%f_int(:, l), s%body_force, s%body_moment)
+    end do
+    call comm_sum(s%body_force)
+    call comm_sum(s%body_moment)
+  end subroutine rigid_body_resultants
 
   !> Rigid walls after the displacement update: penetrating nodes back onto the plane, their
   !> velocities corrected; the walls' forces on the owned nodes are kept. The wall's work is
@@ -696,6 +784,7 @@ contains
         then
       call write_glstat(model, s, schedule, cycle, t, dt)
       if (s%nwall > 0) call write_rwforc(model, s, t)
+      if (s%bodies%n > 0) call write_rbdout(model, s, t)
     end if
     if (due(schedule%nodout_interval, schedule%next_nodout, schedule%last_nodout, t, final)) &
       call write_nodout(model, layout, s, cycle, t, dt)
@@ -781,10 +870,11 @@ contains
     real(wp), intent(in) :: t, dt                     !< time, the step that reached it
     type(glstat_record_t) :: rec
     real(wp) :: sums(10), v_full(3), dt_min
-    integer :: n, element, part, my_element
+    integer :: n, element, part, my_element, b
     sums = 0.0_wp
     do n = 1, s%nnode
       if (.not. s%owned(n)) cycle
+      if (.not. s%active(n)) cycle          ! rigid-body nodes: their body counts
       v_full = 0.0_wp
       v_full(1:s%dim) = s%v(:, n) + 0.5_wp*dt*s%a(:, n)
       sums(1) = sums(1) + 0.5_wp*s%mass(n)*dot_product(v_full, v_full)
@@ -797,6 +887,17 @@ contains
     sums(3) = s%external_work + pending_reaction_work(s, dt)
     sums(10) = -s%wall_work
     call comm_sum(sums)
+    do b = 1, s%bodies%n                    ! replicated: added once, after the sum
+      associate (body => s%bodies%body(b))
+        sums(6:8) = sums(6:8) + body%mass*body%velocity
+        sums(9) = sums(9) + body%mass
+        ! booked reaction work, and the half not booked yet (as pending_reaction_work: the
+        ! static part -F of the reaction on the constrained components)
+        sums(3) = sums(3) + body%reaction_work - 0.5_wp*dt*dot_product(merge(s%body_force(:, b), &
+            0.0_wp, body%reaction_force /= 0.0_wp), body%velocity)
+      end associate
+    end do
+    sums(1) = sums(1) + rigid_bodies_kinetic_energy(s%bodies)
     rec%cycle = cycle
     rec%time = t
     rec%time_step = dt
@@ -864,6 +965,24 @@ contains
     call rwforc_write(t, model%rigid_walls(1:s%nwall)%id, normal, force)
   end subroutine write_rwforc
 
+  !> Rigid-body histories (rbdout, at the glstat interval): centre displacement and velocity,
+  !> reaction force and moment of every body (replicated data: rank 0 writes).
+  subroutine write_rbdout(model, s, t)
+    type(model_t), intent(in) :: model                !< resolved model
+    type(explicit_state_t), intent(in) :: s           !< local state
+    real(wp), intent(in) :: t                         !< time
+    real(wp) :: values(12, s%bodies%n)
+    integer :: ids(s%bodies%n), b
+    do b = 1, s%bodies%n
+      associate (body => s%bodies%body(b))
+        ids(b) = model%parts(body%part)%id
+        values(:, b) = [body%centre - body%centre0, body%velocity, body%reaction_force, &
+                        body%reaction_moment]
+      end associate
+    end do
+    call rbdout_write(t, ids, values)
+  end subroutine write_rbdout
+
   !> Element keyword word of glstat's "controlled by" line.
   pure function element_kind(dim) result(word)
     integer, intent(in) :: dim          !< 2 or 3
@@ -926,6 +1045,8 @@ contains
         title_or_default(model%controls%title))
     if (schedule%glstat_interval > 0.0_wp .and. model%n_rigid_walls > 0) &
       call rwforc_open(results_directory(), title_or_default(model%controls%title))
+    if (schedule%glstat_interval > 0.0_wp .and. any(is_rigid_part(model))) &
+      call rbdout_open(results_directory(), title_or_default(model%controls%title))
     call history_nodes(model, nodes)
     schedule%nodout_interval = 0.0_wp
     if (size(nodes) > 0) schedule%nodout_interval = model%controls%nodout_interval
@@ -947,6 +1068,7 @@ contains
     call glstat_close()
     call nodout_close()
     call rwforc_close()
+    call rbdout_close()
   end subroutine close_histories
 
   !> Run summary: cycles, and where the time went per element and cell cycle.
@@ -974,6 +1096,18 @@ contains
                rtoa(100.0_wp*timing%output/loop)//' %')
     end if
   end subroutine report_timing
+
+  !> Parts of *MAT_RIGID.
+  function is_rigid_part(model) result(mask)
+    type(model_t), intent(in) :: model                !< resolved model
+    logical :: mask(model%n_parts)
+    integer :: p, m
+    do p = 1, model%n_parts
+      m = model%parts(p)%material
+      mask(p) = .false.
+      if (m > 0) mask(p) = model%materials(m)%kind == MAT_RIGID
+    end do
+  end function is_rigid_part
 
   !> Elements of deformable (not rigid) parts.
   function deformable_element(model) result(mask)
