@@ -66,6 +66,7 @@ module mefem_explicit_dynamics
   public :: explicit_dynamics_run
 
   integer, parameter :: VAD_VELOCITY = 0, VAD_ACCELERATION = 1, VAD_DISPLACEMENT = 2
+  real(wp), parameter :: SPC_FOREVER = 1.0e20_wp   !< DEATH default of *BOUNDARY_SPC
 
   !> Local nodes one rigid wall tests.
   type :: node_list_t
@@ -94,7 +95,8 @@ module mefem_explicit_dynamics
     logical, allocatable :: owned(:)           !< (nnode) this rank owns the node
     logical, allocatable :: active(:)          !< (nnode) has mass: integrated
     logical, allocatable :: fixed(:,:)         !< (dim, nnode) SPC / TC fixed dof
-    logical, allocatable :: constrained(:,:)   !< (dim, nnode) fixed or prescribed dof
+    logical :: spc_in_time = .false.           !< an SPC has a BIRTH or DEATH time
+    logical, allocatable :: driven(:,:)        !< (dim, nnode) dof moved by a motion this cycle
     ! prescribed motions of deformable nodes: entry k moves dof prescribed_dof(k) of local
     ! node prescribed_node(k) as model%motions(prescribed_motion(k)) says
     integer :: nprescribed = 0
@@ -207,8 +209,10 @@ contains
     call write_outputs(model, decomp, cells, layout, s, schedule, cycle, t, dt, .false., timing)
     call progress_start('explicit', end_time, end_cycle)
 
-    do while (t < end_time*(1.0_wp - 1.0e-12_wp) .and. (end_cycle <= 0 .or. cycle < end_cycle))
-      dt = min(dt, end_time - t)
+    do while ((end_time <= 0.0_wp .or. t < end_time*(1.0_wp - 1.0e-12_wp)) .and. &
+              (end_cycle <= 0 .or. cycle < end_cycle))
+      if (end_time > 0.0_wp) dt = min(dt, end_time - t)
+      if (s%spc_in_time) call update_fixed_dofs(model, s, t + dt)
       cycle = cycle + 1
       clock = comm_wtime()
       call update_velocities(model, s, t, dt_old, dt)
@@ -359,7 +363,10 @@ contains
     if (s%mass_scaling) allocate(s%added(1, CELL_MAX_NODES, s%ncell))
 
     ! essential conditions: fixed dofs and the prescribed motions of local mesh nodes
-    allocate(fixed_global(dim, cells%n_mesh_nodes))
+    s%spc_in_time = any(model%spcs(1:model%n_spcs)%birth > 0.0_wp) .or. &
+                    any(model%spcs(1:model%n_spcs)%death < SPC_FOREVER)
+    allocate(fixed_global(dim, cells%n_mesh_nodes), s%driven(dim, s%nnode))
+    s%driven = .false.
     fixed_global = .false.
     call fixed_dofs(model, 0.0_wp, fixed_global)
     allocate(s%fixed(dim, s%nnode))
@@ -368,7 +375,6 @@ contains
       g = layout%node_global(l)
       if (g <= cells%n_mesh_nodes) s%fixed(:, l) = fixed_global(:, g)
     end do
-    s%constrained = s%fixed
     do pass = 1, 2                      ! count, then fill
       count_entries = 0
       do k = 1, model%n_motions
@@ -384,7 +390,6 @@ contains
             s%prescribed_node(count_entries) = l
             s%prescribed_dof(count_entries) = abs(model%motions(k)%dof)
             s%prescribed_motion(count_entries) = k
-            s%constrained(abs(model%motions(k)%dof), l) = .true.
           end if
         end do
       end do
@@ -446,11 +451,19 @@ contains
       s%rigid_node = pack([(l, l = 1, s%nnode)], [(rigid_of(l) > 0, l = 1, s%nnode)])
       s%nrigid = size(s%rigid_node)
       s%rigid_body = [(rigid_of(s%rigid_node(k)), k = 1, s%nrigid)]
+      ! node motions on rigid-body nodes have no effect: dropped
+      block
+        logical :: keep(s%nprescribed)
+        keep = [(rigid_of(s%prescribed_node(k)) == 0, k = 1, s%nprescribed)]
+        s%prescribed_node = pack(s%prescribed_node, keep)
+        s%prescribed_dof = pack(s%prescribed_dof, keep)
+        s%prescribed_motion = pack(s%prescribed_motion, keep)
+        s%nprescribed = count(keep)
+      end block
       do k = 1, s%nrigid
         l = s%rigid_node(k)
         s%active(l) = .false.
         s%fixed(:, l) = .false.
-        s%constrained(:, l) = .false.
         call rigid_body_point_motion(s%bodies, s%rigid_body(k), s%x0(:, l), s%u(:, l), &
                                      s%v(:, l))
       end do
@@ -538,6 +551,22 @@ contains
     end do
   end subroutine apply_rigid_walls
 
+  !> SPCs with BIRTH/DEATH: the fixed dofs at time t (only when some SPC has them; O(model)).
+  subroutine update_fixed_dofs(model, s, t)
+    type(model_t), intent(in) :: model                !< resolved model
+    type(explicit_state_t), intent(inout) :: s        !< local state
+    real(wp), intent(in) :: t                         !< time of the new positions
+    logical :: fixed_global(s%dim, model%nodes%n)
+    integer :: l, g
+    fixed_global = .false.
+    call fixed_dofs(model, t, fixed_global)
+    do l = 1, s%nnode
+      g = s%node_global(l)
+      if (g > model%nodes%n) cycle
+      if (s%active(l)) s%fixed(:, l) = fixed_global(:, g)
+    end do
+  end subroutine update_fixed_dofs
+
   !> v^{n+1/2} from v^{n-1/2} and a^n, then the essential conditions.
   subroutine update_velocities(model, s, t, dt_old, dt)
     type(model_t), intent(in) :: model                !< resolved model
@@ -548,6 +577,7 @@ contains
     integer :: k, n, i, m
     dt_avg = 0.5_wp*(dt_old + dt)
     s%v_old = s%v
+    s%driven = .false.
     do n = 1, s%nnode
       if (s%active(n)) s%v(:, n) = s%v(:, n) + dt_avg*s%a(:, n)
     end do
@@ -570,6 +600,7 @@ contains
           amount = pm%scale*curve_value(model%curves(pm%curve), t + dt)
           s%v(i, n) = (amount - s%u(i, n))/dt
         end select
+        s%driven(i, n) = .true.
         ! work of the reaction at t^n over the half steps around it (owned nodes)
         if (s%owned(n) .and. dt_avg > 0.0_wp) work = work + &
             (s%mass(n)*(s%v(i, n) - s%v_old(i, n))/dt_avg - s%f_ext(i, n) + s%f_int(i, n))* &
@@ -709,8 +740,9 @@ contains
                ' (element named above); the state at that time was written')
   end subroutine stop_on_failure
 
-  !> a = (f_ext - f_int)/m at the integrated nodes; zero at constrained dofs (used only for
-  !> the full-step velocity of the kinetic energy there).
+  !> a = (f_ext - f_int)/m at the integrated nodes; zero at fixed dofs and at dofs a motion
+  !> drives in this cycle (a is then used only for the full-step velocity of the output; a
+  !> motion outside its BIRTH..DEATH window leaves its dof free).
   subroutine accelerations(s)
     type(explicit_state_t), intent(inout) :: s        !< local state
     integer :: n
@@ -721,7 +753,7 @@ contains
         s%a(:, n) = 0.0_wp
       end if
     end do
-    where (s%constrained) s%a = 0.0_wp
+    where (s%fixed .or. s%driven) s%a = 0.0_wp
   end subroutine accelerations
 
   !> Trapezoidal internal energy and external work of the step just made (owned nodes), then
@@ -774,9 +806,14 @@ contains
     logical, intent(in) :: final                      !< write everything now
     type(timing_t), intent(inout) :: timing           !< phase times
     real(wp) :: clock
+    logical :: plot
     clock = comm_wtime()
-    if (due(schedule%plot_interval, schedule%next_plot, schedule%last_plot, t, final) .and. &
-        t > 0.0_wp) then
+    plot = due(schedule%plot_interval, schedule%next_plot, schedule%last_plot, t, final)
+    if (final .and. t /= schedule%last_plot) then       ! the last state, whatever the interval
+      plot = .true.
+      schedule%last_plot = t
+    end if
+    if (plot .and. t > 0.0_wp) then
       call write_state(model, decomp, cells, layout, s, schedule%plot_state, t, dt)
       schedule%plot_state = schedule%plot_state + 1
     end if
