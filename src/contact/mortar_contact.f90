@@ -1,0 +1,518 @@
+!> Mortar segment-to-segment contact with penalty regularisation and Coulomb friction
+!> (formulation section 5; seed paper section 3.3) for *CONTACT_AUTOMATIC_SURFACE_TO_SURFACE
+!> (_MORTAR): SURFA = slave (non-mortar), SURFB = master (mortar).
+!>
+!> One call (mortar_contact_forces) with the current positions of the surface nodes, per
+!> interface:
+!>  1. candidate facet pairs from the bucket search (mefem_contact_surfaces), rebuilt when a
+!>     surface node has moved more than half the search margin since the last build;
+!>  2. mortar weights of each candidate (mefem_mortar_segmentation);
+!>  3. averaged unit normals n_A of the slave nodes (area-weighted outward normals of the
+!>     slave facets that have a partner); the weights summed per slave node into
+!>     A_A = sum_B n_AB and the weighted gap vector G_A = sum_C n_AC x_C - sum_B n_AB x_B;
+!>     pairs with an outward master facet facing the same way as the slave are skipped (the
+!>     far side of a master body);
+!>  4. normal gap g_A = n_A . G_A / A_A (< 0: penetration), pressure p_A = eps_A <-g_A>;
+!>  5. slip from the change of the weights at fixed positions (objective: a rigid motion of
+!>     the pair gives none): ds_A = (I - n_A n_A) (G_A - G_A^old) / A_A, G_A^old with the
+!>     previous call's weights and today's positions; Coulomb return map on the tangential
+!>     traction, mu = FD + (FS - FD) exp(-DC |ds|/dt), eps_T = eps_A;
+!>  6. nodal forces: slave f_B += sum_A n_AB tau_A, master f_C -= sum_A n_AC tau_A with the
+!>     contact traction tau_A = -p_A n_A + t_A.
+!> Penalty: eps_A = SLSFAC SFSA K / h (LS-DYNA's SOFT = 0 stiffness as a pressure per unit
+!> gap: K the bulk modulus of the slave element, h = its volume / facet area in 3D, area /
+!> edge length in 2D; the stiffest facet at a node), limited so that the contact spring never
+!> lowers the stable time step: eps_A A_A dt^2 <= MASS_LIMIT m_A.
+!>
+!> Parallel (documented choice): contact surfaces are small next to the volume, so every rank
+!> holds all of them (replicated data). The driver gathers the current positions of the
+!> contact nodes (owners fill, one sum over ranks) and every rank computes every interface with
+!> the same data in the same order: contact forces are the same bits on every rank and for any
+!> number of ranks; each rank then applies them at its local nodes. The contact work is thus
+!> not divided among ranks (doc/performance.md).
+module mefem_mortar_contact
+  use mefem_kinds, only: wp
+  use mefem_errors, only: status_t, fatal
+  use mefem_strings, only: itoa
+  use mefem_model, only: model_t, contact_t
+  use mefem_contact_surfaces, only: contact_surface_t, contact_search_t, &
+                                    contact_surface_pair_build, contact_facet_area_vector, &
+                                    contact_search_build
+  use mefem_mortar_segmentation, only: mortar_segment_pair_2d, mortar_triangle_pair_3d
+  use mefem_material_update, only: material_elastic_moduli
+  implicit none
+  private
+
+  public :: mortar_contact_setup, mortar_contact_forces
+
+  real(wp), parameter :: MASS_LIMIT = 0.1_wp       !< eps A dt^2 / m at most: the contact
+                                                   !< spring's period stays above 20 dt
+  real(wp), parameter :: SLSFAC = 0.1_wp           !< *CONTROL_CONTACT SLSFAC (default)
+  real(wp), parameter :: MARGIN_FACTOR = 0.5_wp    !< search margin / mean master facet size
+  integer, parameter :: MAX_VERTICES = 4           !< facet vertices (quadrilateral)
+  real(wp), parameter :: FACING_COSINE = 0.25_wp   !< cos of the largest angle (75.5 deg)
+                                                   !< between a slave normal and the reversed
+                                                   !< normal of a master partner
+
+  !> A candidate pair with overlap: facets and mortar weights.
+  type :: pair_t
+    integer :: slave = 0, master = 0
+    real(wp) :: n_ab(3, 3) = 0.0_wp                !< (slave vertex a, slave vertex b)
+    real(wp) :: n_ac(3, MAX_VERTICES) = 0.0_wp     !< (slave vertex a, master vertex c)
+  end type pair_t
+
+  !> One contact interface (replicated on every rank).
+  type, public :: contact_interface_t
+    integer :: id = 0                              !< contact id (its number if none)
+    type(contact_surface_t) :: slave, master       !< SURFA, SURFB
+    type(contact_search_t) :: search               !< bucket grid, kept between calls
+    integer, allocatable :: candidates(:,:)        !< (2, :) candidate (slave, master) facets
+    integer :: ncandidate = 0
+    real(wp) :: margin = 0.0_wp                    !< search margin (length)
+    real(wp), allocatable :: x_search(:,:)         !< (3, surface nodes) positions at the
+                                                   !< last search
+    integer, allocatable :: surface_nodes(:)       !< slave and master nodes (mesh numbers)
+    logical :: searched = .false.
+    integer, allocatable :: slave_index(:)         !< (mesh nodes) position in slave%nodes
+    real(wp) :: eps_material = 0.0_wp              !< SLSFAC SFSA SFSB K / h (area mean)
+    real(wp) :: mass_per_area = 0.0_wp             !< min over slave nodes of m_A / a_A
+    real(wp) :: fs = 0.0_wp, fd = 0.0_wp, dc = 0.0_wp
+    ! per slave node, last call
+    real(wp), allocatable :: normal(:,:)           !< (3, ns) n_A
+    real(wp), allocatable :: area(:)               !< (ns) A_A
+    real(wp), allocatable :: area_old(:)           !< (ns) A_A of the call before
+    real(wp), allocatable :: gap_vector(:,:)       !< (3, ns) G_A
+    real(wp), allocatable :: gap(:)                !< (ns) g_A (0 where A_A = 0)
+    real(wp), allocatable :: pressure(:)           !< (ns) p_A
+    real(wp), allocatable :: traction(:,:)         !< (3, ns) tangential traction t_A
+    ! pairs of the last and of the call before
+    integer :: npair = 0, npair_old = 0
+    type(pair_t), allocatable :: pairs(:), pairs_old(:)
+    ! resultants of the last call (rcforc)
+    real(wp) :: force_slave(3) = 0.0_wp            !< sum of the slave nodal forces
+    real(wp) :: force_master(3) = 0.0_wp           !< sum of the master nodal forces
+    real(wp) :: normal_force = 0.0_wp              !< sum A_A p_A
+    real(wp) :: tangential_force = 0.0_wp          !< |sum A_A t_A|
+  end type contact_interface_t
+
+  !> All interfaces and the contact nodes they use.
+  type, public :: mortar_contact_t
+    integer :: dim = 3
+    integer :: n = 0                               !< interfaces
+    type(contact_interface_t), allocatable :: interfaces(:)
+    integer :: nnode = 0                           !< contact nodes (union of all surfaces)
+    integer, allocatable :: node_global(:)         !< (nnode) mesh nodes, ascending
+    integer, allocatable :: node_index(:)          !< (mesh nodes) position in node_global
+    real(wp), allocatable :: x(:,:)                !< (3, mesh nodes) current positions (only
+                                                   !< the contact nodes are kept up to date)
+    real(wp), allocatable :: force(:,:)            !< (3, nnode) contact force of the last call
+    real(wp), allocatable :: pressure(:)           !< (nnode) slave contact pressure (output)
+    real(wp), allocatable :: gap(:)                !< (nnode) slave normal gap (output)
+  end type mortar_contact_t
+
+contains
+
+  !> Build every interface of the model: surfaces, contact nodes, penalty constants.
+  !> mass(mesh nodes): lumped masses (the time-step limit of the penalty).
+  subroutine mortar_contact_setup(model, mass, contact)
+    type(model_t), intent(in) :: model                !< resolved model
+    real(wp), intent(in) :: mass(:)                   !< (mesh nodes) lumped masses
+    type(mortar_contact_t), intent(out) :: contact    !< the contact data
+    type(status_t) :: status
+    logical, allocatable :: used(:)
+    integer :: k, i, ns
+    contact%dim = model%dimension
+    contact%n = model%n_contacts
+    allocate(contact%interfaces(contact%n), used(model%nodes%n))
+    used = .false.
+    do k = 1, contact%n
+      associate (c => model%contacts(k), it => contact%interfaces(k))
+        it%id = merge(c%id, k, c%id > 0)
+        call contact_surface_pair_build(model, k, it%slave, it%master, status)
+        if (.not. status%ok) call fatal(status%message)
+        if (model%dimension == 3 .and. any(it%slave%nvertex /= 3)) call fatal('contact '// &
+            itoa(it%id)//': SURFA has quadrilateral facets; the mortar slave side takes '// &
+            'triangles (ME-FEM or standard tetrahedra) in 3D')
+        used(it%slave%nodes) = .true.
+        used(it%master%nodes) = .true.
+        it%fs = c%fs
+        it%fd = c%fd
+        it%dc = c%dc
+        if (it%fd == 0.0_wp) it%fd = it%fs
+        ns = size(it%slave%nodes)
+        allocate(it%slave_index(model%nodes%n))
+        it%slave_index = 0
+        it%slave_index(it%slave%nodes) = [(i, i = 1, ns)]
+        call slave_penalty(model, c, mass, it)
+        allocate(it%normal(3, ns), it%area(ns), it%area_old(ns), it%gap_vector(3, ns), &
+                 it%gap(ns), it%pressure(ns), it%traction(3, ns), it%pairs(0), it%pairs_old(0))
+        it%traction = 0.0_wp
+        it%pressure = 0.0_wp
+        it%gap = 0.0_wp
+        it%area = 0.0_wp
+        it%area_old = 0.0_wp
+        it%margin = MARGIN_FACTOR*mean_facet_size(it%master, model%nodes%x)
+        it%surface_nodes = [it%slave%nodes, it%master%nodes]
+        allocate(it%x_search(3, size(it%surface_nodes)))
+      end associate
+    end do
+    contact%node_global = pack([(i, i = 1, model%nodes%n)], used)
+    contact%nnode = size(contact%node_global)
+    allocate(contact%node_index(model%nodes%n))
+    contact%node_index = 0
+    contact%node_index(contact%node_global) = [(i, i = 1, contact%nnode)]
+    allocate(contact%x(3, model%nodes%n), contact%force(3, contact%nnode), &
+             contact%pressure(contact%nnode), contact%gap(contact%nnode))
+    contact%x = model%nodes%x
+    contact%force = 0.0_wp
+    contact%pressure = 0.0_wp
+    contact%gap = 0.0_wp
+  end subroutine mortar_contact_setup
+
+  !> The penalty constants of an interface, one value for the whole interface (a penalty
+  !> that varied from node to node would turn a uniform penetration into a non-uniform
+  !> pressure and fail the contact patch test):
+  !>   eps_material = SLSFAC SFSA SFSB <K / h>, the area-weighted mean over the slave facets
+  !>     of the bulk modulus over the element's size normal to the facet (volume / facet area
+  !>     in 3D, area / edge length in 2D, reference configuration): LS-DYNA's SOFT = 0
+  !>     stiffness k = SLSFAC SFS K A^2 / V as a pressure per unit gap;
+  !>   mass_per_area = min over slave nodes of m_A / a_A (a_A = int N_A over the slave
+  !>     facets), for the time-step limit eps <= MASS_LIMIT mass_per_area / dt^2.
+  subroutine slave_penalty(model, c, mass, it)
+    type(model_t), intent(in) :: model                !< resolved model
+    type(contact_t), intent(in) :: c                  !< the contact card
+    real(wp), intent(in) :: mass(:)                   !< (mesh nodes) lumped masses
+    type(contact_interface_t), intent(inout) :: it    !< the interface
+    real(wp) :: lambda, mu, bulk, size_normal, measure, a(3), total_area, weighted
+    real(wp), allocatable :: node_area(:)
+    integer :: f, e, i, m, nv
+    allocate(node_area(size(it%slave%nodes)))
+    node_area = 0.0_wp
+    total_area = 0.0_wp
+    weighted = 0.0_wp
+    do f = 1, it%slave%nfacet
+      a = contact_facet_area_vector(it%slave, f, model%nodes%x)
+      do i = 1, it%slave%nvertex(f)
+        node_area(it%slave%local(i, f)) = node_area(it%slave%local(i, f)) + &
+            norm2(a)/real(it%slave%nvertex(f), wp)
+      end do
+    end do
+    it%mass_per_area = huge(1.0_wp)
+    do i = 1, size(it%slave%nodes)
+      if (node_area(i) > 0.0_wp .and. mass(it%slave%nodes(i)) > 0.0_wp) &
+        it%mass_per_area = min(it%mass_per_area, mass(it%slave%nodes(i))/node_area(i))
+    end do
+    do f = 1, it%slave%nfacet
+      e = it%slave%element(f)
+      if (e <= 0) cycle
+      m = model%parts(model%elements%part(e))%material
+      if (m <= 0) cycle
+      call material_elastic_moduli(model%materials(m), lambda, mu)
+      bulk = lambda + 2.0_wp*mu/3.0_wp
+      nv = model%dimension + 1
+      measure = simplex_measure(model%dimension, model%nodes%x(:, model%elements%conn(1:nv, e)))
+      a = contact_facet_area_vector(it%slave, f, model%nodes%x)
+      if (norm2(a) <= 0.0_wp) cycle
+      size_normal = measure/norm2(a)
+      total_area = total_area + norm2(a)
+      weighted = weighted + norm2(a)*bulk/size_normal
+    end do
+    it%eps_material = 0.0_wp
+    if (total_area > 0.0_wp) it%eps_material = SLSFAC*c%sfsa*c%sfsb*weighted/total_area
+  end subroutine slave_penalty
+
+  !> Area of a triangle (dim 2) or volume of a tetrahedron (dim 3) from its corners.
+  pure real(wp) function simplex_measure(dim, xc)
+    integer, intent(in) :: dim              !< 2 or 3
+    real(wp), intent(in) :: xc(:,:)         !< (3, dim+1) corners
+    real(wp) :: d1(3), d2(3), d3(3)
+    d1 = xc(:, 2) - xc(:, 1)
+    d2 = xc(:, 3) - xc(:, 1)
+    if (dim == 2) then
+      simplex_measure = 0.5_wp*abs(d1(1)*d2(2) - d1(2)*d2(1))
+    else
+      d3 = xc(:, 4) - xc(:, 1)
+      simplex_measure = abs(d1(1)*(d2(2)*d3(3) - d2(3)*d3(2)) - d1(2)*(d2(1)*d3(3) - &
+          d2(3)*d3(1)) + d1(3)*(d2(1)*d3(2) - d2(2)*d3(1)))/6.0_wp
+    end if
+  end function simplex_measure
+
+  !> Mean size of a surface's facets: length (2D) or square root of the area (3D).
+  real(wp) function mean_facet_size(surface, x)
+    type(contact_surface_t), intent(in) :: surface    !< the surface
+    real(wp), intent(in) :: x(:,:)                    !< (3, mesh nodes) coordinates
+    real(wp) :: total
+    integer :: f
+    total = 0.0_wp
+    do f = 1, surface%nfacet
+      if (surface%dim == 2) then
+        total = total + norm2(contact_facet_area_vector(surface, f, x))
+      else
+        total = total + sqrt(norm2(contact_facet_area_vector(surface, f, x)))
+      end if
+    end do
+    mean_facet_size = total/real(max(1, surface%nfacet), wp)
+  end function mean_facet_size
+
+  !> Contact forces of every interface at the positions contact%x (the contact nodes' rows
+  !> current), for a step dt (penalty limit); into contact%force (contact-node numbering).
+  subroutine mortar_contact_forces(contact, dt)
+    type(mortar_contact_t), intent(inout) :: contact  !< contact data, positions current
+    real(wp), intent(in) :: dt                        !< the time step just taken (> 0)
+    integer :: k
+    contact%force = 0.0_wp
+    contact%pressure = 0.0_wp
+    contact%gap = 0.0_wp
+    do k = 1, contact%n
+      call interface_forces(contact, contact%interfaces(k), dt)
+    end do
+  end subroutine mortar_contact_forces
+
+  !> One interface: steps 1-6 of the module header.
+  subroutine interface_forces(contact, it, dt)
+    type(mortar_contact_t), intent(inout) :: contact  !< contact data
+    type(contact_interface_t), intent(inout) :: it    !< the interface
+    real(wp), intent(in) :: dt                        !< the time step just taken
+    real(wp), allocatable :: gap_old(:,:)
+    real(wp) :: eps, slip(3), trial(3), old(3), magnitude, mu, limit, tau(3)
+    integer :: a, dim
+    dim = contact%dim
+    call update_candidates(contact, it)
+    ! weights of the previous call with today's positions (slip), then today's weights
+    call swap_pairs(it)
+    it%npair_old = it%npair
+    it%area_old = it%area
+    allocate(gap_old(3, size(it%slave%nodes)))
+    call weighted_sums(contact%x, it, it%pairs_old, it%npair_old, gap_old)
+    call mortar_pairs(contact, it)
+    call slave_normals(contact, it)
+    call weighted_sums(contact%x, it, it%pairs, it%npair, it%gap_vector, it%area)
+    ! gap, pressure, friction per slave node
+    it%normal_force = 0.0_wp
+    do a = 1, size(it%slave%nodes)
+      if (it%area(a) <= 0.0_wp) then
+        it%gap(a) = 0.0_wp
+        it%pressure(a) = 0.0_wp
+        it%traction(:, a) = 0.0_wp
+        cycle
+      end if
+      it%gap(a) = dot_product(it%normal(:, a), it%gap_vector(:, a))/it%area(a)
+      eps = it%eps_material
+      if (dt > 0.0_wp) eps = min(eps, MASS_LIMIT*it%mass_per_area/(dt*dt))
+      it%pressure(a) = eps*max(-it%gap(a), 0.0_wp)
+      it%normal_force = it%normal_force + it%area(a)*it%pressure(a)
+      if (it%pressure(a) <= 0.0_wp .or. it%fs <= 0.0_wp .or. it%area_old(a) <= 0.0_wp) then
+        it%traction(:, a) = 0.0_wp
+        cycle
+      end if
+      slip = tangential(it%normal(:, a), it%gap_vector(:, a) - gap_old(:, a))/it%area(a)
+      ! the old traction turned into today's tangent plane, its magnitude kept
+      old = tangential(it%normal(:, a), it%traction(:, a))
+      if (norm2(old) > 0.0_wp) old = old*norm2(it%traction(:, a))/norm2(old)
+      trial = old - eps*slip
+      mu = it%fd + (it%fs - it%fd)*exp(-it%dc*norm2(slip)/max(dt, tiny(1.0_wp)))
+      limit = mu*it%pressure(a)
+      magnitude = norm2(trial)
+      if (magnitude > limit) trial = trial*(limit/magnitude)
+      it%traction(:, a) = trial
+    end do
+    ! nodal forces
+    call nodal_forces(contact, it)
+    it%tangential_force = 0.0_wp
+    tau = 0.0_wp
+    do a = 1, size(it%slave%nodes)
+      tau = tau + it%area(a)*it%traction(:, a)
+      associate (cn => contact%node_index(it%slave%nodes(a)))
+        if (it%area(a) > 0.0_wp) then
+          contact%pressure(cn) = max(contact%pressure(cn), it%pressure(a))
+          contact%gap(cn) = it%gap(a)
+        end if
+      end associate
+    end do
+    it%tangential_force = norm2(tau(1:dim))
+  end subroutine interface_forces
+
+  !> The pairs of the last call become the old ones (buffers swapped, not reallocated).
+  subroutine swap_pairs(it)
+    type(contact_interface_t), intent(inout) :: it    !< the interface
+    type(pair_t), allocatable :: scratch(:)
+    call move_alloc(it%pairs_old, scratch)
+    call move_alloc(it%pairs, it%pairs_old)
+    call move_alloc(scratch, it%pairs)
+  end subroutine swap_pairs
+
+  !> Tangential part (I - n n) v of v.
+  pure function tangential(n, v) result(t)
+    real(wp), intent(in) :: n(3), v(3)     !< unit normal, vector
+    real(wp) :: t(3)
+    t = v - dot_product(n, v)*n
+  end function tangential
+
+  !> Averaged unit normals of the slave nodes: area-weighted outward normals of the slave
+  !> facets that have a mortar partner in this call (so that a node on the edge of the
+  !> contact zone is not tilted by the free side faces of its body).
+  subroutine slave_normals(contact, it)
+    type(mortar_contact_t), intent(in) :: contact     !< contact data
+    type(contact_interface_t), intent(inout) :: it    !< the interface
+    real(wp) :: a(3), length
+    integer :: f, i, k
+    logical :: active(it%slave%nfacet)
+    active = .false.
+    do k = 1, it%npair
+      active(it%pairs(k)%slave) = .true.
+    end do
+    it%normal = 0.0_wp
+    do f = 1, it%slave%nfacet
+      if (.not. active(f)) cycle
+      a = contact_facet_area_vector(it%slave, f, contact%x)
+      do i = 1, it%slave%nvertex(f)
+        it%normal(:, it%slave%local(i, f)) = it%normal(:, it%slave%local(i, f)) + a
+      end do
+    end do
+    do i = 1, size(it%slave%nodes)
+      length = norm2(it%normal(:, i))
+      if (length > 0.0_wp) it%normal(:, i) = it%normal(:, i)/length
+    end do
+  end subroutine slave_normals
+
+  !> Candidate pairs: rebuilt when a surface node moved more than half the margin since the
+  !> last search (the pairs missed in between are then those that came closer than the
+  !> margin, which cannot happen).
+  subroutine update_candidates(contact, it)
+    type(mortar_contact_t), intent(in) :: contact     !< contact data
+    type(contact_interface_t), intent(inout) :: it    !< the interface
+    real(wp) :: moved
+    integer :: i
+    moved = huge(1.0_wp)
+    if (it%searched) then
+      moved = 0.0_wp
+      do i = 1, size(it%surface_nodes)
+        moved = max(moved, norm2(contact%x(:, it%surface_nodes(i)) - it%x_search(:, i)))
+      end do
+    end if
+    if (moved <= 0.5_wp*it%margin) return
+    call contact_search_build(it%search, it%slave, it%master, contact%x, it%margin, &
+                              it%candidates, it%ncandidate)
+    it%x_search = contact%x(:, it%surface_nodes)
+    it%searched = .true.
+  end subroutine update_candidates
+
+  !> Mortar weights of every candidate pair with an overlap (into it%pairs).
+  subroutine mortar_pairs(contact, it)
+    type(mortar_contact_t), intent(in) :: contact     !< contact data
+    type(contact_interface_t), intent(inout) :: it    !< the interface
+    type(pair_t) :: p
+    real(wp) :: xs(3, 3), xm(3, MAX_VERTICES), overlap, n_s(3), n_m(3), facing
+    integer :: k, s, m, i, nm
+    if (.not. allocated(it%pairs)) allocate(it%pairs(0))
+    if (size(it%pairs) < it%ncandidate) then       ! grows, never shrinks: no reallocation
+      deallocate(it%pairs)                          ! once the contact has settled
+      allocate(it%pairs(it%ncandidate + it%ncandidate/2))
+    end if
+    it%npair = 0
+    do k = 1, it%ncandidate
+      s = it%candidates(1, k)
+      m = it%candidates(2, k)
+      ! partners face each other: an outward master facet against the slave normal within
+      ! FACING_ANGLE (the far side of a master body, or a side face seen edge-on, is not a
+      ! partner); a shell master facet (either orientation) nearly parallel to the slave
+      n_s = contact_facet_area_vector(it%slave, s, contact%x)
+      n_m = contact_facet_area_vector(it%master, m, contact%x)
+      facing = dot_product(n_s, n_m)/max(norm2(n_s)*norm2(n_m), tiny(1.0_wp))
+      if (.not. it%master%outward(m)) facing = -abs(facing)
+      if (facing > -FACING_COSINE) cycle
+      p%slave = s
+      p%master = m
+      p%n_ab = 0.0_wp
+      p%n_ac = 0.0_wp
+      nm = it%master%nvertex(m)
+      if (contact%dim == 2) then
+        call mortar_segment_pair_2d(contact%x(1:2, it%slave%facets(1:2, s)), &
+                                    contact%x(1:2, it%master%facets(1:2, m)), &
+                                    p%n_ab(1:2, 1:2), p%n_ac(1:2, 1:2), overlap)
+      else
+        do i = 1, 3
+          xs(:, i) = contact%x(:, it%slave%facets(i, s))
+        end do
+        xm = 0.0_wp
+        do i = 1, nm
+          xm(:, i) = contact%x(:, it%master%facets(i, m))
+        end do
+        call mortar_triangle_pair_3d(xs, xm, nm, p%n_ab, p%n_ac, overlap)
+      end if
+      if (overlap <= 0.0_wp) cycle
+      it%npair = it%npair + 1
+      it%pairs(it%npair) = p
+    end do
+  end subroutine mortar_pairs
+
+  !> Per slave node, the weighted gap vector G_A = sum_C n_AC x_C - sum_B n_AB x_B of a set
+  !> of pairs at positions x, and optionally A_A = sum_B n_AB.
+  subroutine weighted_sums(x, it, pairs, npair, gap_vector, area)
+    real(wp), intent(in) :: x(:,:)                    !< (3, mesh nodes) positions
+    type(contact_interface_t), intent(in) :: it       !< the interface
+    type(pair_t), intent(in) :: pairs(:)              !< pairs
+    integer, intent(in) :: npair                      !< pairs used
+    real(wp), intent(out) :: gap_vector(:,:)          !< (3, slave nodes)
+    real(wp), intent(out), optional :: area(:)        !< (slave nodes)
+    integer :: k, a, b, c, na, nm
+    gap_vector = 0.0_wp
+    if (present(area)) area = 0.0_wp
+    do k = 1, npair
+      associate (p => pairs(k))
+        na = it%slave%nvertex(p%slave)
+        nm = it%master%nvertex(p%master)
+        do a = 1, na
+          associate (slot => it%slave%local(a, p%slave))
+            do b = 1, na
+              gap_vector(:, slot) = gap_vector(:, slot) - p%n_ab(a, b)*x(:, it%slave%facets(b, &
+                  p%slave))
+              if (present(area)) area(slot) = area(slot) + p%n_ab(a, b)
+            end do
+            do c = 1, nm
+              gap_vector(:, slot) = gap_vector(:, slot) + p%n_ac(a, c)*x(:, it%master%facets(c, &
+                  p%master))
+            end do
+          end associate
+        end do
+      end associate
+    end do
+  end subroutine weighted_sums
+
+  !> Nodal forces of the interface's traction tau_A = -p_A n_A + t_A, added to contact%force:
+  !> slave f_B += sum_A n_AB tau_A, master f_C -= sum_A n_AC tau_A; and their resultants.
+  subroutine nodal_forces(contact, it)
+    type(mortar_contact_t), intent(inout) :: contact  !< contact data
+    type(contact_interface_t), intent(inout) :: it    !< the interface
+    real(wp) :: tau(3, 3)
+    integer :: k, a, b, c, na, nm, node
+    it%force_slave = 0.0_wp
+    it%force_master = 0.0_wp
+    do k = 1, it%npair
+      associate (p => it%pairs(k))
+        na = it%slave%nvertex(p%slave)
+        nm = it%master%nvertex(p%master)
+        do a = 1, na
+          associate (slot => it%slave%local(a, p%slave))
+            tau(:, a) = -it%pressure(slot)*it%normal(:, slot) + it%traction(:, slot)
+          end associate
+        end do
+        do b = 1, na
+          node = contact%node_index(it%slave%facets(b, p%slave))
+          do a = 1, na
+            contact%force(:, node) = contact%force(:, node) + p%n_ab(a, b)*tau(:, a)
+            it%force_slave = it%force_slave + p%n_ab(a, b)*tau(:, a)
+          end do
+        end do
+        do c = 1, nm
+          node = contact%node_index(it%master%facets(c, p%master))
+          do a = 1, na
+            contact%force(:, node) = contact%force(:, node) - p%n_ac(a, c)*tau(:, a)
+            it%force_master = it%force_master - p%n_ac(a, c)*tau(:, a)
+          end do
+        end do
+      end associate
+    end do
+  end subroutine nodal_forces
+
+end module mefem_mortar_contact
