@@ -1,4 +1,5 @@
-"""Readers of the LS-DYNA-style ASCII time histories mefem writes (glstat, nodout, rwforc).
+"""Readers of the LS-DYNA-style ASCII time histories mefem writes (glstat, nodout, rwforc,
+rbdout, rcforc).
 
 Label-based, so they read LS-DYNA's own files as well as mefem's (which carry more digits):
 
@@ -120,4 +121,71 @@ def read_rbdout(path):
         out[part] = {'time': data[:, 0]}
         for k, name in enumerate(RBDOUT_COLUMNS):
             out[part][name] = data[:, k + 1]
+    return out
+
+
+_RCFORC_ROLES = {'master': 'master', 'slave': 'slave', 'surfb': 'master', 'surfa': 'slave'}
+_RCFORC_ROW = re.compile(r'^\s*(master|slave|surfa|surfb)\s+(\d+)\s+(.*)$', re.IGNORECASE)
+_LABEL_VALUE = re.compile(r'([A-Za-z][A-Za-z_]*)\s*=?\s*'
+                          r'([-+]?(?:\d+\.?\d*|\.\d+)(?:[EeDd][-+]?\d+|[-+]\d{2,3})?)'
+                          r'(?![\w.])')
+
+
+def read_rcforc(path):
+    """Rows of an rcforc file (resultant contact forces, LS-DYNA's layout):
+    dict interface id -> {'master': {...}, 'slave': {...}}, each a dict label -> array over
+    the output times, with the labels of the row ('time', 'x', 'y', 'z', 'mass', ...).
+
+    Read by label, not by column: a row is a role word (master/slave; SURFB/SURFA are taken as
+    master/slave), the interface id, then label-value pairs in any order and number, e.g.
+      '  master       1 time  1.00000E-03 x -1.2E+01 y  0.0E+00 z  3.4E+03 mass  0.0E+00'
+    Numbers may follow their label without a blank ('x-1.2E+01') and may use Fortran's
+    exponent without a letter. Header, legend and blank lines are skipped. Labels are
+    lower-cased; a label missing in a row gives NaN there. x/y/z are the force the other
+    surface exerts on this one (LS-DYNA: on the master, the force of the slave on it)."""
+    rows = {}
+    with open(path) as f:
+        for line in f:
+            m = _RCFORC_ROW.match(line)
+            if not m:
+                continue
+            values = {}
+            for label, text in _LABEL_VALUE.findall(m.group(3)):
+                try:
+                    values[label.lower()] = _number(text.replace('D', 'E').replace('d', 'e'))
+                except ValueError:
+                    continue
+            if 'time' not in values:
+                continue
+            role = _RCFORC_ROLES[m.group(1).lower()]
+            rows.setdefault(int(m.group(2)), {}).setdefault(role, []).append(values)
+    out = {}
+    for interface, roles in sorted(rows.items()):
+        out[interface] = {}
+        for role, records in roles.items():
+            labels = []
+            for r in records:
+                labels += [k for k in r if k not in labels]
+            out[interface][role] = {k: np.array([r.get(k, np.nan) for r in records])
+                                    for k in labels}
+    return out
+
+
+def read_rcforc(path):
+    """mefem's (and LS-DYNA's) ASCII rcforc: dict interface id -> {'slave': ..., 'master': ...},
+    each a dict of arrays 'time', 'x', 'y', 'z' (and 'normal', 'tangential' when present)."""
+    out = {}
+    with open(path) as f:
+        for line in f:
+            fields = line.split()
+            if len(fields) < 9 or fields[0] not in ('slave', 'master') or fields[2] != 'time':
+                continue
+            side, iid = fields[0], int(fields[1])
+            values = {fields[k]: _number(fields[k + 1]) for k in range(2, len(fields) - 1, 2)}
+            rec = out.setdefault(iid, {}).setdefault(side, {})
+            for key, value in values.items():
+                rec.setdefault(key, []).append(value)
+    for iid in out:
+        for side in out[iid]:
+            out[iid][side] = {k: np.array(v) for k, v in out[iid][side].items()}
     return out

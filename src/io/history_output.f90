@@ -63,6 +63,7 @@ module mefem_history_output
   public :: nodout_open, nodout_write, nodout_close, nodout_is_open
   public :: rwforc_open, rwforc_write, rwforc_close
   public :: rbdout_open, rbdout_write, rbdout_close
+  public :: rcforc_open, rcforc_write, rcforc_close
 
   integer, parameter :: LABEL_WIDTH = 32        !< columns of " label......" before a value
   character(len=*), parameter :: GLSTAT_VALUE = 'es21.11e3'   !< glstat value edit descriptor
@@ -98,6 +99,9 @@ module mefem_history_output
   logical :: nodout_opened = .false.
   character(len=:), allocatable :: nodout_path
   integer, allocatable :: nodout_ids(:)           !< user ids of the history nodes
+  integer :: rcforc_unit = -1                     !< unit of the open rcforc file
+  logical :: rcforc_opened = .false.
+  character(len=:), allocatable :: rcforc_path
   integer :: rbdout_unit = -1                     !< unit of the open rbdout file
   logical :: rbdout_opened = .false.
   character(len=:), allocatable :: rbdout_path
@@ -386,6 +390,64 @@ contains
     rbdout_opened = .false.
     rbdout_unit = -1
   end subroutine rbdout_close
+
+  !> Open <dir>/rcforc on rank 0 (contact resultants): banner and title as LS-DYNA's ASCII
+  !> rcforc, then per interface and output time two lines (slave, master) of the form
+  !>   "  slave        12 time  <t> x  <fx> y  <fy> z  <fz> mass  0 normal  <fn> tangential <ft>"
+  !> (LS-DYNA's keywords and order; the normal and tangential magnitudes are mefem's own
+  !> addition at the end of the line, for label-based parsers).
+  subroutine rcforc_open(dir, title)
+    character(len=*), intent(in) :: dir              !< output directory (must exist)
+    character(len=*), intent(in), optional :: title  !< run title for line 1 (default "mefem")
+    integer :: ios
+    if (.not. comm_is_root()) return
+    if (rcforc_opened) call rcforc_close()
+    rcforc_path = join_path(dir, 'rcforc')
+    call open_history(rcforc_path, .false., rcforc_unit)
+    rcforc_opened = .true.
+    if (present(title)) then
+      call write_banner(rcforc_unit, rcforc_path, title)
+    else
+      call write_banner(rcforc_unit, rcforc_path, DEFAULT_TITLE)
+    end if
+    write(rcforc_unit, '(a/a/a)', iostat=ios) '', &
+        ' r e s u l t a n t   i n t e r f a c e   f o r c e s', ''
+    call check_write(ios, rcforc_path)
+    flush(rcforc_unit)
+  end subroutine rcforc_open
+
+  !> Append the slave and master resultants of one interface at one time.
+  subroutine rcforc_write(time, interface_id, force_slave, force_master, normal_force, &
+                          tangential_force)
+    real(wp), intent(in) :: time                     !< simulation time
+    integer, intent(in) :: interface_id              !< contact id
+    real(wp), intent(in) :: force_slave(3)           !< sum of the slave side's nodal forces
+    real(wp), intent(in) :: force_master(3)          !< sum of the master side's nodal forces
+    real(wp), intent(in) :: normal_force             !< normal force magnitude
+    real(wp), intent(in) :: tangential_force         !< tangential (friction) force magnitude
+    character(len=*), parameter :: row = '(a,i10,a,'//NODOUT_VALUE//',3(a,'//NODOUT_VALUE// &
+        '),a,'//NODOUT_VALUE//',a,'//NODOUT_VALUE//',a,'//NODOUT_VALUE//')'
+    integer :: ios
+    if (.not. comm_is_root()) return
+    if (.not. rcforc_opened) call fatal_local('rcforc_write called before rcforc_open')
+    write(rcforc_unit, row, iostat=ios) '  slave ', interface_id, ' time', time, ' x', &
+        force_slave(1), ' y', force_slave(2), ' z', force_slave(3), ' mass', 0.0_wp, &
+        ' normal', normal_force, ' tangential', tangential_force
+    call check_write(ios, rcforc_path)
+    write(rcforc_unit, row, iostat=ios) '  master', interface_id, ' time', time, ' x', &
+        force_master(1), ' y', force_master(2), ' z', force_master(3), ' mass', 0.0_wp, &
+        ' normal', normal_force, ' tangential', tangential_force
+    call check_write(ios, rcforc_path)
+    flush(rcforc_unit)
+  end subroutine rcforc_write
+
+  !> Close rcforc (no-op when it is not open).
+  subroutine rcforc_close()
+    if (.not. rcforc_opened) return
+    close(rcforc_unit)
+    rcforc_opened = .false.
+    rcforc_unit = -1
+  end subroutine rcforc_close
 
   !> Close nodout (no-op when it is not open).
   subroutine nodout_close()

@@ -58,7 +58,9 @@ module mefem_explicit_dynamics
   use mefem_rigid_bodies, only: rigid_bodies_t, rigid_bodies_build, rigid_bodies_set_velocity, &
                                 rigid_bodies_accumulate, rigid_bodies_advance, &
                                 rigid_body_point_motion, rigid_bodies_kinetic_energy
-  use mefem_history_output, only: rbdout_open, rbdout_write, rbdout_close
+  use mefem_history_output, only: rbdout_open, rbdout_write, rbdout_close, rcforc_open, &
+                                  rcforc_write, rcforc_close
+  use mefem_mortar_contact, only: mortar_contact_t, mortar_contact_setup, mortar_contact_forces
   use mefem_history_output, only: rwforc_open, rwforc_write, rwforc_close
   implicit none
   private
@@ -89,6 +91,13 @@ module mefem_explicit_dynamics
     real(wp), allocatable :: f_int_new(:,:)    !< (dim, nnode) internal forces being assembled
     real(wp), allocatable :: f_ext(:,:)        !< (dim, nnode) external forces at t^n
     real(wp), allocatable :: f_ext_new(:,:)    !< (dim, nnode) external forces at t^{n+1}
+    real(wp), allocatable :: f_con(:,:)        !< (dim, nnode) contact forces at t^n
+    real(wp), allocatable :: f_con_new(:,:)    !< (dim, nnode) contact forces at t^{n+1}
+    ! mortar contact (replicated surfaces) and this rank's view of its nodes
+    type(mortar_contact_t) :: contact
+    integer, allocatable :: contact_local(:)   !< (contact nodes) local node, 0 if none
+    logical, allocatable :: contact_owned(:)   !< (contact nodes) this rank owns it
+    real(wp), allocatable :: contact_buffer(:,:) !< (3, contact nodes) gathered positions
     real(wp), allocatable :: mass(:)           !< (nnode) lumped mass (with added mass)
     real(wp), allocatable :: physical_mass(:)  !< (nnode) lumped mass without mass scaling
     integer, allocatable :: node_global(:)     !< (nnode) global node (mesh, then enriched)
@@ -139,6 +148,7 @@ module mefem_explicit_dynamics
     real(wp) :: wall_work = 0.0_wp             !< work of the walls on the owned nodes
     ! energies accumulated over owned nodes (summed over ranks when written)
     real(wp) :: internal_energy = 0.0_wp
+    real(wp) :: contact_energy = 0.0_wp        !< minus the work of the contact forces
     real(wp) :: external_work = 0.0_wp
   end type explicit_state_t
 
@@ -147,7 +157,9 @@ module mefem_explicit_dynamics
     real(wp) :: plot_interval = 0.0_wp, next_plot = 0.0_wp
     real(wp) :: glstat_interval = 0.0_wp, next_glstat = 0.0_wp
     real(wp) :: nodout_interval = 0.0_wp, next_nodout = 0.0_wp
+    real(wp) :: rcforc_interval = 0.0_wp, next_rcforc = 0.0_wp
     real(wp) :: last_plot = -1.0_wp, last_glstat = -1.0_wp, last_nodout = -1.0_wp
+    real(wp) :: last_rcforc = -1.0_wp
     integer :: plot_state = 1                  !< next output state number
     real(wp) :: initial_energy = 0.0_wp        !< total energy at t = 0
     logical :: have_initial_energy = .false.
@@ -159,6 +171,7 @@ module mefem_explicit_dynamics
     real(wp) :: exchange = 0.0_wp              !< waiting for the halo and the reductions
     real(wp) :: update = 0.0_wp                !< nodal update, conditions, energies
     real(wp) :: output = 0.0_wp                !< states and histories
+    real(wp) :: contact = 0.0_wp               !< contact: gather, search, mortar, forces
   end type timing_t
 
 contains
@@ -193,7 +206,7 @@ contains
     cycle = 0
     end_time = model%controls%end_time
     end_cycle = model%controls%end_cycle
-    call compute_forces(model, s, halo, 0.0_wp, timing)
+    call compute_forces(model, s, halo, 0.0_wp, 0.0_wp, timing)
     s%f_int = s%f_int_new
     s%f_ext = s%f_ext_new
     call accelerations(s)
@@ -222,7 +235,7 @@ contains
       if (s%nwall > 0) call apply_rigid_walls(model, s, t + dt, dt_old, dt)
       timing%update = timing%update + (comm_wtime() - clock)
       t = t + dt
-      call compute_forces(model, s, halo, t, timing)
+      call compute_forces(model, s, halo, t, dt, timing)
       clock = comm_wtime()
       call accumulate_energies(s, dt)
       call accelerations(s)
@@ -278,10 +291,6 @@ contains
         end if
       end associate
     end do
-    if (model%n_contacts > 0) then
-      call say('contact is not available in the explicit solver yet')
-      bad = .true.
-    end if
     if (bad) call fatal('explicit: the model asks for what the explicit solver does not do '// &
                         '(see above); nothing was run')
   end subroutine check_supported
@@ -404,7 +413,9 @@ contains
     call initial_velocities(model, v_global)
     allocate(s%u(dim, s%nnode), s%v(dim, s%nnode), s%v_old(dim, s%nnode), s%a(dim, s%nnode), &
              s%f_int(dim, s%nnode), s%f_int_new(dim, s%nnode), s%f_ext(dim, s%nnode), &
-             s%f_ext_new(dim, s%nnode))
+             s%f_ext_new(dim, s%nnode), s%f_con(dim, s%nnode), s%f_con_new(dim, s%nnode))
+    s%f_con = 0.0_wp
+    s%f_con_new = 0.0_wp
     s%u = 0.0_wp
     s%a = 0.0_wp
     do l = 1, s%nnode
@@ -470,6 +481,18 @@ contains
       s%v_old = s%v
     end if
 
+    ! mortar contact: every rank holds all surfaces; its local and owned contact nodes
+    if (model%n_contacts > 0) then
+      call mortar_contact_setup(model, mass_global(1:cells%n_mesh_nodes), s%contact)
+      allocate(s%contact_local(s%contact%nnode), s%contact_owned(s%contact%nnode), &
+               s%contact_buffer(3, s%contact%nnode))
+      do k = 1, s%contact%nnode
+        s%contact_local(k) = explicit_layout_local_node(layout, s%contact%node_global(k))
+        s%contact_owned(k) = .false.
+        if (s%contact_local(k) > 0) s%contact_owned(k) = s%owned(s%contact_local(k))
+      end do
+    end if
+
     ! rigid walls: the local nodes each one tests (not those of rigid bodies)
     s%nwall = model%n_rigid_walls
     allocate(s%wall_nodes(s%nwall), s%wall_force(3, s%nwall))
@@ -517,7 +540,8 @@ contains
       l = s%rigid_node(k)
       if (.not. s%owned(l)) cycle
       call rigid_bodies_accumulate(s%bodies, s%rigid_body(k), s%x0(:, l) + s%u(:, l), &
-                                   s%f_ext(:, l) - s%f_int(:, l), s%body_force, s%body_moment)
+                                   s%f_ext(:, l) + s%f_con(:, l) - s%f_int(:, l), &
+                                   s%body_force, s%body_moment)
     end do
     call comm_sum(s%body_force)
     call comm_sum(s%body_moment)
@@ -603,7 +627,8 @@ contains
         s%driven(i, n) = .true.
         ! work of the reaction at t^n over the half steps around it (owned nodes)
         if (s%owned(n) .and. dt_avg > 0.0_wp) work = work + &
-            (s%mass(n)*(s%v(i, n) - s%v_old(i, n))/dt_avg - s%f_ext(i, n) + s%f_int(i, n))* &
+            (s%mass(n)*(s%v(i, n) - s%v_old(i, n))/dt_avg - s%f_ext(i, n) - s%f_con(i, n) + &
+             s%f_int(i, n))* &
             0.5_wp*(dt_old*s%v_old(i, n) + dt*s%v(i, n))
       end associate
     end do
@@ -612,11 +637,12 @@ contains
 
   !> Internal and external forces at time t (into f_int_new, f_ext_new) and the local stable
   !> time step; the halo exchange of the outer cells' contributions overlaps the inner cells.
-  subroutine compute_forces(model, s, halo, t, timing)
+  subroutine compute_forces(model, s, halo, t, dt, timing)
     type(model_t), intent(in) :: model                !< resolved model
     type(explicit_state_t), intent(inout) :: s        !< local state
     type(halo_t), intent(inout) :: halo               !< force exchange
     real(wp), intent(in) :: t                         !< time of the forces
+    real(wp), intent(in) :: dt                        !< the step that reached t (0 at t = 0)
     type(timing_t), intent(inout) :: timing           !< phase times
     real(wp) :: clock
     integer :: k
@@ -643,7 +669,36 @@ contains
     end if
     timing%exchange = timing%exchange + (comm_wtime() - clock)
     call external_nodal_forces(model, s, t)
+    s%f_con_new = 0.0_wp
+    if (s%contact%n > 0 .and. dt > 0.0_wp) then
+      clock = comm_wtime()
+      call contact_forces(s, dt)
+      timing%contact = timing%contact + (comm_wtime() - clock)
+    end if
   end subroutine compute_forces
+
+  !> Mortar contact forces at the current positions: the contact nodes' positions gathered on
+  !> every rank (owners fill, one sum), every interface computed on every rank alike, the
+  !> forces taken at this rank's local nodes.
+  subroutine contact_forces(s, dt)
+    type(explicit_state_t), intent(inout) :: s        !< local state
+    real(wp), intent(in) :: dt                        !< the step that reached the positions
+    integer :: k, l
+    s%contact_buffer = 0.0_wp
+    do k = 1, s%contact%nnode
+      l = s%contact_local(k)
+      if (l > 0) then
+        if (s%contact_owned(k)) s%contact_buffer(1:s%dim, k) = s%x0(:, l) + s%u(:, l)
+      end if
+    end do
+    call comm_sum(s%contact_buffer)
+    s%contact%x(:, s%contact%node_global) = s%contact_buffer
+    call mortar_contact_forces(s%contact, dt)
+    do k = 1, s%contact%nnode
+      l = s%contact_local(k)
+      if (l > 0) s%f_con_new(:, l) = s%contact%force(1:s%dim, k)
+    end do
+  end subroutine contact_forces
 
   !> One cell: smoothed F, material update (history committed at once: explicit), the
   !> nodal force contributions and the cell's stable step (with added mass if scaling).
@@ -748,7 +803,7 @@ contains
     integer :: n
     do n = 1, s%nnode
       if (s%active(n)) then
-        s%a(:, n) = (s%f_ext(:, n) - s%f_int(:, n))/s%mass(n)
+        s%a(:, n) = (s%f_ext(:, n) + s%f_con(:, n) - s%f_int(:, n))/s%mass(n)
       else
         s%a(:, n) = 0.0_wp
       end if
@@ -762,17 +817,23 @@ contains
     type(explicit_state_t), intent(inout) :: s        !< local state
     real(wp), intent(in) :: dt                        !< dt^{n+1/2}
     real(wp), allocatable :: scratch(:,:)
-    real(wp) :: internal, external
+    real(wp) :: internal, external, sliding
     integer :: n
     internal = 0.0_wp
     external = 0.0_wp
+    sliding = 0.0_wp
     do n = 1, s%nnode
       if (.not. s%owned(n)) cycle
       internal = internal + 0.5_wp*dt*dot_product(s%f_int(:, n) + s%f_int_new(:, n), s%v(:, n))
       external = external + 0.5_wp*dt*dot_product(s%f_ext(:, n) + s%f_ext_new(:, n), s%v(:, n))
+      sliding = sliding - 0.5_wp*dt*dot_product(s%f_con(:, n) + s%f_con_new(:, n), s%v(:, n))
     end do
     s%internal_energy = s%internal_energy + internal
     s%external_work = s%external_work + external
+    s%contact_energy = s%contact_energy + sliding
+    call move_alloc(s%f_con, scratch)
+    call move_alloc(s%f_con_new, s%f_con)
+    call move_alloc(scratch, s%f_con_new)
     call move_alloc(s%f_int, scratch)
     call move_alloc(s%f_int_new, s%f_int)
     call move_alloc(scratch, s%f_int_new)
@@ -823,6 +884,8 @@ contains
       if (s%nwall > 0) call write_rwforc(model, s, t)
       if (s%bodies%n > 0) call write_rbdout(model, s, t)
     end if
+    if (due(schedule%rcforc_interval, schedule%next_rcforc, schedule%last_rcforc, t, final)) &
+      call write_rcforc(s, t)
     if (due(schedule%nodout_interval, schedule%next_nodout, schedule%last_nodout, t, final)) &
       call write_nodout(model, layout, s, cycle, t, dt)
     timing%output = timing%output + (comm_wtime() - clock)
@@ -857,7 +920,8 @@ contains
     type(explicit_state_t), intent(in) :: s           !< local state
     integer, intent(in) :: state                      !< output state number
     real(wp), intent(in) :: t, dt                     !< time, the step that reached it
-    type(output_field_t) :: point_fields(6), cell_fields(4)
+    type(output_field_t), allocatable :: point_fields(:)
+    type(output_field_t) :: cell_fields(4)
     real(wp), allocatable :: stress(:,:), alpha(:)
     real(wp) :: ue(3, CELL_MAX_NODES), f(3, 3), tau(3, 3), scratch(NHIST), sound, finv(3, 3), det
     type(status_t) :: status
@@ -880,6 +944,7 @@ contains
     end do
     call comm_sum(stress)
     call comm_sum(alpha)
+    allocate(point_fields(merge(8, 6, s%contact%n > 0)))
     do k = 1, 2
       point_fields(k)%ncomp = 3
       allocate(point_fields(k)%values(3, decomp%nnode_local))
@@ -894,6 +959,20 @@ contains
       point_fields(2)%values(1:s%dim, k) = s%v(:, local) + 0.5_wp*dt*s%a(:, local)
     end do
     call cell_result_fields(model, decomp, cells, stress, alpha, point_fields(3:6), cell_fields)
+    if (s%contact%n > 0) then             ! contact data are replicated: any rank fills any node
+      point_fields(7)%name = 'contact_pressure'
+      point_fields(8)%name = 'contact_gap'
+      do k = 7, 8
+        allocate(point_fields(k)%values(1, decomp%nnode_local))
+        point_fields(k)%values = 0.0_wp
+      end do
+      do k = 1, decomp%nnode_local
+        local = s%contact%node_index(decomp%node_global(k))
+        if (local == 0) cycle
+        point_fields(7)%values(1, k) = s%contact%pressure(local)
+        point_fields(8)%values(1, k) = s%contact%gap(local)
+      end do
+    end if
     call results_write_state(state, t, point_fields, cell_fields)
   end subroutine write_state
 
@@ -906,7 +985,7 @@ contains
     integer, intent(in) :: cycle                      !< cycle just completed
     real(wp), intent(in) :: t, dt                     !< time, the step that reached it
     type(glstat_record_t) :: rec
-    real(wp) :: sums(10), v_full(3), dt_min
+    real(wp) :: sums(11), v_full(3), dt_min
     integer :: n, element, part, my_element, b
     sums = 0.0_wp
     do n = 1, s%nnode
@@ -923,6 +1002,7 @@ contains
     sums(2) = s%internal_energy
     sums(3) = s%external_work + pending_reaction_work(s, dt)
     sums(10) = -s%wall_work
+    sums(11) = s%contact_energy
     call comm_sum(sums)
     do b = 1, s%bodies%n                    ! replicated: added once, after the sum
       associate (body => s%bodies%body(b))
@@ -942,6 +1022,7 @@ contains
     rec%internal_energy = sums(2)
     rec%external_work = sums(3)
     rec%rigidwall_energy = sums(10)
+    rec%contact_energy = sums(11)
     rec%added_mass = sums(4)
     rec%percent_mass_increase = 100.0_wp*sums(4)/max(sums(5), tiny(1.0_wp))
     rec%global_velocity = sums(6:8)/max(sums(9), tiny(1.0_wp))
@@ -982,7 +1063,8 @@ contains
     do k = 1, s%nprescribed
       n = s%prescribed_node(k)
       i = s%prescribed_dof(k)
-      if (s%owned(n)) work = work + (s%f_int(i, n) - s%f_ext(i, n))*0.5_wp*dt*s%v(i, n)
+      if (s%owned(n)) work = work + (s%f_int(i, n) - s%f_ext(i, n) - s%f_con(i, n))*0.5_wp* &
+          dt*s%v(i, n)
     end do
   end function pending_reaction_work
 
@@ -1001,6 +1083,21 @@ contains
     end do
     call rwforc_write(t, model%rigid_walls(1:s%nwall)%id, normal, force)
   end subroutine write_rwforc
+
+  !> Contact resultants (rcforc, at *DATABASE_RCFORC DT): per interface the forces on the
+  !> slave and master sides (replicated data: rank 0 writes) and their normal and tangential
+  !> magnitudes.
+  subroutine write_rcforc(s, t)
+    type(explicit_state_t), intent(in) :: s           !< local state
+    real(wp), intent(in) :: t                         !< time
+    integer :: k
+    do k = 1, s%contact%n
+      associate (it => s%contact%interfaces(k))
+        call rcforc_write(t, it%id, it%force_slave, it%force_master, it%normal_force, &
+                          it%tangential_force)
+      end associate
+    end do
+  end subroutine write_rcforc
 
   !> Rigid-body histories (rbdout, at the glstat interval): centre displacement and velocity,
   !> reaction force and moment of every body (replicated data: rank 0 writes).
@@ -1085,6 +1182,11 @@ contains
     if (schedule%glstat_interval > 0.0_wp .and. any(is_rigid_part(model))) &
       call rbdout_open(results_directory(), title_or_default(model%controls%title))
     call history_nodes(model, nodes)
+    schedule%rcforc_interval = 0.0_wp
+    if (model%n_contacts > 0) schedule%rcforc_interval = model%controls%rcforc_interval
+    schedule%next_rcforc = 0.0_wp
+    if (schedule%rcforc_interval > 0.0_wp) call rcforc_open(results_directory(), &
+        title_or_default(model%controls%title))
     schedule%nodout_interval = 0.0_wp
     if (size(nodes) > 0) schedule%nodout_interval = model%controls%nodout_interval
     schedule%next_nodout = 0.0_wp
@@ -1106,6 +1208,7 @@ contains
     call nodout_close()
     call rwforc_close()
     call rbdout_close()
+    call rcforc_close()
   end subroutine close_histories
 
   !> Run summary: cycles, and where the time went per element and cell cycle.
@@ -1119,7 +1222,7 @@ contains
     counts = [real(count(deformable_element(model)), wp), real(s%ncell, wp)]
     counts(2) = real(s%ncell, wp)
     call comm_sum(counts(2))
-    loop = timing%forces + timing%exchange + timing%update + timing%output
+    loop = timing%forces + timing%exchange + timing%update + timing%output + timing%contact
     call comm_max(loop)
     ranks = real(comm_size(), wp)
     call say('explicit: '//itoa(cycle)//' cycles, '//rtoa(wall)//' s')
@@ -1130,7 +1233,8 @@ contains
       call say('explicit: rank 0 time in forces '//rtoa(100.0_wp*timing%forces/loop)// &
                ' %, halo exchange and reductions '//rtoa(100.0_wp*timing%exchange/loop)// &
                ' %, nodal update '//rtoa(100.0_wp*timing%update/loop)//' %, output '// &
-               rtoa(100.0_wp*timing%output/loop)//' %')
+               rtoa(100.0_wp*timing%output/loop)//' %, contact '// &
+               rtoa(100.0_wp*timing%contact/loop)//' %')
     end if
   end subroutine report_timing
 
