@@ -59,6 +59,8 @@ module mefem_mortar_contact
     integer :: slave = 0, master = 0
     real(wp) :: n_ab(3, 3) = 0.0_wp                !< (slave vertex a, slave vertex b)
     real(wp) :: n_ac(3, MAX_VERTICES) = 0.0_wp     !< (slave vertex a, master vertex c)
+    real(wp) :: master_normal(3) = 0.0_wp          !< unit master facet normal, turned to face
+                                                   !< the slave (against the slave normal)
   end type pair_t
 
   !> One contact interface (replicated on every rank).
@@ -79,12 +81,18 @@ module mefem_mortar_contact
     real(wp) :: fs = 0.0_wp, fd = 0.0_wp, dc = 0.0_wp
     ! per slave node, last call
     real(wp), allocatable :: normal(:,:)           !< (3, ns) n_A
+    real(wp), allocatable :: normal_old(:,:)       !< (3, ns) n_A of the call before
+    real(wp), allocatable :: master_normal(:,:)    !< (3, ns) mean master normal under A
+    real(wp), allocatable :: master_normal_old(:,:) !< (3, ns) the same, the call before
     real(wp), allocatable :: area(:)               !< (ns) A_A
     real(wp), allocatable :: area_old(:)           !< (ns) A_A of the call before
     real(wp), allocatable :: gap_vector(:,:)       !< (3, ns) G_A
     real(wp), allocatable :: gap(:)                !< (ns) g_A (0 where A_A = 0)
     real(wp), allocatable :: pressure(:)           !< (ns) p_A
     real(wp), allocatable :: traction(:,:)         !< (3, ns) tangential traction t_A
+    real(wp), allocatable :: traction_local(:,:)   !< (2, ns) t_A in the node's convected
+                                                   !< tangent frame (kept between calls)
+    integer, allocatable :: frame_node(:)          !< (ns) slave node fixing the frame's e1
     ! pairs of the last and of the call before
     integer :: npair = 0, npair_old = 0
     type(pair_t), allocatable :: pairs(:), pairs_old(:)
@@ -120,7 +128,7 @@ contains
     type(mortar_contact_t), intent(out) :: contact    !< the contact data
     type(status_t) :: status
     logical, allocatable :: used(:)
-    integer :: k, i, ns
+    integer :: k, i, ns, f
     contact%dim = model%dimension
     contact%n = model%n_contacts
     allocate(contact%interfaces(contact%n), used(model%nodes%n))
@@ -145,8 +153,21 @@ contains
         it%slave_index(it%slave%nodes) = [(i, i = 1, ns)]
         call slave_penalty(model, c, mass, it)
         allocate(it%normal(3, ns), it%area(ns), it%area_old(ns), it%gap_vector(3, ns), &
-                 it%gap(ns), it%pressure(ns), it%traction(3, ns), it%pairs(0), it%pairs_old(0))
+                 it%gap(ns), it%pressure(ns), it%traction(3, ns), it%pairs(0), it%pairs_old(0), &
+                 it%traction_local(2, ns), it%frame_node(ns), it%normal_old(3, ns), &
+                 it%master_normal(3, ns), it%master_normal_old(3, ns))
+        it%normal = 0.0_wp
+        it%master_normal = 0.0_wp
         it%traction = 0.0_wp
+        it%traction_local = 0.0_wp
+        ! the frame of node A: e1 towards another vertex of the first facet that has A
+        it%frame_node = 0
+        do f = it%slave%nfacet, 1, -1
+          do i = 1, it%slave%nvertex(f)
+            it%frame_node(it%slave%local(i, f)) = &
+                it%slave%nodes(it%slave%local(mod(i, it%slave%nvertex(f)) + 1, f))
+          end do
+        end do
         it%pressure = 0.0_wp
         it%gap = 0.0_wp
         it%area = 0.0_wp
@@ -274,7 +295,7 @@ contains
     type(contact_interface_t), intent(inout) :: it    !< the interface
     real(wp), intent(in) :: dt                        !< the time step just taken
     real(wp), allocatable :: gap_old(:,:)
-    real(wp) :: eps, slip(3), trial(3), old(3), magnitude, mu, limit, tau(3)
+    real(wp) :: eps, slip(3), trial(3), old(3), magnitude, mu, limit, tau(3), e1(3), e2(3)
     integer :: a, dim
     dim = contact%dim
     call update_candidates(contact, it)
@@ -284,6 +305,8 @@ contains
     it%area_old = it%area
     allocate(gap_old(3, size(it%slave%nodes)))
     call weighted_sums(contact%x, it, it%pairs_old, it%npair_old, gap_old)
+    it%normal_old = it%normal
+    it%master_normal_old = it%master_normal
     call mortar_pairs(contact, it)
     call slave_normals(contact, it)
     call weighted_sums(contact%x, it, it%pairs, it%npair, it%gap_vector, it%area)
@@ -303,18 +326,28 @@ contains
       it%normal_force = it%normal_force + it%area(a)*it%pressure(a)
       if (it%pressure(a) <= 0.0_wp .or. it%fs <= 0.0_wp .or. it%area_old(a) <= 0.0_wp) then
         it%traction(:, a) = 0.0_wp
+        it%traction_local(:, a) = 0.0_wp
         cycle
       end if
-      slip = tangential(it%normal(:, a), it%gap_vector(:, a) - gap_old(:, a))/it%area(a)
-      ! the old traction turned into today's tangent plane, its magnitude kept
-      old = tangential(it%normal(:, a), it%traction(:, a))
-      if (norm2(old) > 0.0_wp) old = old*norm2(it%traction(:, a))/norm2(old)
+      ! slip from the change of the weights at fixed positions, less the part a relative
+      ! rotation of the two surfaces produces at the penetrated gap g (the weights follow
+      ! the slave normal: turning it by dn relative to the master moves the projected master
+      ! point by g dn, which is no slip; a rigid rotation of the pair turns n and the master
+      ! normal m (~ -n) together, dn + dm = 0, and keeps this term zero)
+      slip = tangential(it%normal(:, a), (it%gap_vector(:, a) - gap_old(:, a))/it%area(a) - &
+          it%gap(a)*((it%normal(:, a) - it%normal_old(:, a)) + &
+                     (it%master_normal(:, a) - it%master_normal_old(:, a))))
+      ! the old traction from its components in the node's convected frame (it turns with
+      ! the surface: objective under rigid rotations, in-plane spin included)
+      call tangent_frame(contact, it, a, e1, e2)
+      old = it%traction_local(1, a)*e1 + it%traction_local(2, a)*e2
       trial = old - eps*slip
       mu = it%fd + (it%fs - it%fd)*exp(-it%dc*norm2(slip)/max(dt, tiny(1.0_wp)))
       limit = mu*it%pressure(a)
       magnitude = norm2(trial)
       if (magnitude > limit) trial = trial*(limit/magnitude)
       it%traction(:, a) = trial
+      it%traction_local(:, a) = [dot_product(trial, e1), dot_product(trial, e2)]
     end do
     ! nodal forces
     call nodal_forces(contact, it)
@@ -340,6 +373,26 @@ contains
     call move_alloc(it%pairs, it%pairs_old)
     call move_alloc(scratch, it%pairs)
   end subroutine swap_pairs
+
+  !> Convected tangent frame of slave node a: e1 along the tangential part of the edge to
+  !> its frame node (3D) or along the surface (2D: n turned by 90 degrees), e2 = n x e1.
+  subroutine tangent_frame(contact, it, a, e1, e2)
+    type(mortar_contact_t), intent(in) :: contact     !< contact data (positions)
+    type(contact_interface_t), intent(in) :: it       !< the interface
+    integer, intent(in) :: a                          !< slave node (position in slave%nodes)
+    real(wp), intent(out) :: e1(3), e2(3)             !< unit tangents
+    real(wp) :: n(3), length
+    n = it%normal(:, a)
+    if (contact%dim == 2) then
+      e1 = [-n(2), n(1), 0.0_wp]
+      e2 = 0.0_wp
+      return
+    end if
+    e1 = tangential(n, contact%x(:, it%frame_node(a)) - contact%x(:, it%slave%nodes(a)))
+    length = norm2(e1)
+    if (length > 0.0_wp) e1 = e1/length
+    e2 = [n(2)*e1(3) - n(3)*e1(2), n(3)*e1(1) - n(1)*e1(3), n(1)*e1(2) - n(2)*e1(1)]
+  end subroutine tangent_frame
 
   !> Tangential part (I - n n) v of v.
   pure function tangential(n, v) result(t)
@@ -372,6 +425,20 @@ contains
     do i = 1, size(it%slave%nodes)
       length = norm2(it%normal(:, i))
       if (length > 0.0_wp) it%normal(:, i) = it%normal(:, i)/length
+    end do
+    ! the master normal under each slave node: weighted by its overlap integrals
+    it%master_normal = 0.0_wp
+    do k = 1, it%npair
+      associate (p => it%pairs(k))
+        do i = 1, it%slave%nvertex(p%slave)
+          it%master_normal(:, it%slave%local(i, p%slave)) = &
+              it%master_normal(:, it%slave%local(i, p%slave)) + sum(p%n_ac(i, :))*p%master_normal
+        end do
+      end associate
+    end do
+    do i = 1, size(it%slave%nodes)
+      length = norm2(it%master_normal(:, i))
+      if (length > 0.0_wp) it%master_normal(:, i) = it%master_normal(:, i)/length
     end do
   end subroutine slave_normals
 
@@ -441,6 +508,8 @@ contains
         call mortar_triangle_pair_3d(xs, xm, nm, p%n_ab, p%n_ac, overlap)
       end if
       if (overlap <= 0.0_wp) cycle
+      p%master_normal = n_m/max(norm2(n_m), tiny(1.0_wp))
+      if (dot_product(p%master_normal, n_s) > 0.0_wp) p%master_normal = -p%master_normal
       it%npair = it%npair + 1
       it%pairs(it%npair) = p
     end do
