@@ -2,7 +2,8 @@
 !> (*CONTROL_IMPLICIT_GENERAL IMFLAG=1 with a nonlinear *CONTROL_IMPLICIT_SOLUTION NSOLVR).
 !>
 !> Per step t_n -> t_{n+1} = t_n + dt (Simo & Hughes; formulation 2.7 and 6):
-!>   u_{n+1}^0 = u_n with the prescribed displacements of t_{n+1};
+!>   u_{n+1}^0 = u_n + (dt_{n+1}/dt_n)(u_n - u_{n-1}) (the last increment extrapolated) with
+!>   the prescribed displacements of t_{n+1};
 !>   repeat: R = f_ext(t_{n+1}) - f_int(u),  K = dR/du (consistent: material + geometric),
 !>           K du = R (free dofs),  u = u + s du  (s from a line search when LSTOL is violated);
 !>   until the displacement (DCTOL) and energy (ECTOL) norms, and the residual (RCTOL, ABSTOL),
@@ -65,6 +66,8 @@ contains
     integer, allocatable :: equation(:,:)
     logical, allocatable :: fixed(:,:), owned(:)
     real(wp), allocatable :: prescribed(:,:), force(:,:), u(:,:), u_step(:,:), hist(:,:)
+    real(wp), allocatable :: u_last(:,:)
+    real(wp) :: dt_last
     real(wp) :: t, dt, dt_min, dt_max, end_time, next_output, t0, dt_planned
     integer :: dim, n_all, n_equations, step, iterations, output_step, c, cuts
     logical :: converged
@@ -112,6 +115,8 @@ contains
     t = 0.0_wp
     step = 0
     cuts = 0
+    dt_last = 0.0_wp
+    u_last = u
     do while (t < end_time*(1.0_wp - 1.0e-12_wp))
       dt = min(dt, end_time - t)
       ! land on the next output time rather than step over it (then go on with the planned dt)
@@ -119,6 +124,10 @@ contains
       if (next_output > t .and. next_output - t < dt*(1.0_wp + 1.0e-9_wp)) dt = next_output - t
       step = step + 1
       u_step = u
+      ! predictor: the last converged increment extrapolated to this step (free dofs; the
+      ! prescribed ones are set by newton_step). Starting each step from u_n alone puts the
+      ! whole increment of a driven boundary into the cells next to it.
+      if (dt_last > 0.0_wp) where (equation > 0) u = u + (dt/dt_last)*(u_step - u_last)
       call newton_step(model, cells, owned, equation, n_equations, t + dt, hist, u, &
                        tangent, solver, trial, iterations, converged)
       if (.not. converged) then
@@ -136,6 +145,8 @@ contains
         cycle
       end if
       t = t + dt
+      u_last = u_step
+      dt_last = dt
       ! commit the history: each cell's from the rank that computed it, known on every rank
       ! (output and reactions use all cells)
       do c = 1, cells%n
