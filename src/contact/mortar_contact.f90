@@ -43,7 +43,7 @@ module mefem_mortar_contact
   implicit none
   private
 
-  public :: mortar_contact_setup, mortar_contact_forces
+  public :: mortar_contact_setup, mortar_contact_forces, mortar_contact_slave_rows
 
   real(wp), parameter :: MASS_LIMIT = 0.1_wp       !< eps A dt^2 / m at most: the contact
                                                    !< spring's period stays above 20 dt
@@ -277,23 +277,97 @@ contains
 
   !> Contact forces of every interface at the positions contact%x (the contact nodes' rows
   !> current), for a step dt (penalty limit); into contact%force (contact-node numbering).
-  subroutine mortar_contact_forces(contact, dt)
+  subroutine mortar_contact_forces(contact, dt, penalty_scale)
     type(mortar_contact_t), intent(inout) :: contact  !< contact data, positions current
-    real(wp), intent(in) :: dt                        !< the time step just taken (> 0)
+    real(wp), intent(in) :: dt                        !< the time step just taken (0: no
+                                                      !< time-step limit, statics)
+    real(wp), intent(in), optional :: penalty_scale   !< factor on eps_material (default 1)
     integer :: k
     contact%force = 0.0_wp
     contact%pressure = 0.0_wp
     contact%gap = 0.0_wp
     do k = 1, contact%n
-      call interface_forces(contact, contact%interfaces(k), dt)
+      if (present(penalty_scale)) then
+        call interface_forces(contact, contact%interfaces(k), dt, penalty_scale)
+      else
+        call interface_forces(contact, contact%interfaces(k), dt, 1.0_wp)
+      end if
     end do
   end subroutine mortar_contact_forces
 
+  !> For the frozen-geometry tangent of the implicit analysis (formulation 5.5): per slave
+  !> node a of interface k (position in slave%nodes) the slave mesh nodes B with
+  !> w_aB = sum over the pairs of n_AB, in CSR form (start(a):start(a+1)-1 of nodes/weights),
+  !> from the last call of mortar_contact_forces. The penalty tangent of an active node is
+  !> then eps/A_A w_aB w_aB' (n_A n_A^T), eps = p_A / (-g_A).
+  subroutine mortar_contact_slave_rows(contact, k, start, nodes, weights)
+    type(mortar_contact_t), intent(in) :: contact     !< contact data after a force call
+    integer, intent(in) :: k                          !< interface
+    integer, allocatable, intent(out) :: start(:)     !< (slave nodes + 1) row starts
+    integer, allocatable, intent(out) :: nodes(:)     !< mesh nodes B
+    real(wp), allocatable, intent(out) :: weights(:)  !< w_aB
+    integer, allocatable :: fill(:), marker(:)
+    integer :: ns, q, i, j, a, b, na, length, out
+    associate (it => contact%interfaces(k))
+      ns = size(it%slave%nodes)
+      allocate(start(ns + 1), fill(ns), marker(ns))
+      ! bound on the entries of each row (duplicates included), then fill
+      fill = 0
+      do q = 1, it%npair
+        na = it%slave%nvertex(it%pairs(q)%slave)
+        do i = 1, na
+          a = it%slave%local(i, it%pairs(q)%slave)
+          fill(a) = fill(a) + na
+        end do
+      end do
+      start(1) = 1
+      do a = 1, ns
+        start(a + 1) = start(a) + fill(a)
+      end do
+      allocate(nodes(start(ns + 1) - 1), weights(start(ns + 1) - 1))
+      fill = 0
+      do q = 1, it%npair
+        associate (p => it%pairs(q))
+          na = it%slave%nvertex(p%slave)
+          do i = 1, na
+            a = it%slave%local(i, p%slave)
+            do j = 1, na
+              nodes(start(a) + fill(a)) = it%slave%facets(j, p%slave)
+              weights(start(a) + fill(a)) = p%n_ab(i, j)
+              fill(a) = fill(a) + 1
+            end do
+          end do
+        end associate
+      end do
+      ! merge repeated B within each row, in place
+      marker = 0
+      out = 0
+      do a = 1, ns
+        length = fill(a)
+        i = start(a)
+        start(a) = out + 1
+        do j = i, i + length - 1
+          b = it%slave_index(nodes(j))
+          if (marker(b) >= start(a)) then
+            weights(marker(b)) = weights(marker(b)) + weights(j)
+          else
+            out = out + 1
+            nodes(out) = nodes(j)
+            weights(out) = weights(j)
+            marker(b) = out
+          end if
+        end do
+      end do
+      start(ns + 1) = out + 1
+    end associate
+  end subroutine mortar_contact_slave_rows
+
   !> One interface: steps 1-6 of the module header.
-  subroutine interface_forces(contact, it, dt)
+  subroutine interface_forces(contact, it, dt, penalty_scale)
     type(mortar_contact_t), intent(inout) :: contact  !< contact data
     type(contact_interface_t), intent(inout) :: it    !< the interface
     real(wp), intent(in) :: dt                        !< the time step just taken
+    real(wp), intent(in) :: penalty_scale             !< factor on eps_material
     real(wp), allocatable :: gap_old(:,:)
     real(wp) :: eps, slip(3), trial(3), old(3), magnitude, mu, limit, tau(3), e1(3), e2(3)
     integer :: a, dim
@@ -320,7 +394,7 @@ contains
         cycle
       end if
       it%gap(a) = dot_product(it%normal(:, a), it%gap_vector(:, a))/it%area(a)
-      eps = it%eps_material
+      eps = penalty_scale*it%eps_material
       if (dt > 0.0_wp) eps = min(eps, MASS_LIMIT*it%mass_per_area/(dt*dt))
       it%pressure(a) = eps*max(-it%gap(a), 0.0_wp)
       it%normal_force = it%normal_force + it%area(a)*it%pressure(a)

@@ -17,7 +17,7 @@ module mefem_implicit_static
   use mefem_comm, only: comm_sum, comm_is_root, comm_wtime, comm_any
   use mefem_errors, only: status_t, fatal, say
   use mefem_strings, only: itoa, rtoa
-  use mefem_model, only: model_t, ON_PART, MAT_RIGID
+  use mefem_model, only: model_t, ON_PART, MAT_RIGID, ON_NODE, ON_NODE_SET
   use mefem_decomposition, only: decomposition_t
   use mefem_cells, only: cells_t, cells_build, cells_summary, CELL_MAX_NODES
   use mefem_cell_finite_strain, only: cell_deformation_gradient, cell_internal_force, &
@@ -32,6 +32,11 @@ module mefem_implicit_static
   use mefem_output_mesh, only: output_field_t
   use mefem_results, only: results_write_state
   use mefem_solver_common, only: number_equations, cell_result_fields
+  use mefem_mortar_contact, only: mortar_contact_t, mortar_contact_setup, mortar_contact_forces, &
+                                  mortar_contact_slave_rows
+  use mefem_curves, only: curve_value
+  use mefem_history_output, only: rcforc_open, rcforc_write, rcforc_close
+  use mefem_results, only: results_directory
   implicit none
   private
 
@@ -45,6 +50,19 @@ module mefem_implicit_static
     integer :: iterations = 0            !< Newton iterations in total
   end type timing_t
   type(timing_t) :: timing
+
+  !> Contact with rigid tools: the interfaces, and per mesh node the rigid part it belongs to
+  !> (0: deformable) whose prescribed translation moves it.
+  type :: tool_contact_t
+    type(mortar_contact_t) :: interfaces
+    integer, allocatable :: rigid_part(:)      !< (mesh nodes) part index or 0
+  end type tool_contact_t
+  type(tool_contact_t) :: tools
+  !> Penalty of implicit contact relative to the explicit one (SLSFAC SFS K/h): statics has
+  !> no time-step limit, so the penalty is 1000 x stiffer (100 K/h with SLSFAC = 0.1); the
+  !> penetration is then about 1 % of the contact zone's elastic compression, and MUMPS's
+  !> direct solve does not mind the conditioning.
+  real(wp), parameter :: IMPLICIT_PENALTY_SCALE = 1000.0_wp
 
   !> What one evaluation of the cells gives.
   type :: cell_state_t
@@ -100,6 +118,7 @@ contains
                                   prescribed(:, 1:cells%n_mesh_nodes))
     call number_equations(cells, fixed, equation, n_equations)
     call say('implicit: '//itoa(n_equations)//' equations, '//itoa(cells%n)//' cells')
+    call set_up_tools(model, cells)
     call mumps_init(solver, MUMPS_UNSYMMETRIC, status)
     if (.not. status%ok) call fatal('implicit: '//status%message)
 
@@ -130,6 +149,8 @@ contains
       if (dt_last > 0.0_wp) where (equation > 0) u = u + (dt/dt_last)*(u_step - u_last)
       call newton_step(model, cells, owned, equation, n_equations, t + dt, hist, u, &
                        tangent, solver, trial, iterations, converged)
+      if (converged .and. tools%interfaces%n > 0) call report_contact(t + dt, &
+          model%controls%rcforc_interval > 0.0_wp)
       if (.not. converged) then
         u = u_step
         cuts = cuts + 1
@@ -168,6 +189,7 @@ contains
     end do
     call mumps_free(solver)
     call coo_free(tangent)
+    call rcforc_close()
     call say('implicit: '//itoa(step)//' steps, '//itoa(cuts)//' cut-backs, '// &
              itoa(timing%iterations)//' Newton iterations, '//rtoa(comm_wtime() - t0)//' s')
     if (timing%iterations > 0) call say('implicit: per iteration: assembly '// &
@@ -185,25 +207,49 @@ contains
     if (output_interval <= 0.0_wp) output_interval = model%controls%end_time
   end function output_interval
 
-  !> Nonlinear statics takes deformable parts, displacement-type motions on nodes, no contact.
+  !> Nonlinear statics takes deformable parts, displacement-type motions on nodes, and
+  !> frictionless contact with rigid tools (rigid parts moved by translations, VAD=2 DOF 1-3).
   subroutine check_supported(model)
     type(model_t), intent(in) :: model   !< resolved model
-    integer :: k
-    do k = 1, model%n_motions
-      if (model%motions(k)%vad /= 2 .or. model%motions(k)%target_kind == ON_PART) call fatal( &
-          'implicit analysis takes prescribed displacements (VAD=2) on nodes and node sets '// &
-          'only for now; see *BOUNDARY_PRESCRIBED_MOTION at line '// &
-          itoa(model%motions(k)%src%line))
+    integer :: k, e, p
+    logical, allocatable :: rigid(:), in_rigid(:), in_deformable(:)
+    allocate(rigid(model%n_parts), in_rigid(model%nodes%n), in_deformable(model%nodes%n))
+    do p = 1, model%n_parts
+      rigid(p) = .false.
+      if (model%parts(p)%material > 0) rigid(p) = &
+          model%materials(model%parts(p)%material)%kind == MAT_RIGID
     end do
-    if (model%n_contacts > 0 .or. model%n_rigid_walls > 0) call fatal( &
-        'implicit analysis does not take contact or rigid walls yet')
+    do k = 1, model%n_motions
+      associate (pm => model%motions(k))
+        if (pm%vad /= 2) call fatal('implicit analysis takes prescribed displacements '// &
+            '(VAD=2) only; see *BOUNDARY_PRESCRIBED_MOTION at line '//itoa(pm%src%line))
+        if (pm%target_kind == ON_PART .and. (pm%dof < 1 .or. pm%dof > 3)) call fatal( &
+            'implicit analysis moves rigid tools by translations (DOF 1-3) only; see '// &
+            '*BOUNDARY_PRESCRIBED_MOTION_RIGID at line '//itoa(pm%src%line))
+      end associate
+    end do
+    if (model%n_rigid_walls > 0) call fatal('implicit analysis does not take rigid walls '// &
+        '(use a rigid part as a contact tool)')
+    do k = 1, model%n_contacts
+      if (model%contacts(k)%fs > 0.0_wp) call fatal('implicit analysis takes frictionless '// &
+          'contact only (FS = 0); see the contact at line '//itoa(model%contacts(k)%src%line))
+    end do
     if (model%controls%end_time <= 0.0_wp) call fatal('implicit analysis needs '// &
         '*CONTROL_TERMINATION ENDTIM')
-    do k = 1, model%n_parts
-      if (model%parts(k)%material == 0) cycle
-      if (model%materials(model%parts(k)%material)%kind == MAT_RIGID) call fatal( &
-          'implicit analysis does not take rigid parts yet')
+    ! rigid parts are tools: their nodes may not be shared with deformable elements
+    in_rigid = .false.
+    in_deformable = .false.
+    do e = 1, model%elements%n
+      associate (conn => model%elements%conn(:, e))
+        if (rigid(model%elements%part(e))) then
+          where (conn > 0) in_rigid(max(conn, 1)) = .true.
+        else
+          where (conn > 0) in_deformable(max(conn, 1)) = .true.
+        end if
+      end associate
     end do
+    if (any(in_rigid .and. in_deformable)) call fatal('implicit analysis takes rigid parts as '// &
+        'contact tools only: a rigid part shares nodes with deformable elements')
   end subroutine check_supported
 
   !> One load step by Newton-Raphson; u holds the converged displacements on success.
@@ -248,7 +294,7 @@ contains
       iterations = k
       clock = comm_wtime()
       call evaluate_cells(model, cells, owned, equation, u, hist, force, residual, tangent, &
-                          trial, ok)
+                          trial, ok, t_new)
       timing%assembly = timing%assembly + (comm_wtime() - clock)
       timing%iterations = timing%iterations + 1
       if (.not. ok) return                                  ! a cell inverted: cut the step
@@ -261,7 +307,7 @@ contains
           if (step_length < 1.0_wp) then
             call add_increment(u, equation, du, step_length - 1.0_wp)
             call evaluate_cells(model, cells, owned, equation, u, hist, force, residual, &
-                                tangent, trial, ok)
+                                tangent, trial, ok, t_new)
             if (.not. ok) return
             if (model%controls%nlprint > 0) call say('  line search: step length '// &
                 rtoa(step_length))
@@ -296,13 +342,149 @@ contains
           energy <= model%controls%ectol*energy0 .and. ratio <= model%controls%rctol)) then
         ! one more evaluation so that history and stress belong to the final u
         call evaluate_cells(model, cells, owned, equation, u, hist, force, residual, &
-                            tangent, trial, ok)
+                            tangent, trial, ok, t_new)
         converged = ok
         return
       end if
       if (k > 2 .and. norm_r > 1.0e6_wp*norm_r0) return     ! diverging
     end do
   end subroutine newton_step
+
+  !> Contact with rigid tools: the interfaces, the rigid part of every mesh node, rcforc.
+  subroutine set_up_tools(model, cells)
+    type(model_t), intent(in) :: model                 !< resolved model
+    type(cells_t), intent(in) :: cells                 !< cells (for the node count)
+    real(wp), allocatable :: no_mass(:)
+    integer :: e, p
+    allocate(tools%rigid_part(model%nodes%n))
+    tools%rigid_part = 0
+    do e = 1, model%elements%n
+      p = model%elements%part(e)
+      if (model%parts(p)%material <= 0) cycle
+      if (model%materials(model%parts(p)%material)%kind /= MAT_RIGID) cycle
+      where (model%elements%conn(:, e) > 0) tools%rigid_part(max(model%elements%conn(:, e), 1)) = p
+    end do
+    if (model%n_contacts == 0) return
+    allocate(no_mass(cells%n_mesh_nodes))
+    no_mass = 0.0_wp                   ! no time-step limit of the penalty in statics
+    call mortar_contact_setup(model, no_mass, tools%interfaces)
+    if (any(tools%rigid_part(tools%interfaces%node_global) == 0 .and. is_master_node())) &
+      call fatal('implicit analysis takes contact with rigid tools only (SURFB must be a '// &
+                 'rigid part)')
+    if (model%controls%rcforc_interval > 0.0_wp) call rcforc_open(results_directory())
+  contains
+    !> Contact nodes on a master surface.
+    function is_master_node() result(mask)
+      logical :: mask(tools%interfaces%nnode)
+      integer :: k
+      mask = .false.
+      do k = 1, tools%interfaces%n
+        mask(tools%interfaces%node_index(tools%interfaces%interfaces(k)%master%nodes)) = .true.
+      end do
+    end function is_master_node
+  end subroutine set_up_tools
+
+  !> Translation of rigid part p at time t: its *BOUNDARY_PRESCRIBED_MOTION_RIGID VAD=2.
+  function tool_displacement(model, p, t) result(d)
+    type(model_t), intent(in) :: model                 !< resolved model
+    integer, intent(in) :: p                           !< part index
+    real(wp), intent(in) :: t                          !< time
+    real(wp) :: d(3)
+    integer :: k
+    d = 0.0_wp
+    do k = 1, model%n_motions
+      associate (pm => model%motions(k))
+        if (pm%target_kind /= ON_PART .or. pm%target /= p) cycle
+        if (t < pm%birth .or. t > pm%death) cycle
+        d(pm%dof) = pm%scale*curve_value(model%curves(pm%curve), t)
+      end associate
+    end do
+  end function tool_displacement
+
+  !> Contact forces and their frozen-geometry penalty tangent (formulation 5.5) at u and the
+  !> tools' positions at t: residual += contact forces at the free slave dofs, tangent +=
+  !> eps/A_A (w_A w_A^T) (n_A n_A^T) for every penetrating slave node. Every rank computes the
+  !> same contact; rank 0 adds it (the residual is summed over ranks, the matrix input is
+  !> distributed).
+  subroutine tool_contact(model, cells, equation, u, t, residual, tangent)
+    type(model_t), intent(in) :: model                 !< resolved model
+    type(cells_t), intent(in) :: cells                 !< cells
+    integer, intent(in) :: equation(:,:)               !< equation numbers
+    real(wp), intent(in) :: u(:,:)                     !< displacements
+    real(wp), intent(in) :: t                          !< time of u
+    real(wp), intent(inout) :: residual(:)             !< free-dof residual (rank 0 adds)
+    type(coo_matrix_t), intent(inout) :: tangent       !< tangent (rank 0 adds)
+    integer, allocatable :: start(:), nodes(:), dofs(:)
+    real(wp), allocatable :: weights(:), ke(:,:)
+    real(wp) :: coef, nn(3, 3)
+    integer :: k, g, dim, a, i, j, m, b1, b2
+    dim = cells%dim
+    associate (c => tools%interfaces)
+      do k = 1, c%nnode
+        g = c%node_global(k)
+        c%x(:, g) = model%nodes%x(:, g)
+        if (tools%rigid_part(g) > 0) then
+          c%x(:, g) = c%x(:, g) + tool_displacement(model, tools%rigid_part(g), t)
+        else
+          c%x(1:dim, g) = c%x(1:dim, g) + u(:, g)
+        end if
+      end do
+      call mortar_contact_forces(c, 0.0_wp, IMPLICIT_PENALTY_SCALE)
+      if (.not. comm_is_root()) return
+      do k = 1, c%nnode
+        g = c%node_global(k)
+        if (tools%rigid_part(g) > 0) cycle
+        do i = 1, dim
+          if (equation(i, g) > 0) residual(equation(i, g)) = residual(equation(i, g)) + &
+              c%force(i, k)
+        end do
+      end do
+      do k = 1, c%n
+        associate (it => c%interfaces(k))
+          call mortar_contact_slave_rows(c, k, start, nodes, weights)
+          do a = 1, size(it%slave%nodes)
+            if (it%pressure(a) <= 0.0_wp .or. it%gap(a) >= 0.0_wp) cycle
+            coef = it%pressure(a)/(-it%gap(a))/it%area(a)
+            m = start(a + 1) - start(a)
+            allocate(ke(dim*m, dim*m), dofs(dim*m))
+            do i = 1, dim
+              do j = 1, dim
+                nn(i, j) = it%normal(i, a)*it%normal(j, a)
+              end do
+            end do
+            do b1 = 1, m
+              do i = 1, dim
+                dofs(dim*(b1 - 1) + i) = equation(i, nodes(start(a) + b1 - 1))
+              end do
+              do b2 = 1, m
+                ke(dim*(b1 - 1) + 1:dim*b1, dim*(b2 - 1) + 1:dim*b2) = coef* &
+                    weights(start(a) + b1 - 1)*weights(start(a) + b2 - 1)*nn(1:dim, 1:dim)
+              end do
+            end do
+            call coo_add_block(tangent, dofs, ke, .false.)
+            deallocate(ke, dofs)
+          end do
+        end associate
+      end do
+    end associate
+  end subroutine tool_contact
+
+  !> After a converged step: the tools' contact forces in the log (and rcforc, every step,
+  !> when *DATABASE_RCFORC is given).
+  subroutine report_contact(t, write_rcforc)
+    real(wp), intent(in) :: t                          !< time of the step
+    logical, intent(in) :: write_rcforc                !< *DATABASE_RCFORC given
+    integer :: k
+    do k = 1, tools%interfaces%n
+      associate (it => tools%interfaces%interfaces(k))
+        call say('  contact '//itoa(it%id)//': normal force '//rtoa(it%normal_force)// &
+                 ', force on the tool '//rtoa(it%force_master(1))//' '// &
+                 rtoa(it%force_master(2))//' '//rtoa(it%force_master(3)))
+        if (write_rcforc) call rcforc_write(t, it%id, it%force_slave, it%force_master, &
+                                            it%normal_force, it%tangential_force)
+      end associate
+    end do
+  end subroutine report_contact
 
   !> u = u + factor du at the free degrees of freedom.
   pure subroutine add_increment(u, equation, du, factor)
@@ -320,7 +502,7 @@ contains
 
   !> Residual f_ext - f_int and tangent of all owned cells at displacements u.
   subroutine evaluate_cells(model, cells, owned, equation, u, hist, force_ext, residual, &
-                            tangent, trial, ok)
+                            tangent, trial, ok, t)
     type(model_t), intent(in) :: model                 !< resolved model
     type(cells_t), intent(in) :: cells                 !< cells
     logical, intent(in) :: owned(:)                    !< cells this rank computes
@@ -332,6 +514,7 @@ contains
     type(coo_matrix_t), intent(inout) :: tangent       !< tangent matrix
     type(cell_state_t), intent(inout) :: trial         !< trial history and Cauchy stress
     logical, intent(out) :: ok                         !< no cell failed (on every rank)
+    real(wp), intent(in) :: t                          !< time of u (tool positions)
     real(wp) :: f(3, 3), finv(3, 3), tau(3, 3), c(3, 3, 3, 3), fc(3, CELL_MAX_NODES), det, sound
     real(wp) :: ke(3*CELL_MAX_NODES, 3*CELL_MAX_NODES), ue(3, CELL_MAX_NODES)
     integer :: dofs(3*CELL_MAX_NODES), cell, nn, nd, dim, a, i, n
@@ -379,6 +562,7 @@ contains
       call coo_add_block(tangent, dofs(1:nd), ke(1:nd, 1:nd), .false.)
     end do
     ok = .not. comm_any(failed)
+    if (tools%interfaces%n > 0) call tool_contact(model, cells, equation, u, t, residual, tangent)
     if (comm_is_root()) then
       do n = 1, size(u, 2)
         do i = 1, dim
