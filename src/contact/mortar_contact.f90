@@ -48,7 +48,8 @@ module mefem_mortar_contact
   real(wp), parameter :: MASS_LIMIT = 0.1_wp       !< eps A dt^2 / m at most: the contact
                                                    !< spring's period stays above 20 dt
   real(wp), parameter :: SLSFAC = 0.1_wp           !< *CONTROL_CONTACT SLSFAC (default)
-  real(wp), parameter :: MARGIN_FACTOR = 0.5_wp    !< search margin / mean master facet size
+  real(wp), parameter :: MARGIN_FACTOR = 0.5_wp    !< search margin / mean facet size (the
+                                                   !< smaller of the slave and master means)
   integer, parameter :: MAX_VERTICES = 4           !< facet vertices (quadrilateral)
   real(wp), parameter :: FACING_COSINE = 0.25_wp   !< cos of the largest angle (75.5 deg)
                                                    !< between a slave normal and the reversed
@@ -71,6 +72,8 @@ module mefem_mortar_contact
     integer, allocatable :: candidates(:,:)        !< (2, :) candidate (slave, master) facets
     integer :: ncandidate = 0
     real(wp) :: margin = 0.0_wp                    !< search margin (length)
+    real(wp), allocatable :: slave_normal(:,:)     !< (3, slave facets) unit normals, this call
+    real(wp), allocatable :: master_normal_f(:,:)  !< (3, master facets) unit normals
     real(wp), allocatable :: x_search(:,:)         !< (3, surface nodes) positions at the
                                                    !< last search
     integer, allocatable :: surface_nodes(:)       !< slave and master nodes (mesh numbers)
@@ -172,7 +175,8 @@ contains
         it%gap = 0.0_wp
         it%area = 0.0_wp
         it%area_old = 0.0_wp
-        it%margin = MARGIN_FACTOR*mean_facet_size(it%master, model%nodes%x)
+        it%margin = MARGIN_FACTOR*min(mean_facet_size(it%master, model%nodes%x), &
+                                      mean_facet_size(it%slave, model%nodes%x))
         it%surface_nodes = [it%slave%nodes, it%master%nodes]
         allocate(it%x_search(3, size(it%surface_nodes)))
       end associate
@@ -538,6 +542,22 @@ contains
     it%searched = .true.
   end subroutine update_candidates
 
+  !> Unit normals of all facets of a surface at positions x (zero for a degenerate facet).
+  subroutine facet_unit_normals(surface, x, normals)
+    type(contact_surface_t), intent(in) :: surface    !< the surface
+    real(wp), intent(in) :: x(:,:)                    !< (3, mesh nodes) positions
+    real(wp), allocatable, intent(inout) :: normals(:,:) !< (3, facets) reused between calls
+    real(wp) :: a(3), length
+    integer :: f
+    if (.not. allocated(normals)) allocate(normals(3, surface%nfacet))
+    do f = 1, surface%nfacet
+      a = contact_facet_area_vector(surface, f, x)
+      length = norm2(a)
+      normals(:, f) = 0.0_wp
+      if (length > 0.0_wp) normals(:, f) = a/length
+    end do
+  end subroutine facet_unit_normals
+
   !> Mortar weights of every candidate pair with an overlap (into it%pairs).
   subroutine mortar_pairs(contact, it)
     type(mortar_contact_t), intent(in) :: contact     !< contact data
@@ -545,6 +565,8 @@ contains
     type(pair_t) :: p
     real(wp) :: xs(3, 3), xm(3, MAX_VERTICES), overlap, n_s(3), n_m(3), facing
     integer :: k, s, m, i, nm
+    call facet_unit_normals(it%slave, contact%x, it%slave_normal)
+    call facet_unit_normals(it%master, contact%x, it%master_normal_f)
     if (.not. allocated(it%pairs)) allocate(it%pairs(0))
     if (size(it%pairs) < it%ncandidate) then       ! grows, never shrinks: no reallocation
       deallocate(it%pairs)                          ! once the contact has settled
@@ -557,9 +579,9 @@ contains
       ! partners face each other: an outward master facet against the slave normal within
       ! FACING_ANGLE (the far side of a master body, or a side face seen edge-on, is not a
       ! partner); a shell master facet (either orientation) nearly parallel to the slave
-      n_s = contact_facet_area_vector(it%slave, s, contact%x)
-      n_m = contact_facet_area_vector(it%master, m, contact%x)
-      facing = dot_product(n_s, n_m)/max(norm2(n_s)*norm2(n_m), tiny(1.0_wp))
+      n_s = it%slave_normal(:, s)
+      n_m = it%master_normal_f(:, m)
+      facing = dot_product(n_s, n_m)
       if (.not. it%master%outward(m)) facing = -abs(facing)
       if (facing > -FACING_COSINE) cycle
       p%slave = s

@@ -1235,6 +1235,8 @@ contains
                ' %, nodal update '//rtoa(100.0_wp*timing%update/loop)//' %, output '// &
                rtoa(100.0_wp*timing%output/loop)//' %, contact '// &
                rtoa(100.0_wp*timing%contact/loop)//' %')
+      if (timing%contact > 0.0_wp) call say('explicit: contact '// &
+          rtoa(timing%contact/cycle)//' s per cycle on rank 0')
     end if
   end subroutine report_timing
 
