@@ -19,10 +19,12 @@
 !>     traction, mu = FD + (FS - FD) exp(-DC |ds|/dt), eps_T = eps_A;
 !>  6. nodal forces: slave f_B += sum_A n_AB tau_A, master f_C -= sum_A n_AC tau_A with the
 !>     contact traction tau_A = -p_A n_A + t_A.
-!> Penalty: eps_A = SLSFAC SFSA K / h (LS-DYNA's SOFT = 0 stiffness as a pressure per unit
-!> gap: K the bulk modulus of the slave element, h = its volume / facet area in 3D, area /
-!> edge length in 2D; the stiffest facet at a node), limited so that the contact spring never
-!> lowers the stable time step: eps_A A_A dt^2 <= MASS_LIMIT m_A.
+!> Penalty: one value per interface (a node-wise penalty turns a uniform penetration into a
+!> non-uniform pressure and fails the patch test): eps = SLSFAC SFSA SFSB <K/h>, the area mean
+!> over the slave facets of the bulk modulus over the element size normal to the facet
+!> (LS-DYNA's SOFT = 0 stiffness as a pressure per unit gap), limited so that the contact
+!> spring never lowers the stable time step: eps <= MASS_LIMIT min_A(m_A/a_A) / dt^2 (a_A the
+!> slave node's tributary area). Statics (implicit) scales it by a factor, without the limit.
 !>
 !> Parallel (documented choice): contact surfaces are small next to the volume, so every rank
 !> holds all of them (replicated data). The driver gathers the current positions of the
@@ -244,6 +246,9 @@ contains
     end do
     it%eps_material = 0.0_wp
     if (total_area > 0.0_wp) it%eps_material = SLSFAC*c%sfsa*c%sfsb*weighted/total_area
+    if (.not. (it%eps_material > 0.0_wp)) call fatal('contact '//itoa(it%id)//': SURFA '// &
+        'has no deformable elements to take the penalty stiffness from (SURFA must be the '// &
+        'deformable side; rigid tools belong on SURFB)')
   end subroutine slave_penalty
 
   !> Area of a triangle (dim 2) or volume of a tetrahedron (dim 3) from its corners.

@@ -371,7 +371,13 @@ contains
     if (any(tools%rigid_part(tools%interfaces%node_global) == 0 .and. is_master_node())) &
       call fatal('implicit analysis takes contact with rigid tools only (SURFB must be a '// &
                  'rigid part)')
-    if (model%controls%rcforc_interval > 0.0_wp) call rcforc_open(results_directory())
+    if (model%controls%rcforc_interval > 0.0_wp) then
+      if (len_trim(model%controls%title) > 0) then
+        call rcforc_open(results_directory(), trim(model%controls%title))
+      else
+        call rcforc_open(results_directory())
+      end if
+    end if
   contains
     !> Contact nodes on a master surface.
     function is_master_node() result(mask)
@@ -384,7 +390,8 @@ contains
     end function is_master_node
   end subroutine set_up_tools
 
-  !> Translation of rigid part p at time t: its *BOUNDARY_PRESCRIBED_MOTION_RIGID VAD=2.
+  !> Translation of rigid part p at time t: its *BOUNDARY_PRESCRIBED_MOTION_RIGID VAD=2 (0
+  !> before BIRTH, held at the DEATH value after it).
   function tool_displacement(model, p, t) result(d)
     type(model_t), intent(in) :: model                 !< resolved model
     integer, intent(in) :: p                           !< part index
@@ -395,8 +402,9 @@ contains
     do k = 1, model%n_motions
       associate (pm => model%motions(k))
         if (pm%target_kind /= ON_PART .or. pm%target /= p) cycle
-        if (t < pm%birth .or. t > pm%death) cycle
-        d(pm%dof) = pm%scale*curve_value(model%curves(pm%curve), t)
+        if (t < pm%birth) cycle
+        ! after DEATH the tool stays where the motion left it
+        d(pm%dof) = pm%scale*curve_value(model%curves(pm%curve), min(t, pm%death))
       end associate
     end do
   end function tool_displacement
