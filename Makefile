@@ -7,6 +7,7 @@
 #   make test       install, build (release + debug), run every test; last line "N passed, N failed"
 #   make bench      benchmarks: deck reading, linear static (ME-FEM vs standard tets); figures
 #   make punch      the seed paper's punch study (post/punch_study.py; ~5-10 min)
+#   make sphere     the seed paper's sphere compression (post/sphere_study.py; 2 runs on 2 ranks)
 #   make deps       install the Debian packages that are missing (no-op when all present)
 #   make clean
 
@@ -54,7 +55,7 @@ UNIT_SRC := $(sort $(wildcard tests/unit/test_*.f90))
 UNIT_EXE := $(patsubst tests/unit/%.f90,$(BUILD)/tests/%,$(UNIT_SRC))
 HARNESS  := $(BUILD)/tests/testing.o
 
-.PHONY: all deps build run test bench punch clean lint unit-tests
+.PHONY: all deps build run test bench punch sphere clean lint unit-tests
 .DEFAULT_GOAL := all
 
 all: deps $(EXE)
@@ -113,12 +114,21 @@ bench: deps
 	@bash tests/bench/run_bench.sh
 	@bash tests/bench/run_linear_static_bench.sh
 	@bash tests/bench/run_plasticity_bench.sh
+	@bash tests/bench/run_explicit_bench.sh
+	@/usr/bin/python3 tests/bench/run_contact_bench.py
 
 # The seed paper's punch study (doc/verification.md): ten runs, figures and tables in
 # doc/verification_data/punch_*; about 5-10 minutes on 2 cores.
 punch: deps
 	@$(MAKE) --no-print-directory bin/mefem
 	/usr/bin/python3 post/punch_study.py
+
+# The seed paper's sphere compression (doc/verification.md): frictionless and frictional mortar
+# contact, one run after the other on 2 ranks, figures and tables in
+# doc/verification_data/sphere_*.
+sphere: deps
+	@$(MAKE) --no-print-directory bin/mefem
+	/usr/bin/python3 post/sphere_study.py
 
 lint:
 	@bash tests/lint.sh

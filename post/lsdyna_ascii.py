@@ -169,23 +169,3 @@ def read_rcforc(path):
             out[interface][role] = {k: np.array([r.get(k, np.nan) for r in records])
                                     for k in labels}
     return out
-
-
-def read_rcforc(path):
-    """mefem's (and LS-DYNA's) ASCII rcforc: dict interface id -> {'slave': ..., 'master': ...},
-    each a dict of arrays 'time', 'x', 'y', 'z' (and 'normal', 'tangential' when present)."""
-    out = {}
-    with open(path) as f:
-        for line in f:
-            fields = line.split()
-            if len(fields) < 9 or fields[0] not in ('slave', 'master') or fields[2] != 'time':
-                continue
-            side, iid = fields[0], int(fields[1])
-            values = {fields[k]: _number(fields[k + 1]) for k in range(2, len(fields) - 1, 2)}
-            rec = out.setdefault(iid, {}).setdefault(side, {})
-            for key, value in values.items():
-                rec.setdefault(key, []).append(value)
-    for iid in out:
-        for side in out[iid]:
-            out[iid][side] = {k: np.array(v) for k, v in out[iid][side].items()}
-    return out

@@ -188,7 +188,7 @@ contains
     type(schedule_t) :: schedule
     type(timing_t) :: timing
     type(status_t) :: status
-    real(wp) :: t, dt, dt_old, dt_first, end_time, clock, t_start, dt_floor
+    real(wp) :: t, dt, dt_old, dt_first, end_time, clock, t_start, dt_floor, dt_full
     integer :: cycle, end_cycle
     logical :: printed
 
@@ -224,6 +224,9 @@ contains
 
     do while ((end_time <= 0.0_wp .or. t < end_time*(1.0_wp - 1.0e-12_wp)) .and. &
               (end_cycle <= 0 .or. cycle < end_cycle))
+      dt_full = dt                     ! the stable step, before landing on ENDTIM: the contact
+                                       ! penalty's limit uses it (a short last step must not
+                                       ! stiffen the contact)
       if (end_time > 0.0_wp) dt = min(dt, end_time - t)
       if (s%spc_in_time) call update_fixed_dofs(model, s, t + dt)
       cycle = cycle + 1
@@ -235,7 +238,7 @@ contains
       if (s%nwall > 0) call apply_rigid_walls(model, s, t + dt, dt_old, dt)
       timing%update = timing%update + (comm_wtime() - clock)
       t = t + dt
-      call compute_forces(model, s, halo, t, dt, timing)
+      call compute_forces(model, s, halo, t, dt_full, timing)
       clock = comm_wtime()
       call accumulate_energies(s, dt)
       call accelerations(s)
@@ -642,7 +645,8 @@ contains
     type(explicit_state_t), intent(inout) :: s        !< local state
     type(halo_t), intent(inout) :: halo               !< force exchange
     real(wp), intent(in) :: t                         !< time of the forces
-    real(wp), intent(in) :: dt                        !< the step that reached t (0 at t = 0)
+    real(wp), intent(in) :: dt                        !< the stable step of the cycle that
+                                                      !< reached t (0 at t = 0): penalty limit
     type(timing_t), intent(inout) :: timing           !< phase times
     real(wp) :: clock
     integer :: k

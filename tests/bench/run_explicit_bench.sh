@@ -1,0 +1,179 @@
+#!/usr/bin/env bash
+# Explicit-dynamics benchmark (make bench; doc/performance.md "Explicit dynamics"): a block of
+# NX x NY x NZ cubes x 5 tets of elasto-plastic aluminium (*MAT_PIECEWISE_LINEAR_PLASTICITY with
+# an EPS/ES table), bottom face fixed, top face driven down at a constant speed (plastic wave
+# from the first cycles), ENDCYC cycles, one result state (at the end). The same deck is run
+# with ME-FEM tets (ELFORM 43) and standard linear tets (ELFORM 10) on 1 and 2 ranks; the table
+# gives ns per element-cycle and per cell-cycle (core time = loop wall time x ranks, as the
+# driver's summary line "explicit: ... ns per element-cycle" says), the driver's phase shares of
+# rank 0, peak memory and the speed-up from 1 to 2 ranks.
+#
+# usage: tests/bench/run_explicit_bench.sh [--small]
+#   default: 34 x 34 x 35 cubes = 202 300 tets, 300 cycles (about 5 minutes on 2 cores)
+#   --small: 12 x 12 x 12 cubes = 8 640 tets, 100 cycles (a few seconds)
+# Environment: BENCH_EX_CELLS="NX NY NZ", BENCH_EX_CYCLES, BENCH_EX_RANKS (default "1 2"),
+# BENCH_EX_ELFORMS (default "43 10"), BENCH_EX_SPEED (top speed, mm/s; default 20000),
+# MEFEM (binary, default bin/mefem).
+set -euo pipefail
+cd "$(dirname "$0")/../.."
+export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
+export OMPI_MCA_rmaps_base_oversubscribe=1 OPENBLAS_NUM_THREADS=1
+
+cells="34 34 35"
+cycles=300
+if [ "${1:-}" = "--small" ]; then
+  cells="12 12 12"
+  cycles=100
+elif [ -n "${1:-}" ]; then
+  echo "usage: $0 [--small]" >&2
+  exit 2
+fi
+cells=${BENCH_EX_CELLS:-$cells}
+cycles=${BENCH_EX_CYCLES:-$cycles}
+ranks=${BENCH_EX_RANKS:-1 2}
+elforms=${BENCH_EX_ELFORMS:-43 10}
+speed=${BENCH_EX_SPEED:-20000.0}
+mefem=${MEFEM:-bin/mefem}
+read -r nx ny nz <<< "$cells"
+
+out=tests/out/bench_explicit
+mkdir -p "$out"
+tag=${nx}x${ny}x${nz}
+mesh=$out/block_$tag.mesh.k
+[ -f "$mesh" ] || /usr/bin/python3 tests/bench/generate_block_deck.py $nx $ny $nz "$mesh" \
+  --tets 5 >/dev/null
+per_layer=$(( (nx + 1) * (ny + 1) ))
+top_first=$(( nz * per_layer + 1 ))
+top_last=$(( (nz + 1) * per_layer ))
+
+# deck of one element formulation: mesh without its *MAT_ELASTIC, then the plastic material,
+# the sets, conditions and controls (mm, tonne, s, N, MPa)
+write_deck() {
+  local elform=$1 deck=$2
+  {
+    sed -e '/^\*END/d' -e '/^\*MAT_ELASTIC/,/^\*/{/^\*MAT_ELASTIC/d;/^[^*]/d}' \
+        -e "s/^         1        43\$/$(printf '%10d%10d' 1 "$elform")/" "$mesh"
+    cat <<K
+*MAT_PIECEWISE_LINEAR_PLASTICITY
+\$#     mid        ro         e        pr      sigy      etan
+         1    2.7e-9   70000.0      0.33     100.0
+\$#       c         p      lcss      lcsr        vp
+                                                  
+\$#    eps1      eps2      eps3      eps4      eps5
+       0.0      0.02      0.05       0.1       1.0
+\$#     es1       es2       es3       es4       es5
+     100.0     130.0     150.0     165.0     250.0
+*SET_NODE_LIST_GENERATE
+         1
+$(printf '%10d%10d' 1 $per_layer)
+*SET_NODE_LIST_GENERATE
+         2
+$(printf '%10d%10d' $top_first $top_last)
+*BOUNDARY_SPC_SET
+         1         0         1         1         1
+*BOUNDARY_PRESCRIBED_MOTION_SET
+         2         3         0         1$(printf '%10.1f' "-$speed")
+*DEFINE_CURVE
+         1
+                 0.0                 1.0
+                 1.0                 1.0
+*CONTROL_TERMINATION
+       1.0$(printf '%10d' $cycles)
+*CONTROL_TIMESTEP
+                 0.9
+*DATABASE_BINARY_D3PLOT
+       1.0
+*END
+K
+  } > "$deck"
+}
+
+# one run: prints the summary numbers as "key=value" words
+run_case() {
+  local elform=$1 np=$2 deck=$3 log=$4
+  /usr/bin/time -f 'process %e %U %S' -o "$log.time" \
+    mpirun --oversubscribe -np "$np" "$mefem" -o "$out/run_${elform}_np$np" "$deck" > "$log" 2>&1 \
+    || { echo "mefem failed, see $log" >&2; tail -5 "$log" >&2; exit 1; }
+  /usr/bin/python3 - "$log" "$np" <<'PY'
+import re, sys
+log, np_ = sys.argv[1], int(sys.argv[2])
+text = open(log).read()
+wall, user, system = (float(v) for v in open(log + '.time').read().split()[1:4])
+def grab(pattern, cast=float, default=float('nan')):
+    m = re.search(pattern, text)
+    return cast(m.group(1)) if m else default
+g = {}
+g['elements'] = grab(r'model: \S+ nodes?, (\d+) elements', int, 0) or \
+    grab(r'(\d+) elements', int, 0)
+g['cells'] = grab(r'explicit: \d+ nodes \(with enriched\), (\d+) cells', int, 0)
+g['cycles'] = grab(r'explicit: (\d+) cycles, ', int, 0)
+g['analysis'] = grab(r'explicit: \d+ cycles, (\S+) s')
+g['ns_elem'] = grab(r'explicit: (\S+) ns per element-cycle')
+g['ns_cell'] = grab(r'ns per element-cycle, (\S+) ns per cell-cycle')
+g['forces'] = grab(r'time in forces (\S+) %')
+g['halo'] = grab(r'halo exchange and reductions (\S+) %')
+g['update'] = grab(r'nodal update (\S+) %')
+g['output'] = grab(r'output (\S+) %')
+g['mem_max'] = grab(r'(\S+) MiB max over ranks')
+# share of the ranks' time they were on a core (user + system of mpirun and the ranks over
+# wall x ranks): well below 1 means other processes competed for the cores
+g['cpu_share'] = (user + system) / (wall * np_)
+print(' '.join(f'{k}={v}' for k, v in g.items()))
+PY
+}
+
+printf '== explicit dynamics benchmark: block %s cubes x 5 tets, %s cycles, top speed %s mm/s\n' \
+  "$tag" "$cycles" "$speed"
+results=$out/results_$tag.txt
+: > "$results"
+for elform in $elforms; do
+  deck=$out/block_${tag}_e$elform.k
+  write_deck "$elform" "$deck"
+  for np in $ranks; do
+    log=$out/run_${tag}_e${elform}_np$np.log
+    line=$(run_case "$elform" "$np" "$deck" "$log")
+    echo "elform=$elform np=$np $line" >> "$results"
+    echo "  ELFORM $elform, $np rank(s): done ($log)"
+  done
+done
+
+/usr/bin/python3 - "$results" <<'PY'
+import sys
+rows = []
+for line in open(sys.argv[1]):
+    d = dict(w.split('=', 1) for w in line.split())
+    rows.append(d)
+def f(d, k):
+    return float(d[k])
+name = {'43': 'ME-FEM tet (43)', '10': 'standard tet (10)'}
+print()
+print('| element | ranks | elements | cells | cycles | analysis wall | ns/element-cycle | '
+      'ns/cell-cycle | forces | halo+reductions | nodal update | output | '
+      'peak memory per rank | memory per element | speed-up | CPU share |')
+print('|' + '---|' * 16)
+base = {}
+for d in rows:
+    if d['np'] == '1':
+        base[d['elform']] = f(d, 'ns_elem')
+for d in rows:
+    np_ = int(d['np'])
+    elements = int(d['elements'])
+    mem = f(d, 'mem_max')
+    per_elem = mem * np_ * 1024.0 / elements          # KiB per element, all ranks
+    speedup = ''
+    if d['elform'] in base and np_ > 1:
+        # core time per element-cycle = wall x ranks: speed-up = ranks x ns(1)/ns(np)
+        speedup = f'{np_ * base[d["elform"]] / f(d, "ns_elem"):.2f}'
+    print(f'| {name.get(d["elform"], d["elform"])} | {np_} | {elements} | {d["cells"]} | '
+          f'{d["cycles"]} | {f(d, "analysis"):.2f} s | {f(d, "ns_elem"):.0f} | '
+          f'{f(d, "ns_cell"):.0f} | {f(d, "forces"):.1f} % | {f(d, "halo"):.1f} % | '
+          f'{f(d, "update"):.1f} % | {f(d, "output"):.1f} % | {mem:.0f} MiB | '
+          f'{per_elem:.2f} KiB | {speedup} | {f(d, "cpu_share"):.2f} |')
+ns = {d['elform']: f(d, 'ns_elem') for d in rows if d['np'] == '1'}
+if '43' in ns and '10' in ns:
+    print(f'\nME-FEM / standard cost per element-cycle on 1 rank: {ns["43"] / ns["10"]:.2f}')
+print('(ns per element-cycle: wall time of the cycle loop x ranks / (elements x cycles); '
+      'shares: rank 0; memory: peak resident (VmHWM), max over ranks; per element: that x '
+      'ranks / elements; CPU share: CPU time / (wall x ranks) of the whole process, well below '
+      '1 when other jobs shared the cores, which inflates the wall-time figures)')
+PY
