@@ -294,23 +294,13 @@ contains
   subroutine rwforc_open(dir, title)
     character(len=*), intent(in) :: dir              !< output directory (must exist)
     character(len=*), intent(in), optional :: title  !< run title for line 1 (default "mefem")
-    integer :: ios
     if (.not. comm_is_root()) return
     if (rwforc_opened) call rwforc_close()
     rwforc_path = join_path(dir, 'rwforc')
-    call open_history(rwforc_path, .false., rwforc_unit)
+    call open_table(rwforc_path, ' r i g i d   w a l l   f o r c e s', '                time'// &
+        '   wall#        normal-force             x-force             y-force             '// &
+        'z-force', rwforc_unit, title)
     rwforc_opened = .true.
-    if (present(title)) then
-      call write_banner(rwforc_unit, rwforc_path, title)
-    else
-      call write_banner(rwforc_unit, rwforc_path, DEFAULT_TITLE)
-    end if
-    write(rwforc_unit, '(a/a/a)', iostat=ios) '', ' r i g i d   w a l l   f o r c e s', ''
-    call check_write(ios, rwforc_path)
-    write(rwforc_unit, '(a)', iostat=ios) '                time   wall#'// &
-        '        normal-force             x-force             y-force             z-force'
-    call check_write(ios, rwforc_path)
-    flush(rwforc_unit)
   end subroutine rwforc_open
 
   !> Append one row per wall: the force the structure exerts on it and its normal part.
@@ -345,26 +335,15 @@ contains
   subroutine rbdout_open(dir, title)
     character(len=*), intent(in) :: dir              !< output directory (must exist)
     character(len=*), intent(in), optional :: title  !< run title for line 1 (default "mefem")
-    integer :: ios
     if (.not. comm_is_root()) return
     if (rbdout_opened) call rbdout_close()
     rbdout_path = join_path(dir, 'rbdout')
-    call open_history(rbdout_path, .false., rbdout_unit)
-    rbdout_opened = .true.
-    if (present(title)) then
-      call write_banner(rbdout_unit, rbdout_path, title)
-    else
-      call write_banner(rbdout_unit, rbdout_path, DEFAULT_TITLE)
-    end if
-    write(rbdout_unit, '(a/a/a)', iostat=ios) '', ' r i g i d   b o d y   d a t a', ''
-    call check_write(ios, rbdout_path)
-    write(rbdout_unit, '(a)', iostat=ios) '                time    part'// &
+    call open_table(rbdout_path, ' r i g i d   b o d y   d a t a', '                time    part'// &
         '              x-disp              y-disp              z-disp'// &
         '               x-vel               y-vel               z-vel'// &
         '          x-reaction          y-reaction          z-reaction'// &
-        '         xx-reaction         yy-reaction         zz-reaction'
-    call check_write(ios, rbdout_path)
-    flush(rbdout_unit)
+        '         xx-reaction         yy-reaction         zz-reaction', rbdout_unit, title)
+    rbdout_opened = .true.
   end subroutine rbdout_open
 
   !> Append one row per rigid body (values(12, bodies) in the column order of the header).
@@ -399,22 +378,37 @@ contains
   subroutine rcforc_open(dir, title)
     character(len=*), intent(in) :: dir              !< output directory (must exist)
     character(len=*), intent(in), optional :: title  !< run title for line 1 (default "mefem")
-    integer :: ios
     if (.not. comm_is_root()) return
     if (rcforc_opened) call rcforc_close()
     rcforc_path = join_path(dir, 'rcforc')
-    call open_history(rcforc_path, .false., rcforc_unit)
+    call open_table(rcforc_path, ' r e s u l t a n t   i n t e r f a c e   f o r c e s', '', &
+                    rcforc_unit, title)
     rcforc_opened = .true.
-    if (present(title)) then
-      call write_banner(rcforc_unit, rcforc_path, title)
-    else
-      call write_banner(rcforc_unit, rcforc_path, DEFAULT_TITLE)
-    end if
-    write(rcforc_unit, '(a/a/a)', iostat=ios) '', &
-        ' r e s u l t a n t   i n t e r f a c e   f o r c e s', ''
-    call check_write(ios, rcforc_path)
-    flush(rcforc_unit)
   end subroutine rcforc_open
+
+  !> Create a history table on rank 0: banner (title or "mefem"), its spaced-out name and a
+  !> column header (none when blank), flushed.
+  subroutine open_table(path, name, header, unit, title)
+    character(len=*), intent(in) :: path             !< file path
+    character(len=*), intent(in) :: name             !< the table's spaced-out name line
+    character(len=*), intent(in) :: header           !< column header ('' for none)
+    integer, intent(out) :: unit                     !< the open unit
+    character(len=*), intent(in), optional :: title  !< run title for line 1
+    integer :: ios
+    call open_history(path, .false., unit)
+    if (present(title)) then
+      call write_banner(unit, path, title)
+    else
+      call write_banner(unit, path, DEFAULT_TITLE)
+    end if
+    write(unit, '(a/a/a)', iostat=ios) '', name, ''
+    call check_write(ios, path)
+    if (len(header) > 0) then
+      write(unit, '(a)', iostat=ios) header
+      call check_write(ios, path)
+    end if
+    flush(unit)
+  end subroutine open_table
 
   !> Append the slave and master resultants of one interface at one time.
   subroutine rcforc_write(time, interface_id, force_slave, force_master, normal_force, &
