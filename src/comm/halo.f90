@@ -62,11 +62,18 @@ module mefem_halo
     logical :: has_assembly = .false.            !< assembly plan present
     integer :: ncell_local = 0                   !< size(cell_values, 3) expected
     integer :: slots = 0                         !< size(cell_values, 2) expected
-    integer, allocatable :: assembly_start(:)    !< copies of the layout's plan
-    integer, allocatable :: assembly_source(:)
     integer, allocatable :: send_start(:)
     integer, allocatable :: send_source(:)
     integer, allocatable :: receive_start(:)
+    integer, allocatable :: source_node(:)       !< (slots*ncell_local) local node of each
+                                                 !< contribution when all of that node's
+                                                 !< contributions are local, else 0
+    integer, allocatable :: mixed_nodes(:)       !< nodes with received contributions
+    integer, allocatable :: mixed_start(:)       !< (size(mixed_nodes)+1) their plans: node
+    integer, allocatable :: mixed_source(:)      !< mixed_nodes(m) sums mixed_source(mixed_
+                                                 !< start(m):mixed_start(m+1)-1) in this order
+                                                 !< (the layout's plan: > 0 own contribution
+                                                 !< j + slots*(l-1), < 0 received one)
     real(wp), allocatable :: assembly_send(:)    !< (ncomp_max * size(send_source))
     real(wp), allocatable :: assembly_receive(:) !< (ncomp_max * received contributions)
     type(comm_requests_t) :: assembly_requests   !< halo_assemble transfers in flight
@@ -102,14 +109,52 @@ contains
     halo%has_assembly = .true.
     halo%ncell_local = layout%ncell_local
     halo%slots = layout%slots
-    halo%assembly_start = layout%assembly_start
-    halo%assembly_source = layout%assembly_source
     halo%send_start = layout%send_start
     halo%send_source = layout%send_source
     halo%receive_start = layout%receive_start
+    call plan_scatter(halo, layout%assembly_start, layout%assembly_source)
     allocate(halo%assembly_send(ncomp_max*size(layout%send_source)))
     allocate(halo%assembly_receive(ncomp_max*(layout%receive_start(layout%nneighbour + 1) - 1)))
   end subroutine halo_build_layout
+
+  !> Split the layout's assembly plan: a node whose contributions all come from this rank's
+  !> cells gets them in ascending local cell order, which is ascending global cell order
+  !> (local cells are numbered so), i.e. its plan order. Such nodes are summed by one
+  !> streaming pass over the cell array (source_node); only the nodes with received
+  !> contributions keep their plan (mixed_*).
+  subroutine plan_scatter(halo, assembly_start, assembly_source)
+    type(halo_t), intent(inout) :: halo            !< halo being built
+    integer, intent(in) :: assembly_start(:)       !< (nnode_local+1) the layout's plan
+    integer, intent(in) :: assembly_source(:)      !< its sources, ascending cell order per node
+    integer :: i, p, nmixed, nentries
+    allocate(halo%source_node(halo%slots*halo%ncell_local))
+    halo%source_node = 0
+    nmixed = 0
+    nentries = 0
+    do i = 1, halo%nnode_local
+      if (any(assembly_source(assembly_start(i):assembly_start(i + 1) - 1) < 0)) then
+        nmixed = nmixed + 1
+        nentries = nentries + assembly_start(i + 1) - assembly_start(i)
+      end if
+    end do
+    allocate(halo%mixed_nodes(nmixed), halo%mixed_start(nmixed + 1), halo%mixed_source(nentries))
+    halo%mixed_start(1) = 1
+    nmixed = 0
+    do i = 1, halo%nnode_local
+      associate (sources => assembly_source(assembly_start(i):assembly_start(i + 1) - 1))
+        if (any(sources < 0)) then
+          nmixed = nmixed + 1
+          halo%mixed_nodes(nmixed) = i
+          halo%mixed_start(nmixed + 1) = halo%mixed_start(nmixed) + size(sources)
+          halo%mixed_source(halo%mixed_start(nmixed):halo%mixed_start(nmixed + 1) - 1) = sources
+        else
+          do p = 1, size(sources)
+            halo%source_node(sources(p)) = i
+          end do
+        end if
+      end associate
+    end do
+  end subroutine plan_scatter
 
   !> Copy the neighbour lists, allocate the buffers and plan the ascending-rank sums.
   subroutine set_lists(halo, rank, nnode_local, neighbour_rank, shared_start, shared_nodes, &
@@ -266,7 +311,7 @@ contains
     type(halo_t), intent(inout), asynchronous :: halo !< halo built from an explicit layout
     real(wp), intent(in) :: cell_values(:,:,:)     !< (ncomp, slots, ncell_local); outer cells
                                                    !< must be final
-    integer :: ncomp, k, t, first, last
+    integer :: ncomp, k, first, last
 
     ncomp = size(cell_values, 1)
     call check_cells(halo, cell_values, 'halo_assemble_start')
@@ -280,10 +325,8 @@ contains
                            halo%tag + 1, halo%assembly_requests)
     end do
     do k = 1, halo%nneighbour
-      do t = halo%send_start(k), halo%send_start(k + 1) - 1
-        halo%assembly_send(ncomp*(t - 1) + 1:ncomp*t) = &
-            contribution(cell_values, halo%slots, halo%send_source(t))
-      end do
+      call pack_contributions(halo, k, ncomp, size(cell_values, 2)*size(cell_values, 3), &
+                              cell_values)
       first = ncomp*(halo%send_start(k) - 1) + 1
       last = ncomp*(halo%send_start(k + 1) - 1)
       call comm_isend_real(halo%assembly_send(first:last), halo%neighbour_rank(k), &
@@ -296,8 +339,7 @@ contains
     type(halo_t), intent(inout), asynchronous :: halo !< halo built from an explicit layout
     real(wp), intent(in) :: cell_values(:,:,:)     !< (ncomp, slots, ncell_local), all final
     real(wp), intent(out) :: f(:,:)                !< (ncomp, nnode_local) nodal sums
-    real(wp) :: total(size(cell_values, 1))
-    integer :: ncomp, i, p, source
+    integer :: ncomp
 
     ncomp = size(cell_values, 1)
     if (halo%assembly_ncomp /= ncomp) &
@@ -306,38 +348,66 @@ contains
     call check_nodal(halo, f, 'halo_assemble_finish')
     call comm_waitall(halo%assembly_requests)
     halo%assembly_ncomp = 0
-    do i = 1, halo%nnode_local
-      total = 0.0_wp
-      do p = halo%assembly_start(i), halo%assembly_start(i + 1) - 1
-        source = halo%assembly_source(p)
-        if (source > 0) then
-          if (p == halo%assembly_start(i)) then
-            total = contribution(cell_values, halo%slots, source)
-          else
-            total = total + contribution(cell_values, halo%slots, source)
-          end if
-        else
-          if (p == halo%assembly_start(i)) then
-            total = halo%assembly_receive(ncomp*(-source - 1) + 1:ncomp*(-source))
-          else
-            total = total + halo%assembly_receive(ncomp*(-source - 1) + 1:ncomp*(-source))
-          end if
-        end if
-      end do
-      f(:, i) = total
-    end do
+    call sum_in_plan_order(halo, ncomp, size(cell_values, 2)*size(cell_values, 3), &
+                           cell_values, f)
   end subroutine halo_assemble_finish
 
-  !> Contribution number `source` (slot j of local cell l, source = j + slots*(l-1)).
-  pure function contribution(cell_values, slots, source) result(v)
-    real(wp), intent(in) :: cell_values(:,:,:)     !< (ncomp, slots, ncell_local)
-    integer, intent(in) :: slots                   !< slots per cell
-    integer, intent(in) :: source                  !< encoded contribution
-    real(wp) :: v(size(cell_values, 1))
-    integer :: l
-    l = (source - 1)/slots + 1
-    v = cell_values(:, source - slots*(l - 1), l)
-  end function contribution
+  !> The nodal sums of halo_assemble_finish, each in its plan order (ascending global cell
+  !> order; the order fixes the bits; zero without contributions): the nodes fed by this
+  !> rank's cells only by one pass over the cell array in ascending order (values(:, source),
+  !> source = j + slots*(l-1) the column of slot j of cell l: streamed, the nodal array is
+  !> the one accessed at random), the others (shared nodes with received contributions) by
+  !> their plan. 0 + x = x, so starting from zero gives the same bits as starting from the
+  !> first contribution (up to the sign of a zero sum).
+  subroutine sum_in_plan_order(halo, ncomp, nsource, values, f)
+    type(halo_t), intent(in) :: halo               !< halo with its assembly plan
+    integer, intent(in) :: ncomp                   !< components per contribution
+    integer, intent(in) :: nsource                 !< slots x local cells
+    real(wp), intent(in) :: values(ncomp, nsource) !< cell contributions, one per column
+    real(wp), intent(inout) :: f(:,:)              !< (ncomp, nnode_local) nodal sums
+    integer :: i, m, p, source, offset
+    f(1:ncomp, :) = 0.0_wp
+    if (ncomp == 3) then
+      do source = 1, nsource
+        i = halo%source_node(source)
+        if (i == 0) cycle
+        f(1, i) = f(1, i) + values(1, source)
+        f(2, i) = f(2, i) + values(2, source)
+        f(3, i) = f(3, i) + values(3, source)
+      end do
+    else
+      do source = 1, nsource
+        i = halo%source_node(source)
+        if (i == 0) cycle
+        f(1:ncomp, i) = f(1:ncomp, i) + values(:, source)
+      end do
+    end if
+    do m = 1, size(halo%mixed_nodes)
+      i = halo%mixed_nodes(m)
+      do p = halo%mixed_start(m), halo%mixed_start(m + 1) - 1
+        source = halo%mixed_source(p)
+        if (source > 0) then
+          f(1:ncomp, i) = f(1:ncomp, i) + values(:, source)
+        else
+          offset = ncomp*(-source - 1)
+          f(1:ncomp, i) = f(1:ncomp, i) + halo%assembly_receive(offset + 1:offset + ncomp)
+        end if
+      end do
+    end do
+  end subroutine sum_in_plan_order
+
+  !> The contributions neighbour k needs, packed into assembly_send (columns as above).
+  subroutine pack_contributions(halo, k, ncomp, nsource, values)
+    type(halo_t), intent(inout) :: halo            !< halo with its assembly plan
+    integer, intent(in) :: k                       !< neighbour
+    integer, intent(in) :: ncomp                   !< components per contribution
+    integer, intent(in) :: nsource                 !< slots x local cells
+    real(wp), intent(in) :: values(ncomp, nsource) !< cell contributions, one per column
+    integer :: t
+    do t = halo%send_start(k), halo%send_start(k + 1) - 1
+      halo%assembly_send(ncomp*(t - 1) + 1:ncomp*t) = values(:, halo%send_source(t))
+    end do
+  end subroutine pack_contributions
 
   !> Stop with a message if a nodal array does not fit the halo.
   subroutine check_nodal(halo, f, where)

@@ -5,8 +5,9 @@
 !> and a master facet (segment, triangle or quadrilateral, functions N_C^m) the kernels return
 !>     n_AB = int N_A N_B,   n_AC = int N_A N_C^m,   overlap = int 1
 !> over the part of the slave facet that the master facet covers when it is projected onto the
-!> slave facet's line/plane along the slave facet's unit normal. N_C^m is evaluated at the
-!> master point on the slave-normal line through the integration point. The projection uses
+!> slave facet's line/plane along the slave facet's unit normal. N_C^m is the master function
+!> at the master point on the slave-normal line through the integration point (3D: integrated
+!> exactly as n_AC = M P, see integrate_master_triangle). The projection uses
 !> the FIXED normal of the slave facet (one direction per pair); the interpolated nodal-normal
 !> projection of Yang et al. (2005) is deliberately not offered, so a flat master facet maps
 !> affinely and every integrand is a quadratic polynomial, integrated exactly.

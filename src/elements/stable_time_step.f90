@@ -22,7 +22,6 @@ module mefem_stable_time_step
   use mefem_model, only: model_t
   use mefem_cells, only: cells_t, CELL_MAX_NODES
   use mefem_lumped_mass, only: simplex_measure
-  use mefem_cell_finite_strain, only: inverse_3x3
   implicit none
   private
 
@@ -115,83 +114,115 @@ contains
   !> with the small-strain Lame constants of the cell's material (material_elastic_moduli;
   !> plane strain: the same lambda, mu with dim = 2). Returns huge() for det F <= 0 (the
   !> material update reports the failure). Allocation-free; the cell's stable step is
-  !> 2/sqrt(result).
+  !> 2/sqrt(result). Evaluated as weight/J (max(lambda, 0) tr W' + 2 mu lambda_max(W')) with
+  !> W' = adj(F)^T W0 adj(F) = J^2 W (adj(F) = J F^-1): no matrix inverse, one division
+  !> (plane strain likewise with the in-plane 2x2 adjugate).
   pure real(wp) function cell_critical_omega_squared(dim, weight, w0, f, lambda, mu) &
       result(omega_squared)
     integer, intent(in) :: dim           !< 2 (plane strain) or 3
     real(wp), intent(in) :: weight       !< reference area (unit thickness) or volume
-    real(wp), intent(in) :: w0(:,:)      !< (dim, dim) reference inverse-mass metric
+    real(wp), intent(in), contiguous :: w0(:,:)  !< (dim, dim) reference inverse-mass metric
     real(wp), intent(in) :: f(3, 3)      !< deformation gradient (F33 = 1 in plane strain)
     real(wp), intent(in) :: lambda       !< Lame's first constant (lambda < 0 counts as 0)
     real(wp), intent(in) :: mu           !< shear modulus
-    real(wp) :: finv(3, 3), det, wf(3, 3), w(3, 3), trace_w
-    integer :: a, b, k
-    call inverse_3x3(f, finv, det)
+    real(wp) :: adj(3, 3), det, y(3, 3), w(3, 3), trace_w, lambda_max
+    integer :: a, b
+    ! adj(F) (transposed cofactors) and J
+    adj(1, 1) = f(2, 2)*f(3, 3) - f(2, 3)*f(3, 2)
+    adj(1, 2) = f(1, 3)*f(3, 2) - f(1, 2)*f(3, 3)
+    adj(1, 3) = f(1, 2)*f(2, 3) - f(1, 3)*f(2, 2)
+    adj(2, 1) = f(2, 3)*f(3, 1) - f(2, 1)*f(3, 3)
+    adj(2, 2) = f(1, 1)*f(3, 3) - f(1, 3)*f(3, 1)
+    adj(2, 3) = f(1, 3)*f(2, 1) - f(1, 1)*f(2, 3)
+    adj(3, 1) = f(2, 1)*f(3, 2) - f(2, 2)*f(3, 1)
+    adj(3, 2) = f(1, 2)*f(3, 1) - f(1, 1)*f(3, 2)
+    adj(3, 3) = f(1, 1)*f(2, 2) - f(1, 2)*f(2, 1)
+    det = f(1, 1)*adj(1, 1) + f(1, 2)*adj(2, 1) + f(1, 3)*adj(3, 1)
     if (.not. (det > 0.0_wp)) then
       omega_squared = huge(1.0_wp)
       return
     end if
-    ! wf = W0 F^-1, w = F^-T W0 F^-1 (the in-plane block in 2D: F^-1 is block diagonal)
-    do b = 1, dim
-      do a = 1, dim
-        wf(a, b) = 0.0_wp
-        do k = 1, dim
-          wf(a, b) = wf(a, b) + w0(a, k)*finv(k, b)
+    if (dim == 3) then
+      ! y = W0 adj, w = adj^T y (upper triangle; W0 symmetric)
+      do b = 1, 3
+        do a = 1, 3
+          y(a, b) = w0(a, 1)*adj(1, b) + w0(a, 2)*adj(2, b) + w0(a, 3)*adj(3, b)
         end do
       end do
-    end do
-    do b = 1, dim
-      do a = 1, b
-        w(a, b) = 0.0_wp
-        do k = 1, dim
-          w(a, b) = w(a, b) + finv(k, a)*wf(k, b)
+      do b = 1, 3
+        do a = 1, b
+          w(a, b) = adj(1, a)*y(1, b) + adj(2, a)*y(2, b) + adj(3, a)*y(3, b)
         end do
-        w(b, a) = w(a, b)
       end do
-    end do
-    trace_w = 0.0_wp
-    do a = 1, dim
-      trace_w = trace_w + w(a, a)
-    end do
-    omega_squared = det*weight*(max(lambda, 0.0_wp)*trace_w + &
-                                2.0_wp*mu*symmetric_max_eigenvalue(dim, w))
+      trace_w = w(1, 1) + w(2, 2) + w(3, 3)
+      lambda_max = max_eigenvalue_3(w(1, 1), w(2, 2), w(3, 3), w(1, 2), w(2, 3), w(1, 3))
+      omega_squared = weight/det*(max(lambda, 0.0_wp)*trace_w + 2.0_wp*mu*lambda_max)
+    else
+      ! plane strain: the in-plane block, F^-1 = adj2/J2 with the 2x2 adjugate adj2 and
+      ! J2 = J/F_33, so J W = (F_33/J2) adj2^T W0 adj2
+      adj(1, 1) = f(2, 2)
+      adj(1, 2) = -f(1, 2)
+      adj(2, 1) = -f(2, 1)
+      adj(2, 2) = f(1, 1)
+      do b = 1, 2
+        do a = 1, 2
+          y(a, b) = w0(a, 1)*adj(1, b) + w0(a, 2)*adj(2, b)
+        end do
+      end do
+      do b = 1, 2
+        do a = 1, b
+          w(a, b) = adj(1, a)*y(1, b) + adj(2, a)*y(2, b)
+        end do
+      end do
+      w(2, 1) = w(1, 2)
+      trace_w = w(1, 1) + w(2, 2)
+      lambda_max = symmetric_max_eigenvalue(2, w)
+      omega_squared = weight*f(3, 3)/(f(1, 1)*f(2, 2) - f(1, 2)*f(2, 1))* &
+                      (max(lambda, 0.0_wp)*trace_w + 2.0_wp*mu*lambda_max)
+    end if
   end function cell_critical_omega_squared
 
   !> Largest eigenvalue of a symmetric n x n matrix, n = 1, 2, 3, in closed form (2x2: mean
   !> plus the radius; 3x3: the trigonometric solution of the characteristic cubic, Smith 1961).
-  !> Only a(1:n, 1:n) is read (both triangles, assumed equal). Round-off: ~1e-15 relative of
+  !> Only a(1:n, 1:n) is read (the upper triangle for n = 3). Round-off: ~1e-15 relative of
   !> the spectral radius, up to ~1e-8 when the two largest eigenvalues (nearly) coincide (the
   !> cubic's double root; measured in tests/unit/test_stable_time_step.f90).
   pure real(wp) function symmetric_max_eigenvalue(n, a) result(lambda_max)
     integer, intent(in) :: n             !< 1, 2 or 3
     real(wp), intent(in) :: a(:,:)       !< (>= n, >= n) symmetric matrix
-    real(wp) :: q, p1, p2, p, b(3, 3), r, phi
-    integer :: i
     select case (n)
     case (1)
       lambda_max = a(1, 1)
     case (2)
       lambda_max = 0.5_wp*(a(1, 1) + a(2, 2)) + hypot(0.5_wp*(a(1, 1) - a(2, 2)), a(1, 2))
     case default
-      q = (a(1, 1) + a(2, 2) + a(3, 3))/3.0_wp
-      p1 = a(1, 2)**2 + a(1, 3)**2 + a(2, 3)**2
-      p2 = (a(1, 1) - q)**2 + (a(2, 2) - q)**2 + (a(3, 3) - q)**2 + 2.0_wp*p1
-      if (.not. (p2 > 0.0_wp)) then
-        lambda_max = q                   ! a multiple of the identity
-        return
-      end if
-      p = sqrt(p2/6.0_wp)
-      b = a(1:3, 1:3)/p
-      do i = 1, 3
-        b(i, i) = b(i, i) - q/p
-      end do
-      r = 0.5_wp*(b(1, 1)*(b(2, 2)*b(3, 3) - b(2, 3)*b(3, 2)) &
-                - b(1, 2)*(b(2, 1)*b(3, 3) - b(2, 3)*b(3, 1)) &
-                + b(1, 3)*(b(2, 1)*b(3, 2) - b(2, 2)*b(3, 1)))
-      r = min(1.0_wp, max(-1.0_wp, r))
-      phi = acos(r)/3.0_wp                 ! in [0, pi/3]: cos(phi) gives the largest root
-      lambda_max = q + 2.0_wp*p*cos(phi)
+      lambda_max = max_eigenvalue_3(a(1, 1), a(2, 2), a(3, 3), a(1, 2), a(2, 3), a(1, 3))
     end select
   end function symmetric_max_eigenvalue
+
+  !> Largest eigenvalue of the symmetric 3x3 matrix [a11 a12 a13; a12 a22 a23; a13 a23 a33]:
+  !> with q = tr/3, p = sqrt(|A - q 1|^2/6) and r = det(A - q 1)/(2 p^3) (= det(B)/2 of
+  !> Smith's B = (A - q 1)/p, without forming B), lambda_max = q + 2 p cos(acos(r)/3).
+  pure real(wp) function max_eigenvalue_3(a11, a22, a33, a12, a23, a13) result(lambda_max)
+    real(wp), intent(in) :: a11, a22, a33, a12, a23, a13   !< the six entries
+    real(wp), parameter :: ONE_THIRD = 1.0_wp/3.0_wp, ONE_SIXTH = 1.0_wp/6.0_wp
+    real(wp) :: q, p1, p2, p, d11, d22, d33, r, phi
+    q = (a11 + a22 + a33)*ONE_THIRD
+    p1 = a12**2 + a13**2 + a23**2
+    d11 = a11 - q
+    d22 = a22 - q
+    d33 = a33 - q
+    p2 = d11**2 + d22**2 + d33**2 + 2.0_wp*p1
+    if (.not. (p2 > 0.0_wp)) then
+      lambda_max = q                     ! a multiple of the identity
+      return
+    end if
+    p = sqrt(p2*ONE_SIXTH)
+    r = 0.5_wp*(d11*(d22*d33 - a23*a23) - a12*(a12*d33 - a23*a13) + a13*(a12*a23 - d22*a13)) &
+        /(p*p*p)
+    r = min(1.0_wp, max(-1.0_wp, r))
+    phi = acos(r)*ONE_THIRD                ! in [0, pi/3]: cos(phi) gives the largest root
+    lambda_max = q + 2.0_wp*p*cos(phi)
+  end function max_eigenvalue_3
 
 end module mefem_stable_time_step

@@ -22,7 +22,7 @@ module mefem_mat_elastic
   use mefem_strings, only: itoa, rtoa
   use mefem_tensor_algebra, only: IDENTITY, determinant, add_outer_product, &
                                   add_symmetric_identity
-  use mefem_material_state, only: NHIST, state_set_deformation, state_set_elastic_strain
+  use mefem_material_state, only: NHIST, HIST_F, HIST_BE
   implicit none
   private
 
@@ -49,13 +49,14 @@ contains
     real(wp), intent(out) :: sound_speed                !< dilatational wave speed
     type(status_t), intent(out) :: status               !< fails for det F <= 0
     real(wp), intent(out), optional :: c_tau(3,3,3,3)   !< spatial tangent of tau
-    real(wp) :: lambda, mu, j, log_j, b(3,3), modulus
+    real(wp) :: lambda, mu, j, log_j, b(3,3), modulus, pressure, b_scale
+    integer :: a, k
     hist_new = hist_old
-    tau = 0.0_wp
     sound_speed = 0.0_wp
     if (present(c_tau)) c_tau = 0.0_wp
     j = determinant(f_new)
     if (.not. (j > 0.0_wp)) then
+      tau = 0.0_wp
       status%ok = .false.
       status%message = 'material '//itoa(mat%id)//': det F = '//rtoa(j)// &
                        ' <= 0 (inverted or degenerate element)'
@@ -63,10 +64,25 @@ contains
     end if
     call lame_constants(mat%young, mat%poisson, lambda, mu)
     log_j = log(j)
-    b = matmul(f_new, transpose(f_new))
-    tau = mu*(b - IDENTITY) + lambda*log_j*IDENTITY
-    call state_set_deformation(hist_new, f_new)
-    call state_set_elastic_strain(hist_new, j**(-2.0_wp/3.0_wp)*b)
+    ! b = F F^T (upper triangle, mirrored: exactly symmetric)
+    do k = 1, 3
+      do a = 1, k
+        b(a, k) = f_new(a, 1)*f_new(k, 1) + f_new(a, 2)*f_new(k, 2) + f_new(a, 3)*f_new(k, 3)
+        b(k, a) = b(a, k)
+      end do
+    end do
+    tau = mu*b
+    pressure = lambda*log_j
+    do k = 1, 3
+      tau(k, k) = mu*(b(k, k) - 1.0_wp) + pressure
+    end do
+    ! history through the offsets of mefem_material_state: F column by column, then
+    ! b_bar = J^(-2/3) b (J^(-2/3) = exp(-2/3 ln J)) in Voigt order xx yy zz xy yz zx
+    do k = 1, 3
+      hist_new(HIST_F + 3*(k - 1):HIST_F + 3*k - 1) = f_new(:, k)
+    end do
+    b_scale = exp(-2.0_wp/3.0_wp*log_j)
+    hist_new(HIST_BE:HIST_BE + 5) = b_scale*[b(1, 1), b(2, 2), b(3, 3), b(1, 2), b(2, 3), b(3, 1)]
     modulus = lambda + 2.0_wp*mu + 2.0_wp*lambda*max(0.0_wp, -log_j)
     sound_speed = sqrt(modulus/mat%density)
     if (present(c_tau)) then

@@ -36,11 +36,8 @@ module mefem_mat_j2_plasticity
   use mefem_model, only: material_t, curve_t
   use mefem_errors, only: status_t
   use mefem_strings, only: itoa, rtoa
-  use mefem_tensor_algebra, only: IDENTITY, determinant, inverse, trace, deviator, &
-                                  frobenius_norm, add_outer_product, add_symmetric_identity
-  use mefem_material_state, only: NHIST, HIST_ALPHA, state_get_deformation, &
-                                  state_set_deformation, state_get_elastic_strain, &
-                                  state_set_elastic_strain
+  use mefem_tensor_algebra, only: IDENTITY, deviator, add_outer_product, add_symmetric_identity
+  use mefem_material_state, only: NHIST, HIST_F, HIST_BE, HIST_ALPHA
   use mefem_hardening, only: hardening_yield
   implicit none
   private
@@ -48,12 +45,21 @@ module mefem_mat_j2_plasticity
   public :: mat_j2_update
 
   real(wp), parameter :: SQRT_TWO_THIRDS = sqrt(2.0_wp/3.0_wp)
+  real(wp), parameter :: ONE_THIRD = 1.0_wp/3.0_wp       !< (products instead of divisions)
   real(wp), parameter :: RETURN_TOLERANCE = 1.0e-13_wp   !< |r| relative to |s_tr|
   integer, parameter :: MAX_RETURN_ITERATIONS = 100       !< Newton/bisection steps
+  !> |J_{n+1}/J_n - 1| up to which inverse_cube_root uses its series and Newton step
+  real(wp), parameter :: CUBE_ROOT_SERIES_RANGE = 0.01_wp
+  !> Symmetric tensors as 6 components, in the Voigt order of the history (mefem_material_state)
+  integer, parameter :: XX = 1, YY = 2, ZZ = 3, XY = 4, YZ = 5, ZX = 6, SYM = 6
 
 contains
 
   !> Stress, history, wave speed and (optionally) consistent tangent at F_{n+1}.
+  !> Hot path of the explicit solver: symmetric tensors are held as their 6 components and
+  !> every 3x3 operation is written out here (inlined), without array temporaries; the history
+  !> is read and written through the offsets of mefem_material_state. The 3x3 tensors of the
+  !> tangent are built only when c_tau is asked for.
   pure subroutine mat_j2_update(mat, curves, law, f_new, hist_old, hist_new, tau, sound_speed, &
                                 status, c_tau)
     type(material_t), intent(in) :: mat                !< *MAT_024 / *MAT_018 parameters
@@ -66,38 +72,63 @@ contains
     real(wp), intent(out) :: sound_speed                !< dilatational wave speed
     type(status_t), intent(out) :: status               !< det F <= 0, no convergence
     real(wp), intent(out), optional :: c_tau(3,3,3,3)   !< spatial tangent of tau
-    real(wp) :: mu, kappa, j, j_old, f_old(3,3), f_old_inverse(3,3), f_bar(3,3)
-    real(wp) :: be_old(3,3), be_trial(3,3), be_new(3,3), s_trial(3,3), s(3,3), normal(3,3)
+    real(wp) :: mu, kappa, j, j_old, f_old(3,3), adj_old(3,3), rel(3,3), t(3,3)
+    real(wp) :: be_old(SYM), be_trial(SYM), s_trial(SYM), s(SYM), be_new(SYM)
     real(wp) :: i_bar, mu_bar, norm_trial, alpha_old, alpha_new, yield_old, slope, dgamma
-    real(wp) :: jp, factor, beta0, beta1, beta2, beta3, beta4
+    real(wp) :: jp, scale, inverse_j_old, return_factor, factor
+    real(wp) :: beta0, beta1, beta2, beta3, beta4
+    real(wp) :: normal(3,3), s_trial_full(3,3)
+    integer :: a, b, k
     logical :: plastic, converged
     hist_new = hist_old
     tau = 0.0_wp
     sound_speed = 0.0_wp
     if (present(c_tau)) c_tau = 0.0_wp
-    j = determinant(f_new)
+    j = det3(f_new)
     if (.not. (j > 0.0_wp)) then
       call fail(status, mat, 'det F = '//rtoa(j)//' <= 0 (inverted or degenerate element)')
       return
     end if
-    call state_get_deformation(hist_old, f_old)
-    j_old = determinant(f_old)
+    do k = 1, 3                                 ! F_n, column by column
+      f_old(:, k) = hist_old(HIST_F + 3*(k - 1):HIST_F + 3*k - 1)
+    end do
+    j_old = det3(f_old)
     if (.not. (j_old > 0.0_wp)) then
       call fail(status, mat, 'det F_n = '//rtoa(j_old)//' <= 0 in the history')
       return
     end if
     mu = mat%young/(2.0_wp*(1.0_wp + mat%poisson))
     kappa = mat%young/(3.0_wp*(1.0_wp - 2.0_wp*mat%poisson))
-    ! 1-2: relative deformation, elastic trial state
-    call inverse(f_old, f_old_inverse)
-    f_bar = (j/j_old)**(-1.0_wp/3.0_wp)*matmul(f_new, f_old_inverse)
-    call state_get_elastic_strain(hist_old, be_old)
-    be_trial = matmul(f_bar, matmul(be_old, transpose(f_bar)))
-    be_trial = 0.5_wp*(be_trial + transpose(be_trial))   ! exactly symmetric
-    i_bar = trace(be_trial)/3.0_wp
+    ! 1-2: f = F F_n^-1 = F adj(F_n)/J_n, f_bar = (J/J_n)^(-1/3) f, and the elastic trial state
+    ! be_tr = f_bar be_bar_n f_bar^T = scale (F adj) be_bar_n (F adj)^T (upper triangle: exactly
+    ! symmetric), scale = ((J/J_n)^(-1/3)/J_n)^2
+    call adjugate(f_old, adj_old)
+    do b = 1, 3
+      do a = 1, 3
+        rel(a, b) = f_new(a, 1)*adj_old(1, b) + f_new(a, 2)*adj_old(2, b) + &
+                    f_new(a, 3)*adj_old(3, b)
+      end do
+    end do
+    inverse_j_old = 1.0_wp/j_old
+    scale = inverse_cube_root(j*inverse_j_old)*inverse_j_old
+    scale = scale*scale
+    be_old = hist_old(HIST_BE:HIST_BE + 5)
+    do a = 1, 3                                 ! t = rel be_bar_n
+      t(a, 1) = rel(a, 1)*be_old(XX) + rel(a, 2)*be_old(XY) + rel(a, 3)*be_old(ZX)
+      t(a, 2) = rel(a, 1)*be_old(XY) + rel(a, 2)*be_old(YY) + rel(a, 3)*be_old(YZ)
+      t(a, 3) = rel(a, 1)*be_old(ZX) + rel(a, 2)*be_old(YZ) + rel(a, 3)*be_old(ZZ)
+    end do
+    be_trial(XX) = scale*(t(1, 1)*rel(1, 1) + t(1, 2)*rel(1, 2) + t(1, 3)*rel(1, 3))
+    be_trial(YY) = scale*(t(2, 1)*rel(2, 1) + t(2, 2)*rel(2, 2) + t(2, 3)*rel(2, 3))
+    be_trial(ZZ) = scale*(t(3, 1)*rel(3, 1) + t(3, 2)*rel(3, 2) + t(3, 3)*rel(3, 3))
+    be_trial(XY) = scale*(t(1, 1)*rel(2, 1) + t(1, 2)*rel(2, 2) + t(1, 3)*rel(2, 3))
+    be_trial(YZ) = scale*(t(2, 1)*rel(3, 1) + t(2, 2)*rel(3, 2) + t(2, 3)*rel(3, 3))
+    be_trial(ZX) = scale*(t(3, 1)*rel(1, 1) + t(3, 2)*rel(1, 2) + t(3, 3)*rel(1, 3))
+    i_bar = (be_trial(XX) + be_trial(YY) + be_trial(ZZ))*ONE_THIRD
     mu_bar = mu*i_bar
-    s_trial = mu*deviator(be_trial)
-    norm_trial = frobenius_norm(s_trial)
+    s_trial(XX:ZZ) = mu*(be_trial(XX:ZZ) - i_bar)
+    s_trial(XY:ZX) = mu*be_trial(XY:ZX)
+    norm_trial = sym_norm(s_trial)
     ! 3-4: yield check and return map
     alpha_old = hist_old(HIST_ALPHA)
     call hardening_yield(law, mat, curves, alpha_old, yield_old, slope)
@@ -109,7 +140,6 @@ contains
     plastic = norm_trial - SQRT_TWO_THIRDS*yield_old > 0.0_wp
     dgamma = 0.0_wp
     alpha_new = alpha_old
-    normal = 0.0_wp
     s = s_trial
     if (plastic) then
       call return_map(law, mat, curves, alpha_old, norm_trial, mu_bar, dgamma, slope, converged)
@@ -118,22 +148,29 @@ contains
                   rtoa(sqrt(1.5_wp)*norm_trial)//', yield stress '//rtoa(yield_old)//')')
         return
       end if
-      normal = s_trial/norm_trial
-      s = s_trial - 2.0_wp*mu_bar*dgamma*normal
+      ! s = s_tr - 2 mu_bar dgamma n, n = s_tr/|s_tr|
+      return_factor = 1.0_wp - 2.0_wp*mu_bar*dgamma/norm_trial
+      s = return_factor*s_trial
       alpha_new = alpha_old + SQRT_TWO_THIRDS*dgamma
     end if
     ! 5: elastic strain with det = 1
-    be_new = s/mu
+    be_new = s*(1.0_wp/mu)
     call unimodular_shift(be_new, i_bar)
     ! 6: Kirchhoff stress
     jp = 0.5_wp*kappa*(j*j - 1.0_wp)
-    tau = s + jp*IDENTITY
-    call state_set_deformation(hist_new, f_new)
-    call state_set_elastic_strain(hist_new, be_new)
+    call sym_to_full(s, tau)
+    do k = 1, 3
+      tau(k, k) = tau(k, k) + jp
+    end do
+    do k = 1, 3                                 ! F_{n+1}, column by column
+      hist_new(HIST_F + 3*(k - 1):HIST_F + 3*k - 1) = f_new(:, k)
+    end do
+    hist_new(HIST_BE:HIST_BE + 5) = be_new
     hist_new(HIST_ALPHA) = alpha_new
     sound_speed = sqrt((kappa + 4.0_wp/3.0_wp*mu_bar)/mat%density)
     if (.not. present(c_tau)) return
     ! consistent tangent
+    call sym_to_full(s_trial, s_trial_full)
     call add_outer_product(c_tau, kappa*j*j, IDENTITY, IDENTITY)
     call add_symmetric_identity(c_tau, -2.0_wp*jp)
     factor = 1.0_wp
@@ -144,14 +181,15 @@ contains
       beta3 = 1.0_wp/beta0 - beta1 + beta2
       beta4 = (1.0_wp/beta0 - beta1)*norm_trial/mu_bar
       factor = 1.0_wp - beta1
+      normal = s_trial_full/norm_trial
       call add_outer_product(c_tau, -2.0_wp*mu_bar*beta3, normal, normal)
       call add_outer_product(c_tau, -2.0_wp*mu_bar*beta4, normal, &
                              deviator(matmul(normal, normal)))
     end if
     call add_symmetric_identity(c_tau, factor*2.0_wp*mu_bar)
     call add_outer_product(c_tau, -factor*2.0_wp*mu_bar/3.0_wp, IDENTITY, IDENTITY)
-    call add_outer_product(c_tau, -factor*2.0_wp/3.0_wp, s_trial, IDENTITY)
-    call add_outer_product(c_tau, -factor*2.0_wp/3.0_wp, IDENTITY, s_trial)
+    call add_outer_product(c_tau, -factor*2.0_wp/3.0_wp, s_trial_full, IDENTITY)
+    call add_outer_product(c_tau, -factor*2.0_wp/3.0_wp, IDENTITY, s_trial_full)
   end subroutine mat_j2_update
 
   !> Plastic multiplier dgamma of the return map: root of
@@ -199,30 +237,109 @@ contains
   end subroutine return_map
 
   !> Replace a by a + (x - tr(a)/3) 1 with x the root near x0 of det(dev(a) + x 1) = 1
-  !> (Newton on the cubic x^3 + i2 x + i3 - 1, i2, i3 invariants of dev(a)); if Newton
-  !> fails, dev(a) + x0 1 is scaled by its det^(-1/3) instead.
+  !> (Newton on the cubic x^3 + i2 x + i3 - 1, i2, i3 invariants of dev(a), until the cubic
+  !> is within 4 eps of 0); if Newton fails, dev(a) + x0 1 is scaled by its det^(-1/3)
+  !> instead. a: symmetric, 6 components.
   pure subroutine unimodular_shift(a, x0)
-    real(wp), intent(inout) :: a(3,3)   !< symmetric tensor made unimodular
+    real(wp), intent(inout) :: a(SYM)   !< symmetric tensor made unimodular (XX .. ZX)
     real(wp), intent(in) :: x0          !< starting value (the trace/3 wanted)
-    real(wp) :: d(3,3), i2, i3, x, g, dg
+    real(wp) :: d(SYM), i2, i3, x, g, dg
     integer :: iteration
-    d = deviator(a)
-    i2 = -0.5_wp*sum(d*d)
-    i3 = determinant(d)
+    d = a
+    d(XX:ZZ) = d(XX:ZZ) - (a(XX) + a(YY) + a(ZZ))*ONE_THIRD
+    i2 = -0.5_wp*sym_norm_squared(d)
+    i3 = sym_det(d)
     x = x0
     do iteration = 1, 30
       g = (x*x + i2)*x + i3 - 1.0_wp
+      if (abs(g) <= 4.0_wp*epsilon(1.0_wp)) then   ! det = 1 to round-off (elastic steps:
+        a = d                                       ! at once, x0 = I_bar)
+        a(XX:ZZ) = a(XX:ZZ) + x
+        return
+      end if
       dg = 3.0_wp*x*x + i2
       if (.not. (dg > 0.0_wp)) exit
       x = x - g/dg
-      if (abs(g) <= 4.0_wp*epsilon(1.0_wp)) then
-        a = d + x*IDENTITY
-        return
-      end if
     end do
-    a = d + x0*IDENTITY
-    a = a*determinant(a)**(-1.0_wp/3.0_wp)
+    a = d
+    a(XX:ZZ) = a(XX:ZZ) + x0
+    a = a*sym_det(a)**(-1.0_wp/3.0_wp)
   end subroutine unimodular_shift
+
+  !> x^(-1/3) for x > 0. The volume ratio J_{n+1}/J_n of one explicit step is within
+  !> CUBE_ROOT_SERIES_RANGE of 1: there the Taylor polynomial of (1 + d)^(-1/3) to d^3
+  !> (error < 35/243 d^4 < 1.5e-9) and one Newton step y (4 - x y^3)/3 (error squared) give
+  !> the value to a few ulp, about a tenth of the cost of **; other x use **.
+  pure real(wp) function inverse_cube_root(x) result(y)
+    real(wp), intent(in) :: x           !< positive argument
+    real(wp), parameter :: C1 = -1.0_wp/3.0_wp, C2 = 2.0_wp/9.0_wp, C3 = -14.0_wp/81.0_wp
+    real(wp) :: d
+    d = x - 1.0_wp
+    if (abs(d) <= CUBE_ROOT_SERIES_RANGE) then
+      y = 1.0_wp + d*(C1 + d*(C2 + d*C3))
+      y = y*(4.0_wp - x*(y*y*y))*ONE_THIRD
+    else
+      y = x**(-1.0_wp/3.0_wp)
+    end if
+  end function inverse_cube_root
+
+  !> Determinant of a 3x3 matrix (the expression of mefem_tensor_algebra's determinant).
+  pure real(wp) function det3(m)
+    real(wp), intent(in) :: m(3,3)   !< the matrix
+    det3 = m(1,1)*(m(2,2)*m(3,3) - m(2,3)*m(3,2)) &
+         - m(1,2)*(m(2,1)*m(3,3) - m(2,3)*m(3,1)) &
+         + m(1,3)*(m(2,1)*m(3,2) - m(2,2)*m(3,1))
+  end function det3
+
+  !> Adjugate (transposed cofactor matrix) of a 3x3 matrix: m adj(m) = det(m) 1.
+  pure subroutine adjugate(m, adj)
+    real(wp), intent(in) :: m(3,3)      !< the matrix
+    real(wp), intent(out) :: adj(3,3)   !< its adjugate
+    adj(1,1) = m(2,2)*m(3,3) - m(2,3)*m(3,2)
+    adj(1,2) = m(1,3)*m(3,2) - m(1,2)*m(3,3)
+    adj(1,3) = m(1,2)*m(2,3) - m(1,3)*m(2,2)
+    adj(2,1) = m(2,3)*m(3,1) - m(2,1)*m(3,3)
+    adj(2,2) = m(1,1)*m(3,3) - m(1,3)*m(3,1)
+    adj(2,3) = m(1,3)*m(2,1) - m(1,1)*m(2,3)
+    adj(3,1) = m(2,1)*m(3,2) - m(2,2)*m(3,1)
+    adj(3,2) = m(1,2)*m(3,1) - m(1,1)*m(3,2)
+    adj(3,3) = m(1,1)*m(2,2) - m(1,2)*m(2,1)
+  end subroutine adjugate
+
+  !> a : a of a symmetric tensor given by its 6 components.
+  pure real(wp) function sym_norm_squared(a)
+    real(wp), intent(in) :: a(SYM)   !< XX YY ZZ XY YZ ZX
+    sym_norm_squared = a(XX)*a(XX) + a(YY)*a(YY) + a(ZZ)*a(ZZ) + &
+                       2.0_wp*(a(XY)*a(XY) + a(YZ)*a(YZ) + a(ZX)*a(ZX))
+  end function sym_norm_squared
+
+  !> Frobenius norm sqrt(a : a) of a symmetric tensor given by its 6 components.
+  pure real(wp) function sym_norm(a)
+    real(wp), intent(in) :: a(SYM)   !< XX YY ZZ XY YZ ZX
+    sym_norm = sqrt(sym_norm_squared(a))
+  end function sym_norm
+
+  !> Determinant of a symmetric tensor given by its 6 components.
+  pure real(wp) function sym_det(a)
+    real(wp), intent(in) :: a(SYM)   !< XX YY ZZ XY YZ ZX
+    sym_det = a(XX)*(a(YY)*a(ZZ) - a(YZ)*a(YZ)) - a(XY)*(a(XY)*a(ZZ) - a(YZ)*a(ZX)) &
+            + a(ZX)*(a(XY)*a(YZ) - a(YY)*a(ZX))
+  end function sym_det
+
+  !> The full 3x3 matrix of a symmetric tensor given by its 6 components.
+  pure subroutine sym_to_full(a, m)
+    real(wp), intent(in) :: a(SYM)     !< XX YY ZZ XY YZ ZX
+    real(wp), intent(out) :: m(3,3)    !< the matrix
+    m(1,1) = a(XX)
+    m(2,2) = a(YY)
+    m(3,3) = a(ZZ)
+    m(1,2) = a(XY)
+    m(2,1) = a(XY)
+    m(2,3) = a(YZ)
+    m(3,2) = a(YZ)
+    m(3,1) = a(ZX)
+    m(1,3) = a(ZX)
+  end subroutine sym_to_full
 
   !> Set a failed status with the material id.
   pure subroutine fail(status, mat, message)
