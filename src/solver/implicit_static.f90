@@ -14,7 +14,7 @@
 !>   residual is summed over ranks and MUMPS solves on all of them.
 module mefem_implicit_static
   use mefem_kinds, only: wp
-  use mefem_comm, only: comm_sum, comm_is_root, comm_wtime, comm_any
+  use mefem_comm, only: comm_sum, comm_max, comm_is_root, comm_wtime, comm_any
   use mefem_errors, only: status_t, fatal, say
   use mefem_strings, only: itoa, rtoa
   use mefem_model, only: model_t, ON_PART, MAT_RIGID, ON_NODE, ON_NODE_SET
@@ -28,7 +28,9 @@ module mefem_implicit_static
   use mefem_sparse_assembly, only: coo_matrix_t, coo_init, coo_add_block, coo_reset_values, &
                                    coo_free
   use mefem_mumps, only: mumps_solver_t, mumps_init, mumps_factorise, mumps_solve, &
-                         mumps_free, MUMPS_UNSYMMETRIC
+                         mumps_free, MUMPS_UNSYMMETRIC, mumps_stats, mumps_stats_t, &
+                         ordering_name
+  use mefem_progress, only: peak_memory_mib
   use mefem_output_mesh, only: output_field_t
   use mefem_results, only: results_write_state
   use mefem_solver_common, only: number_equations, cell_result_fields
@@ -187,6 +189,7 @@ contains
       if (model%controls%iauto /= 0 .and. iterations <= max(1, model%controls%iteopt - &
           model%controls%itewin)) dt = min(dt_max, 1.5_wp*dt)
     end do
+    call report_solver_memory(solver)
     call mumps_free(solver)
     call coo_free(tangent)
     call rcforc_close()
@@ -197,6 +200,25 @@ contains
         rtoa(timing%factorisation/timing%iterations)//' s, solve '// &
         rtoa(timing%solve/timing%iterations)//' s')
   end subroutine implicit_static_run
+
+  !> The last factorisation's size and memory (MUMPS INFOG) and the peak resident memory of
+  !> the run (VmHWM) in the log: what a user needs to size a larger model.
+  subroutine report_solver_memory(solver)
+    type(mumps_solver_t), intent(in) :: solver   !< the factorised solver
+    type(mumps_stats_t) :: stats
+    real(wp) :: memory, memory_max
+    stats = mumps_stats(solver)
+    memory = peak_memory_mib()
+    memory_max = memory
+    call comm_max(memory_max)
+    if (stats%n_factorisations > 0) call say('implicit: MUMPS ('// &
+        ordering_name(stats%ordering_used)//' ordering): '// &
+        rtoa(real(stats%factor_entries, wp))//' entries in the factors, '// &
+        itoa(stats%memory_max_mb)//' MB max per rank, '//itoa(stats%memory_total_mb)// &
+        ' MB on all ranks; analysis '//rtoa(stats%time_analysis)//' s')
+    call say('implicit: peak memory '//rtoa(memory)//' MiB on rank 0, '//rtoa(memory_max)// &
+             ' MiB max over ranks')
+  end subroutine report_solver_memory
 
   !> Time between output states: *DATABASE_BINARY_D3PLOT DT (or ENDTIM/NPLTC), else the end.
   real(wp) function output_interval(model)
