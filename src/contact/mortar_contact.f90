@@ -424,7 +424,10 @@ contains
       ! the surface: objective under rigid rotations, in-plane spin included)
       call tangent_frame(contact, it, a, e1, e2)
       old = it%traction_local(1, a)*e1 + it%traction_local(2, a)*e2
-      trial = old - eps*slip
+      ! tangential penalty: SLSFAC SFSA SFSB K/h in both analyses (the normal one of statics
+      ! is penalty_scale times stiffer; a stick spring as stiff makes Newton's stick/slip
+      ! states cycle, doc/theory.md section 10)
+      trial = old - (eps/penalty_scale)*slip
       mu = it%fd + (it%fs - it%fd)*exp(-it%dc*norm2(slip)/max(dt, tiny(1.0_wp)))
       limit = mu*it%pressure(a)
       magnitude = norm2(trial)

@@ -55,8 +55,14 @@ module mefem_implicit_static
 
   !> Contact with rigid tools: the interfaces, and per mesh node the rigid part it belongs to
   !> (0: deformable) whose prescribed translation moves it.
+  !> With friction, the interfaces' history (old mortar weights and normals, the tangential
+  !> traction) is that of the last converged step: every Newton iteration starts from the
+  !> committed copy, so the slip and the Coulomb return map are taken over the whole step,
+  !> and the copy is renewed when a step converges.
   type :: tool_contact_t
     type(mortar_contact_t) :: interfaces
+    type(mortar_contact_t) :: committed        !< state at the last converged step
+    logical :: friction = .false.              !< some interface has FS > 0
     integer, allocatable :: rigid_part(:)      !< (mesh nodes) part index or 0
   end type tool_contact_t
   type(tool_contact_t) :: tools
@@ -65,6 +71,9 @@ module mefem_implicit_static
   !> penetration is then about 1 % of the contact zone's elastic compression, and MUMPS's
   !> direct solve does not mind the conditioning.
   real(wp), parameter :: IMPLICIT_PENALTY_SCALE = 1000.0_wp
+  !> A slave node whose tangential traction is within this fraction of mu p is sliding (the
+  !> Coulomb return map puts it on mu p to round-off)
+  real(wp), parameter :: SLIP_TOLERANCE = 1.0e-9_wp
 
   !> What one evaluation of the cells gives.
   type :: cell_state_t
@@ -151,8 +160,10 @@ contains
       if (dt_last > 0.0_wp) where (equation > 0) u = u + (dt/dt_last)*(u_step - u_last)
       call newton_step(model, cells, owned, equation, n_equations, t + dt, hist, u, &
                        tangent, solver, trial, iterations, converged)
-      if (converged .and. tools%interfaces%n > 0) call report_contact(t + dt, &
-          model%controls%rcforc_interval > 0.0_wp)
+      if (converged .and. tools%interfaces%n > 0) then
+        call report_contact(t + dt, model%controls%rcforc_interval > 0.0_wp)
+        if (tools%friction) tools%committed = tools%interfaces
+      end if
       if (.not. converged) then
         u = u_step
         cuts = cuts + 1
@@ -252,10 +263,6 @@ contains
     end do
     if (model%n_rigid_walls > 0) call fatal('implicit analysis does not take rigid walls '// &
         '(use a rigid part as a contact tool)')
-    do k = 1, model%n_contacts
-      if (model%contacts(k)%fs > 0.0_wp) call fatal('implicit analysis takes frictionless '// &
-          'contact only (FS = 0); see the contact at line '//itoa(model%contacts(k)%src%line))
-    end do
     if (model%controls%end_time <= 0.0_wp) call fatal('implicit analysis needs '// &
         '*CONTROL_TERMINATION ENDTIM')
     ! rigid parts are tools: their nodes may not be shared with deformable elements
@@ -377,7 +384,7 @@ contains
     type(model_t), intent(in) :: model                 !< resolved model
     type(cells_t), intent(in) :: cells                 !< cells (for the node count)
     real(wp), allocatable :: no_mass(:)
-    integer :: e, p
+    integer :: e, p, k
     allocate(tools%rigid_part(model%nodes%n))
     tools%rigid_part = 0
     do e = 1, model%elements%n
@@ -393,6 +400,20 @@ contains
     if (any(tools%rigid_part(tools%interfaces%node_global) == 0 .and. is_master_node())) &
       call fatal('implicit analysis takes contact with rigid tools only (SURFB must be a '// &
                  'rigid part)')
+    ! Coulomb friction: quasi-static pseudo-time has no sliding velocity, so the decay of
+    ! *CONTACT's DC is not applied (mu = FS)
+    do k = 1, tools%interfaces%n
+      associate (it => tools%interfaces%interfaces(k))
+        call say('implicit: contact '//itoa(it%id)//': normal penalty '// &
+            rtoa(IMPLICIT_PENALTY_SCALE*it%eps_material)//', tangential penalty '// &
+            rtoa(it%eps_material)//' (pressure per unit gap or slip)')
+        if (it%dc > 0.0_wp) call say('implicit: contact '//itoa(it%id)//': DC ignored in '// &
+            'statics (no sliding velocity): mu = FS = '//rtoa(it%fs))
+        it%dc = 0.0_wp
+        if (it%fs > 0.0_wp) tools%friction = .true.
+      end associate
+    end do
+    if (tools%friction) tools%committed = tools%interfaces
     if (model%controls%rcforc_interval > 0.0_wp) then
       if (len_trim(model%controls%title) > 0) then
         call rcforc_open(results_directory(), trim(model%controls%title))
@@ -433,7 +454,9 @@ contains
 
   !> Contact forces and their frozen-geometry penalty tangent (formulation 5.5) at u and the
   !> tools' positions at t: residual += contact forces at the free slave dofs, tangent +=
-  !> eps/A_A (w_A w_A^T) (n_A n_A^T) for every penetrating slave node. Every rank computes the
+  !> eps/A_A (w_A w_A^T) (x) K_A for every penetrating slave node, K_A = n_A n_A^T when
+  !> frictionless, n_A n_A^T + (I - n_A n_A^T)/IMPLICIT_PENALTY_SCALE when sticking (the
+  !> tangential penalty is the explicit one), n_A n_A^T - mu d_A n_A^T when sliding along d_A. Every rank computes the
   !> same contact; rank 0 adds it (the residual is summed over ranks, the matrix input is
   !> distributed).
   subroutine tool_contact(model, cells, equation, u, t, residual, tangent)
@@ -446,9 +469,10 @@ contains
     type(coo_matrix_t), intent(inout) :: tangent       !< tangent (rank 0 adds)
     integer, allocatable :: start(:), nodes(:), dofs(:)
     real(wp), allocatable :: weights(:), ke(:,:)
-    real(wp) :: coef, nn(3, 3)
+    real(wp) :: coef, nn(3, 3), d(3), magnitude, limit
     integer :: k, g, dim, a, i, j, m, b1, b2
     dim = cells%dim
+    if (tools%friction) tools%interfaces = tools%committed
     associate (c => tools%interfaces)
       do k = 1, c%nnode
         g = c%node_global(k)
@@ -477,11 +501,34 @@ contains
             coef = it%pressure(a)/(-it%gap(a))/it%area(a)
             m = start(a + 1) - start(a)
             allocate(ke(dim*m, dim*m), dofs(dim*m))
+            ! nn: the node's 3x3 block per unit coef w_aB w_aB'
             do i = 1, dim
               do j = 1, dim
                 nn(i, j) = it%normal(i, a)*it%normal(j, a)
               end do
             end do
+            if (it%fs > 0.0_wp .and. it%area_old(a) > 0.0_wp) then
+              limit = it%fs*it%pressure(a)
+              magnitude = norm2(it%traction(:, a))
+              if (magnitude < (1.0_wp - SLIP_TOLERANCE)*limit) then
+                ! sticking: the tangential penalty is the normal one / IMPLICIT_PENALTY_SCALE
+                do i = 1, dim
+                  nn(i, i) = nn(i, i) + 1.0_wp/IMPLICIT_PENALTY_SCALE
+                  do j = 1, dim
+                    nn(i, j) = nn(i, j) - it%normal(i, a)*it%normal(j, a)/IMPLICIT_PENALTY_SCALE
+                  end do
+                end do
+              else
+                ! sliding: t = mu p d; the pressure's share (mu d n^T); the turn of d
+                ! within the tangent plane (3D) is left out of this tangent
+                d = it%traction(:, a)/magnitude
+                do i = 1, dim
+                  do j = 1, dim
+                    nn(i, j) = nn(i, j) - it%fs*d(i)*it%normal(j, a)
+                  end do
+                end do
+              end if
+            end if
             do b1 = 1, m
               do i = 1, dim
                 dofs(dim*(b1 - 1) + i) = equation(i, nodes(start(a) + b1 - 1))
