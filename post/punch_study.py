@@ -23,7 +23,8 @@ Usage: /usr/bin/python3 post/punch_study.py [--no-run] [--jobs N] [--exe PATH]
   --no-run   reuse the results in tests/out/punch/ (only measure and plot)
   --jobs N   runs at the same time (default 2)
   --exe PATH the mefem executable (default bin/mefem)
-`make punch` builds bin/mefem and runs this script (about 10-15 minutes on 2 cores).
+`make punch` builds bin/mefem and runs this script (330 s of CPU, about 8-12 minutes on 2
+cores shared with other jobs).
 """
 import csv
 import os
