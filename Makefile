@@ -6,7 +6,7 @@
 #   make run        install, build, run the main example deck
 #   make test       install, build (release + debug), run every test; last line "N passed, N failed"
 #   make bench      benchmarks: deck reading, linear static (ME-FEM vs standard tets); figures
-#   make punch      the seed paper's punch study (post/punch_study.py; ~5-10 min)
+#   make punch      the seed paper's punch study (post/punch_study.py; ~8-12 min)
 #   make sphere     the seed paper's sphere compression (post/sphere_study.py; 2 runs on 2 ranks)
 #   make deps       install the Debian packages that are missing (no-op when all present)
 #   make clean
@@ -117,8 +117,9 @@ bench: deps
 	@bash tests/bench/run_explicit_bench.sh
 	@/usr/bin/python3 tests/bench/run_contact_bench.py
 
-# The seed paper's punch study (doc/verification.md): ten runs, figures and tables in
-# doc/verification_data/punch_*; about 5-10 minutes on 2 cores.
+# The seed paper's punch study (doc/verification.md): twenty runs (rigid and nodal punch),
+# figures and tables in doc/verification_data/punch_*; 330 s of CPU, about 8-12 minutes on 2
+# cores shared with other jobs.
 punch: deps
 	@$(MAKE) --no-print-directory bin/mefem
 	/usr/bin/python3 post/punch_study.py

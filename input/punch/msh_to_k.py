@@ -4,15 +4,21 @@ Usage (run from anywhere with /usr/bin/python3):
 
     msh_to_k.py                 regenerate all five meshes with gmsh (needs Debian's gmsh, not
                                 part of make deps) and write every deck of input/punch/
-    msh_to_k.py MESH.msh NAME   convert one gmsh mesh (format 4.1 ASCII) into mesh_NAME.k,
-                                punch_NAME_mefem.k and punch_NAME_standard.k
+    msh_to_k.py MESH.msh NAME   convert one gmsh mesh (format 4.1 ASCII) into mesh_NAME.k
+                                and the four main decks of NAME
+    msh_to_k.py --decks         rewrite only the main decks and punch_tool.k from the
+                                committed mesh_*.k (no gmsh needed)
 
-Per mesh NAME three files are written next to this script:
+Per mesh NAME five files are written next to this script:
 - mesh_NAME.k: *NODE, *ELEMENT_SHELL (triangles, counter-clockwise, part 1) and one
   *SET_NODE_LIST_TITLE per boundary (the physical curves of the .geo file, ids in NODE_SETS);
-- punch_NAME_mefem.k and punch_NAME_standard.k: material, section (ELFORM 43 or 13),
-  boundary conditions, implicit controls and an *INCLUDE of mesh_NAME.k. The two decks differ
-  in ELFORM only.
+- punch_NAME_mefem.k and punch_NAME_standard.k (the main model): material, section (ELFORM 43
+  or 13), boundary conditions, implicit controls, an *INCLUDE of mesh_NAME.k and of
+  punch_tool.k (the rigid punch, shared by all meshes), its VAD=2 motion and the frictionless
+  mortar contact of the block (SURFA) with the punch (SURFB), rcforc every step;
+- punch_NAME_mefem_nodal.k and punch_NAME_standard_nodal.k (the comparison): the same without
+  the tool, the nodes under the punch moved down (prescribed u_y, u_x free).
+The decks of a mesh differ in ELFORM and the punch model only.
 
 Units: cm, N, s (stresses in N/cm^2 = 0.01 MPa, forces in N per cm of thickness). The setup
 and the reasons for every choice are in doc/verification.md, section "Seed punch".
@@ -37,6 +43,14 @@ END_TIME, DT0, DT_MAX, DT_MIN, OUTPUT_DT = 1.0, 0.0125, 0.0125, 1.0e-4, 0.025
 
 # node set ids of the physical curves of the .geo files
 NODE_SETS = {'bottom': 1, 'side': 2, 'free': 3, 'punch': 4, 'symmetry': 5}
+
+# the rigid punch (punch_tool.k): part 2, bottom face at y = HEIGHT from TOOL_LEFT (past the
+# symmetry plane, so the face has no end at x = 0) to a sharp corner at x = PUNCH_HALF_WIDTH,
+# flank rising TOOL_HEIGHT (above the pile-up plus d_y); contact surface: the bottom face,
+# segment set TOOL_FACE_SET; ids from TOOL_FIRST_ID (clear of the meshes' ids)
+TOOL_PART, TOOL_FACE_SET, TOOL_FIRST_ID = 2, 10, 900001
+TOOL_LEFT, TOOL_HEIGHT = -0.25, 1.0
+MODELS = ('tool', 'nodal')           # rigid punch in contact; prescribed nodal motion
 
 # the five meshes: name -> (.geo file, gmsh -setnumber settings)
 MESHES = {
@@ -134,16 +148,76 @@ def mesh_file(x, tri, sets):
     return out + ['*END']
 
 
-def main_deck(name, elform):
-    """Lines of punch_NAME_<variant>.k."""
+def tool_file():
+    """Lines of punch_tool.k: the rigid punch (part TOOL_PART, *MAT_RIGID, one in-plane
+    quadrilateral as *ELEMENT_SHELL, sharp corner) and the segment set of its bottom face,
+    the contact surface SURFB; node and element ids from TOOL_FIRST_ID on."""
+    a, left, top = PUNCH_HALF_WIDTH, TOOL_LEFT, HEIGHT + TOOL_HEIGHT
+    x = [(left, HEIGHT), (a, HEIGHT), (a, top), (left, top)]
+    ids = [TOOL_FIRST_ID + i for i in range(len(x))]
+    out = ['*KEYWORD',
+           '$ rigid flat punch of the seed punch study: bottom face y = %g from x = %g (past the '
+           'symmetry plane)' % (HEIGHT, left),
+           '$ to the sharp corner at x = %g, flank x = %g up to y = %g (doc/verification.md, '
+           '"Seed punch")' % (a, a, top),
+           '*NODE']
+    out += ['%8d%16.9e%16.9e%16.9e' % (i, p[0], p[1], 0.0) for i, p in zip(ids, x)]
+    out += ['*ELEMENT_SHELL',
+            '%8d%8d' % (TOOL_FIRST_ID, TOOL_PART) + ''.join('%8d' % i for i in ids),
+            '*PART', 'punch', f10(TOOL_PART, TOOL_PART, TOOL_PART),
+            '*SECTION_SHELL', f10(TOOL_PART, 2), f10(THICKNESS, THICKNESS, THICKNESS, THICKNESS),
+            '$ rigid: density and moduli of the block (unused by statics; the penalty comes from '
+            'the block)',
+            '*MAT_RIGID',
+            f10(TOOL_PART, DENSITY, YOUNG, POISSON),
+            '$ contact surface of the punch (SURFB): its bottom face only; the flank is left out',
+            '$ (doc/verification.md: a flank seen at grazing incidence spoils the weighted gap',
+            '$ at the corner); the tests check that no block node enters the punch body',
+            '*SET_SEGMENT',
+            f10(TOOL_FACE_SET),
+            f10(ids[0], ids[1], ids[1], ids[1]),
+            '*END']
+    return out
+
+
+def main_deck(name, elform, model='tool'):
+    """Lines of punch_NAME_<variant>.k (model 'tool': the rigid punch in mortar contact) or
+    punch_NAME_<variant>_nodal.k (model 'nodal': prescribed vertical motion of the nodes
+    under the punch)."""
     k = SIGMA0 * ALPHA ** BETA          # *MAT_018: K (1/alpha + e_p)^N with SIGY = sigma0
+    if model == 'tool':
+        punch = [
+            '$ rigid punch (punch_tool.k, part %d): u_y = -d_y t, d_y = %g cm at t = %g; '
+            'frictionless' % (TOOL_PART, PUNCH_DEPTH, END_TIME),
+            '$ mortar contact, SURFA = the block (part 1), SURFB = the punch face (segment set %d)'
+            % TOOL_FACE_SET,
+            '*INCLUDE',
+            'punch_tool.k',
+            '*BOUNDARY_PRESCRIBED_MOTION_RIGID',
+            f10(TOOL_PART, 2, 2, 1, -PUNCH_DEPTH),
+            '*CONTACT_AUTOMATIC_SURFACE_TO_SURFACE_MORTAR',
+            f10(1, TOOL_FACE_SET, 3, 0),
+            f10(0.0),
+            f10(1.0, 1.0),
+        ]
+        description = 'pressed down by a rigid frictionless punch (mortar contact)'
+        history = ['*DATABASE_RCFORC', f10(DT_MAX)]
+    else:
+        punch = [
+            '$ punch: u_y = -d_y t, d_y = %g cm at t = %g' % (PUNCH_DEPTH, END_TIME),
+            '*BOUNDARY_PRESCRIBED_MOTION_SET',
+            f10(NODE_SETS['punch'], 2, 2, 1, -PUNCH_DEPTH),
+        ]
+        description = 'modelled by prescribed vertical displacement of its nodes (horizontal free)'
+        history = []
     return [
         '*KEYWORD',
         '*TITLE',
-        'seed punch (Hu & Wu 2013, section 4.1), mesh %s, ELFORM %d; cm, N, s' % (name, elform),
+        'seed punch (Hu & Wu 2013, section 4.1), mesh %s, ELFORM %d, %s model; cm, N, s'
+        % (name, elform, model),
         '$ plane strain half model [0, %g] x [0, %g] cm, rigid frictionless punch on 0 <= x <= %g'
         % (WIDTH, HEIGHT, PUNCH_HALF_WIDTH),
-        '$ modelled by prescribed vertical displacement of its nodes (horizontal free)',
+        '$ ' + description,
         '*INCLUDE',
         'mesh_%s.k' % name,
         '*PART',
@@ -163,9 +237,7 @@ def main_deck(name, elform):
         f10(NODE_SETS['symmetry'], 0, 1, 0, 0),
         f10(NODE_SETS['side'], 0, 1, 0, 0),
         f10(NODE_SETS['bottom'], 0, 1, 1, 0),
-        '$ punch: u_y = -d_y t, d_y = %g cm at t = %g' % (PUNCH_DEPTH, END_TIME),
-        '*BOUNDARY_PRESCRIBED_MOTION_SET',
-        f10(NODE_SETS['punch'], 2, 2, 1, -PUNCH_DEPTH),
+    ] + punch + [
         '*DEFINE_CURVE',
         f10(1),
         '%20.8e%20.8e' % (0.0, 0.0),
@@ -180,8 +252,7 @@ def main_deck(name, elform):
         f10(1, 11, 5, DT_MIN, DT_MAX),
         '*DATABASE_BINARY_D3PLOT',
         f10(OUTPUT_DT),
-        '*END',
-    ]
+    ] + history + ['*END']
 
 
 def write(path, lines):
@@ -196,9 +267,23 @@ def convert(msh, name):
     if missing:
         raise SystemExit(msh + ': no physical curve(s) ' + ', '.join(missing))
     write(os.path.join(HERE, 'mesh_%s.k' % name), mesh_file(x, tri, sets))
-    for variant, elform in ELFORMS.items():
-        write(os.path.join(HERE, 'punch_%s_%s.k' % (name, variant)), main_deck(name, elform))
+    write_decks(name)
     return len(x), len(tri)
+
+
+def deck_file(name, variant, model):
+    """File name of a main deck: punch_NAME_<variant>.k (tool), _nodal.k (nodal)."""
+    return 'punch_%s_%s%s.k' % (name, variant, '' if model == 'tool' else '_' + model)
+
+
+def write_decks(name):
+    """Write the main decks of mesh NAME (both elements, both punch models) and
+    punch_tool.k; they need only mesh_NAME.k, not gmsh."""
+    write(os.path.join(HERE, 'punch_tool.k'), tool_file())
+    for variant, elform in ELFORMS.items():
+        for model in MODELS:
+            write(os.path.join(HERE, deck_file(name, variant, model)),
+                  main_deck(name, elform, model))
 
 
 def regenerate(names):
@@ -218,6 +303,9 @@ def regenerate(names):
 if __name__ == '__main__':
     if len(sys.argv) == 3:
         print('%d nodes, %d triangles' % convert(sys.argv[1], sys.argv[2]))
+    elif len(sys.argv) == 2 and sys.argv[1] == '--decks':
+        for mesh in MESHES:
+            write_decks(mesh)
     elif len(sys.argv) == 1 or (len(sys.argv) == 2 and sys.argv[1] in MESHES):
         regenerate(sys.argv[1:] or list(MESHES))
     else:

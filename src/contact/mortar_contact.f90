@@ -8,7 +8,8 @@
 !>     surface node has moved more than half the search margin since the last build;
 !>  2. mortar weights of each candidate (mefem_mortar_segmentation);
 !>  3. averaged unit normals n_A of the slave nodes (area-weighted outward normals of the
-!>     slave facets that have a partner); the weights summed per slave node into
+!>     slave facets, each times the fraction of it that partners cover); the weights summed
+!>     per slave node into
 !>     A_A = sum_B n_AB and the weighted gap vector G_A = sum_C n_AC x_C - sum_B n_AB x_B;
 !>     pairs with an outward master facet facing the same way as the slave are skipped (the
 !>     far side of a master body);
@@ -488,22 +489,27 @@ contains
   end function tangential
 
   !> Averaged unit normals of the slave nodes: area-weighted outward normals of the slave
-  !> facets that have a mortar partner in this call (so that a node on the edge of the
-  !> contact zone is not tilted by the free side faces of its body).
+  !> facets, each weighted by the fraction of it that master partners cover in this call
+  !> (sum of its pairs' n_AB over its length/area, at most 1), so that a node on the edge of
+  !> the contact zone is not tilted by the free side faces of its body, and its normal turns
+  !> continuously as a neighbour facet slides onto or off the master.
   subroutine slave_normals(contact, it)
     type(mortar_contact_t), intent(in) :: contact     !< contact data
     type(contact_interface_t), intent(inout) :: it    !< the interface
     real(wp) :: a(3), length
     integer :: f, i, k
-    logical :: active(it%slave%nfacet)
-    active = .false.
+    real(wp) :: covered(it%slave%nfacet)
+    covered = 0.0_wp
     do k = 1, it%npair
-      active(it%pairs(k)%slave) = .true.
+      covered(it%pairs(k)%slave) = covered(it%pairs(k)%slave) + sum(it%pairs(k)%n_ab)
     end do
     it%normal = 0.0_wp
     do f = 1, it%slave%nfacet
-      if (.not. active(f)) cycle
+      if (covered(f) <= 0.0_wp) cycle
       a = contact_facet_area_vector(it%slave, f, contact%x)
+      length = norm2(a)
+      if (length <= 0.0_wp) cycle
+      a = a*min(1.0_wp, covered(f)/length)
       do i = 1, it%slave%nvertex(f)
         it%normal(:, it%slave%local(i, f)) = it%normal(:, it%slave%local(i, f)) + a
       end do
