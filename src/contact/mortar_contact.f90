@@ -617,7 +617,8 @@ contains
   end subroutine mortar_pairs
 
   !> Per slave node, the weighted gap vector G_A = sum_C n_AC x_C - sum_B n_AB x_B of a set
-  !> of pairs at positions x, and optionally A_A = sum_B n_AB.
+  !> of pairs at positions x, and optionally A_A = sum_B n_AB. (Each node's running sum is
+  !> held in locals within a pair; the order of the additions is that of the pairs.)
   subroutine weighted_sums(x, it, pairs, npair, gap_vector, area)
     real(wp), intent(in) :: x(:,:)                    !< (3, mesh nodes) positions
     type(contact_interface_t), intent(in) :: it       !< the interface
@@ -625,64 +626,88 @@ contains
     integer, intent(in) :: npair                      !< pairs used
     real(wp), intent(out) :: gap_vector(:,:)          !< (3, slave nodes)
     real(wp), intent(out), optional :: area(:)        !< (slave nodes)
-    integer :: k, a, b, c, na, nm
+    integer :: k, a, b, c, na, nm, slot, s, m, node
+    real(wp) :: g(3), w, sum_weights
+    logical :: with_area
+    with_area = present(area)
     gap_vector = 0.0_wp
-    if (present(area)) area = 0.0_wp
+    if (with_area) area = 0.0_wp
     do k = 1, npair
-      associate (p => pairs(k))
-        na = it%slave%nvertex(p%slave)
-        nm = it%master%nvertex(p%master)
-        do a = 1, na
-          associate (slot => it%slave%local(a, p%slave))
-            do b = 1, na
-              gap_vector(:, slot) = gap_vector(:, slot) - p%n_ab(a, b)*x(:, it%slave%facets(b, &
-                  p%slave))
-              if (present(area)) area(slot) = area(slot) + p%n_ab(a, b)
-            end do
-            do c = 1, nm
-              gap_vector(:, slot) = gap_vector(:, slot) + p%n_ac(a, c)*x(:, it%master%facets(c, &
-                  p%master))
-            end do
-          end associate
+      s = pairs(k)%slave
+      m = pairs(k)%master
+      na = it%slave%nvertex(s)
+      nm = it%master%nvertex(m)
+      do a = 1, na
+        slot = it%slave%local(a, s)
+        g = gap_vector(:, slot)
+        do b = 1, na
+          node = it%slave%facets(b, s)
+          w = pairs(k)%n_ab(a, b)
+          g(1) = g(1) - w*x(1, node)
+          g(2) = g(2) - w*x(2, node)
+          g(3) = g(3) - w*x(3, node)
         end do
-      end associate
+        do c = 1, nm
+          node = it%master%facets(c, m)
+          w = pairs(k)%n_ac(a, c)
+          g(1) = g(1) + w*x(1, node)
+          g(2) = g(2) + w*x(2, node)
+          g(3) = g(3) + w*x(3, node)
+        end do
+        gap_vector(:, slot) = g
+        if (with_area) then
+          sum_weights = area(slot)
+          do b = 1, na
+            sum_weights = sum_weights + pairs(k)%n_ab(a, b)
+          end do
+          area(slot) = sum_weights
+        end if
+      end do
     end do
   end subroutine weighted_sums
 
   !> Nodal forces of the interface's traction tau_A = -p_A n_A + t_A, added to contact%force:
   !> slave f_B += sum_A n_AB tau_A, master f_C -= sum_A n_AC tau_A; and their resultants.
+  !> (Running sums in locals; the order of the additions is that of the pairs.)
   subroutine nodal_forces(contact, it)
     type(mortar_contact_t), intent(inout) :: contact  !< contact data
     type(contact_interface_t), intent(inout) :: it    !< the interface
-    real(wp) :: tau(3, 3)
-    integer :: k, a, b, c, na, nm, node
-    it%force_slave = 0.0_wp
-    it%force_master = 0.0_wp
+    real(wp) :: tau(3, 3), f(3), total_slave(3), total_master(3), w
+    integer :: k, a, b, c, na, nm, node, slot, s, m
+    total_slave = 0.0_wp
+    total_master = 0.0_wp
     do k = 1, it%npair
-      associate (p => it%pairs(k))
-        na = it%slave%nvertex(p%slave)
-        nm = it%master%nvertex(p%master)
+      s = it%pairs(k)%slave
+      m = it%pairs(k)%master
+      na = it%slave%nvertex(s)
+      nm = it%master%nvertex(m)
+      do a = 1, na
+        slot = it%slave%local(a, s)
+        tau(:, a) = -it%pressure(slot)*it%normal(:, slot) + it%traction(:, slot)
+      end do
+      do b = 1, na
+        node = contact%node_index(it%slave%facets(b, s))
+        f = contact%force(:, node)
         do a = 1, na
-          associate (slot => it%slave%local(a, p%slave))
-            tau(:, a) = -it%pressure(slot)*it%normal(:, slot) + it%traction(:, slot)
-          end associate
+          w = it%pairs(k)%n_ab(a, b)
+          f = f + w*tau(:, a)
+          total_slave = total_slave + w*tau(:, a)
         end do
-        do b = 1, na
-          node = contact%node_index(it%slave%facets(b, p%slave))
-          do a = 1, na
-            contact%force(:, node) = contact%force(:, node) + p%n_ab(a, b)*tau(:, a)
-            it%force_slave = it%force_slave + p%n_ab(a, b)*tau(:, a)
-          end do
+        contact%force(:, node) = f
+      end do
+      do c = 1, nm
+        node = contact%node_index(it%master%facets(c, m))
+        f = contact%force(:, node)
+        do a = 1, na
+          w = it%pairs(k)%n_ac(a, c)
+          f = f - w*tau(:, a)
+          total_master = total_master - w*tau(:, a)
         end do
-        do c = 1, nm
-          node = contact%node_index(it%master%facets(c, p%master))
-          do a = 1, na
-            contact%force(:, node) = contact%force(:, node) - p%n_ac(a, c)*tau(:, a)
-            it%force_master = it%force_master - p%n_ac(a, c)*tau(:, a)
-          end do
-        end do
-      end associate
+        contact%force(:, node) = f
+      end do
     end do
+    it%force_slave = total_slave
+    it%force_master = total_master
   end subroutine nodal_forces
 
 end module mefem_mortar_contact
