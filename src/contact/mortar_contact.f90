@@ -26,14 +26,20 @@
 !> spring never lowers the stable time step: eps <= MASS_LIMIT min_A(m_A/a_A) / dt^2 (a_A the
 !> slave node's tributary area). Statics (implicit) scales it by a factor, without the limit.
 !>
-!> Parallel (documented choice): contact surfaces are small next to the volume, so every rank
-!> holds all of them (replicated data). The driver gathers the current positions of the
-!> contact nodes (owners fill, one sum over ranks) and every rank computes every interface with
-!> the same data in the same order: contact forces are the same bits on every rank and for any
-!> number of ranks; each rank then applies them at its local nodes. The contact work is thus
-!> not divided among ranks (doc/performance.md).
+!> Parallel (documented choice, doc/theory.md 10.8): contact surfaces are small next to the
+!> volume, so every rank holds all of them (replicated data). The driver gathers the current
+!> positions of the contact nodes (owners fill, one sum over ranks). The candidate search is
+!> the same on every rank (same data, same order). With distribute (the explicit analysis on
+!> more than one rank), step 2, the mortar kernels, is divided: rank r computes the weights of
+!> the r-th of nranks contiguous, equal slices of the candidate list (in its global order),
+!> and one allgatherv of compact records (candidate number, n_AB, n_AC, master normal:
+!> PAIR_RECORD_LENGTH reals per pair with overlap) concatenates the slices in rank order,
+!> which is the global candidate order: every rank then holds the same pair list as one rank
+!> would, and steps 3-6 (O(pairs), cheap next to the kernels) run on every rank alike.
+!> Contact forces are thus the same bits on every rank and for any number of ranks; each rank
+!> applies them at its local nodes.
 module mefem_mortar_contact
-  use mefem_kinds, only: wp
+  use mefem_kinds, only: wp, i8
   use mefem_errors, only: status_t, fatal
   use mefem_strings, only: itoa
   use mefem_model, only: model_t, contact_t
@@ -42,6 +48,7 @@ module mefem_mortar_contact
                                     contact_search_build
   use mefem_mortar_segmentation, only: mortar_segment_pair_2d, mortar_triangle_pair_3d
   use mefem_material_update, only: material_elastic_moduli
+  use mefem_comm, only: comm_rank, comm_size, comm_allgatherv_real
   implicit none
   private
 
@@ -57,8 +64,13 @@ module mefem_mortar_contact
                                                    !< between a slave normal and the reversed
                                                    !< normal of a master partner
 
+  !> Reals per pair in the records the ranks exchange: candidate number, n_ab (3 x 3), n_ac
+  !> (3 x MAX_VERTICES), master normal (3).
+  integer, parameter :: PAIR_RECORD_LENGTH = 1 + 9 + 3*MAX_VERTICES + 3
+
   !> A candidate pair with overlap: facets and mortar weights.
   type :: pair_t
+    integer :: candidate = 0                       !< position in the candidate list
     integer :: slave = 0, master = 0
     real(wp) :: n_ab(3, 3) = 0.0_wp                !< (slave vertex a, slave vertex b)
     real(wp) :: n_ac(3, MAX_VERTICES) = 0.0_wp     !< (slave vertex a, master vertex c)
@@ -101,6 +113,8 @@ module mefem_mortar_contact
     ! pairs of the last and of the call before
     integer :: npair = 0, npair_old = 0
     type(pair_t), allocatable :: pairs(:), pairs_old(:)
+    real(wp), allocatable :: records(:)            !< this rank's pairs packed (distributed)
+    real(wp), allocatable :: all_records(:)        !< every rank's, in rank order
     ! resultants of the last call (rcforc)
     real(wp) :: force_slave(3) = 0.0_wp            !< sum of the slave nodal forces
     real(wp) :: force_master(3) = 0.0_wp           !< sum of the master nodal forces
@@ -112,6 +126,8 @@ module mefem_mortar_contact
   type, public :: mortar_contact_t
     integer :: dim = 3
     integer :: n = 0                               !< interfaces
+    logical :: distributed = .false.               !< mortar kernels divided among the ranks
+    integer :: rank = 0, nranks = 1                !< this rank, ranks sharing the kernels
     type(contact_interface_t), allocatable :: interfaces(:)
     integer :: nnode = 0                           !< contact nodes (union of all surfaces)
     integer, allocatable :: node_global(:)         !< (nnode) mesh nodes, ascending
@@ -126,15 +142,25 @@ module mefem_mortar_contact
 contains
 
   !> Build every interface of the model: surfaces, contact nodes, penalty constants.
-  !> mass(mesh nodes): lumped masses (the time-step limit of the penalty).
-  subroutine mortar_contact_setup(model, mass, contact)
+  !> mass(mesh nodes): lumped masses (the time-step limit of the penalty). distribute (default
+  !> no): divide the mortar kernels among the ranks (every rank must then call
+  !> mortar_contact_forces with the same positions, as the explicit analysis does).
+  subroutine mortar_contact_setup(model, mass, contact, distribute)
     type(model_t), intent(in) :: model                !< resolved model
     real(wp), intent(in) :: mass(:)                   !< (mesh nodes) lumped masses
     type(mortar_contact_t), intent(out) :: contact    !< the contact data
+    logical, intent(in), optional :: distribute       !< divide the kernels among the ranks
     type(status_t) :: status
     logical, allocatable :: used(:)
     integer :: k, i, ns, f
     contact%dim = model%dimension
+    contact%distributed = .false.
+    if (present(distribute)) contact%distributed = distribute
+    if (contact%distributed) contact%distributed = comm_size() > 1
+    if (contact%distributed) then
+      contact%rank = comm_rank()
+      contact%nranks = comm_size()
+    end if
     contact%n = model%n_contacts
     allocate(contact%interfaces(contact%n), used(model%nodes%n))
     used = .false.
@@ -547,15 +573,17 @@ contains
     it%searched = .true.
   end subroutine update_candidates
 
-  !> Unit normals of all facets of a surface at positions x (zero for a degenerate facet).
-  subroutine facet_unit_normals(surface, x, normals)
+  !> Unit normals of the facets first:last of a surface at positions x (zero for a
+  !> degenerate facet).
+  subroutine facet_unit_normals(surface, x, first, last, normals)
     type(contact_surface_t), intent(in) :: surface    !< the surface
     real(wp), intent(in) :: x(:,:)                    !< (3, mesh nodes) positions
+    integer, intent(in) :: first, last                !< facets wanted
     real(wp), allocatable, intent(inout) :: normals(:,:) !< (3, facets) reused between calls
     real(wp) :: a(3), length
     integer :: f
     if (.not. allocated(normals)) allocate(normals(3, surface%nfacet))
-    do f = 1, surface%nfacet
+    do f = first, last
       a = contact_facet_area_vector(surface, f, x)
       length = norm2(a)
       normals(:, f) = 0.0_wp
@@ -563,22 +591,32 @@ contains
     end do
   end subroutine facet_unit_normals
 
-  !> Mortar weights of every candidate pair with an overlap (into it%pairs).
+  !> Mortar weights of every candidate pair with an overlap (into it%pairs, in candidate
+  !> order). Distributed: this rank computes its slice of the candidates, and the slices of
+  !> all ranks are exchanged as records (exchange_pairs).
   subroutine mortar_pairs(contact, it)
     type(mortar_contact_t), intent(in) :: contact     !< contact data
     type(contact_interface_t), intent(inout) :: it    !< the interface
-    type(pair_t) :: p
     real(wp) :: xs(3, 3), xm(3, MAX_VERTICES), overlap, n_s(3), n_m(3), facing
-    integer :: k, s, m, i, nm
-    call facet_unit_normals(it%slave, contact%x, it%slave_normal)
-    call facet_unit_normals(it%master, contact%x, it%master_normal_f)
+    integer :: k, s, m, i, nm, first, last
+    first = 1
+    last = it%ncandidate
+    if (contact%distributed) then
+      first = int(int(it%ncandidate, i8)*contact%rank/contact%nranks) + 1
+      last = int(int(it%ncandidate, i8)*(contact%rank + 1)/contact%nranks)
+    end if
+    ! the slave facets of the slice are a range (the candidates are sorted by slave facet)
+    if (.not. allocated(it%slave_normal)) allocate(it%slave_normal(3, it%slave%nfacet))
+    if (first <= last) call facet_unit_normals(it%slave, contact%x, it%candidates(1, first), &
+                                               it%candidates(1, last), it%slave_normal)
+    call facet_unit_normals(it%master, contact%x, 1, it%master%nfacet, it%master_normal_f)
     if (.not. allocated(it%pairs)) allocate(it%pairs(0))
     if (size(it%pairs) < it%ncandidate) then       ! grows, never shrinks: no reallocation
       deallocate(it%pairs)                          ! once the contact has settled
       allocate(it%pairs(it%ncandidate + it%ncandidate/2))
     end if
     it%npair = 0
-    do k = 1, it%ncandidate
+    do k = first, last
       s = it%candidates(1, k)
       m = it%candidates(2, k)
       ! partners face each other: an outward master facet against the slave normal within
@@ -589,32 +627,88 @@ contains
       facing = dot_product(n_s, n_m)
       if (.not. it%master%outward(m)) facing = -abs(facing)
       if (facing > -FACING_COSINE) cycle
-      p%slave = s
-      p%master = m
-      p%n_ab = 0.0_wp
-      p%n_ac = 0.0_wp
       nm = it%master%nvertex(m)
-      if (contact%dim == 2) then
-        call mortar_segment_pair_2d(contact%x(1:2, it%slave%facets(1:2, s)), &
-                                    contact%x(1:2, it%master%facets(1:2, m)), &
-                                    p%n_ab(1:2, 1:2), p%n_ac(1:2, 1:2), overlap)
-      else
-        do i = 1, 3
-          xs(:, i) = contact%x(:, it%slave%facets(i, s))
-        end do
-        xm = 0.0_wp
-        do i = 1, nm
-          xm(:, i) = contact%x(:, it%master%facets(i, m))
-        end do
-        call mortar_triangle_pair_3d(xs, xm, nm, p%n_ab, p%n_ac, overlap)
-      end if
-      if (overlap <= 0.0_wp) cycle
-      p%master_normal = n_m/max(norm2(n_m), tiny(1.0_wp))
-      if (dot_product(p%master_normal, n_s) > 0.0_wp) p%master_normal = -p%master_normal
+      associate (p => it%pairs(it%npair + 1))
+        p%candidate = k
+        p%slave = s
+        p%master = m
+        if (contact%dim == 2) then
+          p%n_ab = 0.0_wp
+          p%n_ac = 0.0_wp
+          call mortar_segment_pair_2d(contact%x(1:2, it%slave%facets(1:2, s)), &
+                                      contact%x(1:2, it%master%facets(1:2, m)), &
+                                      p%n_ab(1:2, 1:2), p%n_ac(1:2, 1:2), overlap)
+        else
+          do i = 1, 3
+            xs(:, i) = contact%x(:, it%slave%facets(i, s))
+          end do
+          xm = 0.0_wp
+          do i = 1, nm
+            xm(:, i) = contact%x(:, it%master%facets(i, m))
+          end do
+          call mortar_triangle_pair_3d(xs, xm, nm, p%n_ab, p%n_ac, overlap)
+        end if
+        if (overlap <= 0.0_wp) cycle
+        p%master_normal = n_m/max(norm2(n_m), tiny(1.0_wp))
+        if (dot_product(p%master_normal, n_s) > 0.0_wp) p%master_normal = -p%master_normal
+      end associate
       it%npair = it%npair + 1
-      it%pairs(it%npair) = p
     end do
+    if (contact%distributed) call exchange_pairs(it)
   end subroutine mortar_pairs
+
+  !> Every rank's pairs on every rank: this rank's pairs (it%pairs(1:npair)) packed into
+  !> records of PAIR_RECORD_LENGTH reals, the records of all ranks concatenated in rank order
+  !> (one allgatherv), unpacked into it%pairs. The slices are contiguous and in rank order,
+  !> so the result is the pair list in global candidate order, the same bits as on one rank.
+  subroutine exchange_pairs(it)
+    type(contact_interface_t), intent(inout) :: it    !< the interface
+    integer :: q, o, i, j, k, n_values
+    if (.not. allocated(it%records)) allocate(it%records(PAIR_RECORD_LENGTH*size(it%pairs)))
+    if (size(it%records) < PAIR_RECORD_LENGTH*it%npair) then
+      deallocate(it%records)
+      allocate(it%records(PAIR_RECORD_LENGTH*size(it%pairs)))
+    end if
+    do q = 1, it%npair
+      o = (q - 1)*PAIR_RECORD_LENGTH
+      associate (p => it%pairs(q))
+        it%records(o + 1) = real(p%candidate, wp)
+        do j = 1, 3
+          do i = 1, 3
+            it%records(o + 1 + i + 3*(j - 1)) = p%n_ab(i, j)
+          end do
+        end do
+        do j = 1, MAX_VERTICES
+          do i = 1, 3
+            it%records(o + 10 + i + 3*(j - 1)) = p%n_ac(i, j)
+          end do
+        end do
+        it%records(o + 11 + 3*MAX_VERTICES:o + 13 + 3*MAX_VERTICES) = p%master_normal
+      end associate
+    end do
+    call comm_allgatherv_real(it%records, PAIR_RECORD_LENGTH*it%npair, it%all_records, n_values)
+    it%npair = n_values/PAIR_RECORD_LENGTH
+    do q = 1, it%npair
+      o = (q - 1)*PAIR_RECORD_LENGTH
+      associate (p => it%pairs(q))
+        k = nint(it%all_records(o + 1))
+        p%candidate = k
+        p%slave = it%candidates(1, k)
+        p%master = it%candidates(2, k)
+        do j = 1, 3
+          do i = 1, 3
+            p%n_ab(i, j) = it%all_records(o + 1 + i + 3*(j - 1))
+          end do
+        end do
+        do j = 1, MAX_VERTICES
+          do i = 1, 3
+            p%n_ac(i, j) = it%all_records(o + 10 + i + 3*(j - 1))
+          end do
+        end do
+        p%master_normal = it%all_records(o + 11 + 3*MAX_VERTICES:o + 13 + 3*MAX_VERTICES)
+      end associate
+    end do
+  end subroutine exchange_pairs
 
   !> Per slave node, the weighted gap vector G_A = sum_C n_AC x_C - sum_B n_AB x_B of a set
   !> of pairs at positions x, and optionally A_A = sum_B n_AB. (Each node's running sum is
