@@ -67,6 +67,9 @@ module mefem_mortar_contact
   !> Reals per pair in the records the ranks exchange: candidate number, n_ab (3 x 3), n_ac
   !> (3 x MAX_VERTICES), master normal (3).
   integer, parameter :: PAIR_RECORD_LENGTH = 1 + 9 + 3*MAX_VERTICES + 3
+  !> Reals per slave node in the records the ranks exchange: A_A, g_A, p_A, n_A (3), t_A (3),
+  !> master normal (3), t_A in the node's frame (2).
+  integer, parameter :: NODE_RECORD_LENGTH = 14
 
   !> A candidate pair with overlap: facets and mortar weights.
   type :: pair_t
@@ -115,6 +118,10 @@ module mefem_mortar_contact
     type(pair_t), allocatable :: pairs(:), pairs_old(:)
     real(wp), allocatable :: records(:)            !< this rank's pairs packed (distributed)
     real(wp), allocatable :: all_records(:)        !< every rank's, in rank order
+    real(wp), allocatable :: node_records(:)       !< this rank's slave-node results packed
+    real(wp), allocatable :: all_node_records(:)   !< every rank's, in rank order
+    real(wp), allocatable :: gap_old(:,:)          !< (3, ns) G_A with the old weights
+    integer, allocatable :: node_work(:)           !< (ns) work per slave node (node_slice)
     ! resultants of the last call (rcforc)
     real(wp) :: force_slave(3) = 0.0_wp            !< sum of the slave nodal forces
     real(wp) :: force_master(3) = 0.0_wp           !< sum of the master nodal forces
@@ -397,31 +404,38 @@ contains
     end associate
   end subroutine mortar_contact_slave_rows
 
-  !> One interface: steps 1-6 of the module header.
+  !> One interface: steps 1-6 of the module header. Distributed, steps 3-5 run for this
+  !> rank's slice of the slave nodes (node_slice: contiguous, balanced by the pairs of the
+  !> nodes) and the per-node results and state are exchanged (exchange_nodes) before the
+  !> nodal forces; each node's sums run over the pairs in the same order as on one rank.
   subroutine interface_forces(contact, it, dt, penalty_scale)
     type(mortar_contact_t), intent(inout) :: contact  !< contact data
     type(contact_interface_t), intent(inout) :: it    !< the interface
     real(wp), intent(in) :: dt                        !< the time step just taken
     real(wp), intent(in) :: penalty_scale             !< factor on eps_material
-    real(wp), allocatable :: gap_old(:,:)
     real(wp) :: eps, slip(3), trial(3), old(3), magnitude, mu, limit, tau(3), e1(3), e2(3)
-    integer :: a, dim
+    integer :: a, dim, ns, first, last
     dim = contact%dim
+    ns = size(it%slave%nodes)
+    first = 1
+    last = ns
+    if (.not. allocated(it%gap_old)) allocate(it%gap_old(3, ns))
     call update_candidates(contact, it)
-    ! weights of the previous call with today's positions (slip), then today's weights
+    ! today's weights; the previous call's (with today's positions: slip, only with
+    ! friction) for this rank's slave nodes
     call swap_pairs(it)
     it%npair_old = it%npair
     it%area_old = it%area
-    allocate(gap_old(3, size(it%slave%nodes)))
-    call weighted_sums(contact%x, it, it%pairs_old, it%npair_old, gap_old)
     it%normal_old = it%normal
     it%master_normal_old = it%master_normal
     call mortar_pairs(contact, it)
-    call slave_normals(contact, it)
-    call weighted_sums(contact%x, it, it%pairs, it%npair, it%gap_vector, it%area)
+    if (contact%distributed) call node_slice(contact, it, first, last)
+    if (it%fs > 0.0_wp) call weighted_sums(contact%x, it, it%pairs_old, it%npair_old, first, &
+                                           last, it%gap_old)
+    call slave_normals(contact, it, first, last)
+    call weighted_sums(contact%x, it, it%pairs, it%npair, first, last, it%gap_vector, it%area)
     ! gap, pressure, friction per slave node
-    it%normal_force = 0.0_wp
-    do a = 1, size(it%slave%nodes)
+    do a = first, last
       if (it%area(a) <= 0.0_wp) then
         it%gap(a) = 0.0_wp
         it%pressure(a) = 0.0_wp
@@ -432,7 +446,6 @@ contains
       eps = penalty_scale*it%eps_material
       if (dt > 0.0_wp) eps = min(eps, MASS_LIMIT*it%mass_per_area/(dt*dt))
       it%pressure(a) = eps*max(-it%gap(a), 0.0_wp)
-      it%normal_force = it%normal_force + it%area(a)*it%pressure(a)
       if (it%pressure(a) <= 0.0_wp .or. it%fs <= 0.0_wp .or. it%area_old(a) <= 0.0_wp) then
         it%traction(:, a) = 0.0_wp
         it%traction_local(:, a) = 0.0_wp
@@ -443,7 +456,7 @@ contains
       ! the slave normal: turning it by dn relative to the master moves the projected master
       ! point by g dn, which is no slip; a rigid rotation of the pair turns n and the master
       ! normal m (~ -n) together, dn + dm = 0, and keeps this term zero)
-      slip = tangential(it%normal(:, a), (it%gap_vector(:, a) - gap_old(:, a))/it%area(a) - &
+      slip = tangential(it%normal(:, a), (it%gap_vector(:, a) - it%gap_old(:, a))/it%area(a) - &
           it%gap(a)*((it%normal(:, a) - it%normal_old(:, a)) + &
                      (it%master_normal(:, a) - it%master_normal_old(:, a))))
       ! the old traction from its components in the node's convected frame (it turns with
@@ -458,11 +471,16 @@ contains
       it%traction(:, a) = trial
       it%traction_local(:, a) = [dot_product(trial, e1), dot_product(trial, e2)]
     end do
+    if (contact%distributed) call exchange_nodes(it, first, last)
+    it%normal_force = 0.0_wp
+    do a = 1, ns
+      if (it%area(a) > 0.0_wp) it%normal_force = it%normal_force + it%area(a)*it%pressure(a)
+    end do
     ! nodal forces
     call nodal_forces(contact, it)
     it%tangential_force = 0.0_wp
     tau = 0.0_wp
-    do a = 1, size(it%slave%nodes)
+    do a = 1, ns
       tau = tau + it%area(a)*it%traction(:, a)
       associate (cn => contact%node_index(it%slave%nodes(a)))
         if (it%area(a) > 0.0_wp) then
@@ -473,6 +491,81 @@ contains
     end do
     it%tangential_force = norm2(tau(1:dim))
   end subroutine interface_forces
+
+  !> This rank's slice first:last of the slave nodes for steps 3-5: the ranks take
+  !> contiguous slices in rank order, balanced by the work of a node (1 + its pair-vertex
+  !> entries, counted from the pair list every rank holds, so every rank finds the same
+  !> slices). Empty slice: first = 1, last = 0.
+  subroutine node_slice(contact, it, first, last)
+    type(mortar_contact_t), intent(in) :: contact     !< contact data (rank, ranks)
+    type(contact_interface_t), intent(inout) :: it    !< the interface
+    integer, intent(out) :: first, last               !< this rank's slave nodes
+    integer(i8) :: total, lower, upper, running
+    integer :: k, i, a, ns
+    ns = size(it%slave%nodes)
+    if (.not. allocated(it%node_work)) allocate(it%node_work(ns))
+    it%node_work = 1
+    do k = 1, it%npair
+      do i = 1, it%slave%nvertex(it%pairs(k)%slave)
+        a = it%slave%local(i, it%pairs(k)%slave)
+        it%node_work(a) = it%node_work(a) + 1
+      end do
+    end do
+    total = sum(int(it%node_work, i8))
+    lower = total*contact%rank/contact%nranks
+    upper = total*(contact%rank + 1)/contact%nranks
+    first = 1
+    last = 0
+    running = 0
+    do a = 1, ns
+      running = running + it%node_work(a)
+      if (running <= lower) then
+        first = a + 1
+      else if (running <= upper) then
+        last = a
+      else
+        exit
+      end if
+    end do
+    if (last < first) then
+      first = 1
+      last = 0
+    end if
+  end subroutine node_slice
+
+  !> Every rank's slave-node results and state on every rank: A_A, g_A, p_A, n_A, t_A, the
+  !> master normal under A and t_A in the node's frame, of this rank's slice first:last,
+  !> packed as NODE_RECORD_LENGTH reals per node; the slices of all ranks concatenated in
+  !> rank order (one allgatherv), which is the slave-node order.
+  subroutine exchange_nodes(it, first, last)
+    type(contact_interface_t), intent(inout) :: it    !< the interface
+    integer, intent(in) :: first, last                !< this rank's slave nodes
+    integer :: a, o, n_values
+    if (.not. allocated(it%node_records)) &
+      allocate(it%node_records(NODE_RECORD_LENGTH*size(it%slave%nodes)))
+    do a = first, last
+      o = (a - first)*NODE_RECORD_LENGTH
+      it%node_records(o + 1) = it%area(a)
+      it%node_records(o + 2) = it%gap(a)
+      it%node_records(o + 3) = it%pressure(a)
+      it%node_records(o + 4:o + 6) = it%normal(:, a)
+      it%node_records(o + 7:o + 9) = it%traction(:, a)
+      it%node_records(o + 10:o + 12) = it%master_normal(:, a)
+      it%node_records(o + 13:o + 14) = it%traction_local(:, a)
+    end do
+    call comm_allgatherv_real(it%node_records, NODE_RECORD_LENGTH*max(0, last - first + 1), &
+                              it%all_node_records, n_values)
+    do a = 1, n_values/NODE_RECORD_LENGTH
+      o = (a - 1)*NODE_RECORD_LENGTH
+      it%area(a) = it%all_node_records(o + 1)
+      it%gap(a) = it%all_node_records(o + 2)
+      it%pressure(a) = it%all_node_records(o + 3)
+      it%normal(:, a) = it%all_node_records(o + 4:o + 6)
+      it%traction(:, a) = it%all_node_records(o + 7:o + 9)
+      it%master_normal(:, a) = it%all_node_records(o + 10:o + 12)
+      it%traction_local(:, a) = it%all_node_records(o + 13:o + 14)
+    end do
+  end subroutine exchange_nodes
 
   !> The pairs of the last call become the old ones (buffers swapped, not reallocated).
   subroutine swap_pairs(it)
@@ -510,14 +603,15 @@ contains
     t = v - dot_product(n, v)*n
   end function tangential
 
-  !> Averaged unit normals of the slave nodes: area-weighted outward normals of the slave
-  !> facets that have a mortar partner in this call (so that a node on the edge of the
-  !> contact zone is not tilted by the free side faces of its body).
-  subroutine slave_normals(contact, it)
+  !> Averaged unit normals of the slave nodes first:last: area-weighted outward normals of
+  !> the slave facets that have a mortar partner in this call (so that a node on the edge of
+  !> the contact zone is not tilted by the free side faces of its body).
+  subroutine slave_normals(contact, it, first, last)
     type(mortar_contact_t), intent(in) :: contact     !< contact data
     type(contact_interface_t), intent(inout) :: it    !< the interface
+    integer, intent(in) :: first, last                !< slave nodes wanted (others: 0)
     real(wp) :: a(3), length
-    integer :: f, i, k
+    integer :: f, i, k, slot
     logical :: active(it%slave%nfacet)
     active = .false.
     do k = 1, it%npair
@@ -526,12 +620,15 @@ contains
     it%normal = 0.0_wp
     do f = 1, it%slave%nfacet
       if (.not. active(f)) cycle
+      if (all(it%slave%local(1:it%slave%nvertex(f), f) < first) .or. &
+          all(it%slave%local(1:it%slave%nvertex(f), f) > last)) cycle
       a = contact_facet_area_vector(it%slave, f, contact%x)
       do i = 1, it%slave%nvertex(f)
-        it%normal(:, it%slave%local(i, f)) = it%normal(:, it%slave%local(i, f)) + a
+        slot = it%slave%local(i, f)
+        if (slot >= first .and. slot <= last) it%normal(:, slot) = it%normal(:, slot) + a
       end do
     end do
-    do i = 1, size(it%slave%nodes)
+    do i = first, last
       length = norm2(it%normal(:, i))
       if (length > 0.0_wp) it%normal(:, i) = it%normal(:, i)/length
     end do
@@ -540,12 +637,14 @@ contains
     do k = 1, it%npair
       associate (p => it%pairs(k))
         do i = 1, it%slave%nvertex(p%slave)
-          it%master_normal(:, it%slave%local(i, p%slave)) = &
-              it%master_normal(:, it%slave%local(i, p%slave)) + sum(p%n_ac(i, :))*p%master_normal
+          slot = it%slave%local(i, p%slave)
+          if (slot < first .or. slot > last) cycle
+          it%master_normal(:, slot) = it%master_normal(:, slot) + &
+                                      sum(p%n_ac(i, :))*p%master_normal
         end do
       end associate
     end do
-    do i = 1, size(it%slave%nodes)
+    do i = first, last
       length = norm2(it%master_normal(:, i))
       if (length > 0.0_wp) it%master_normal(:, i) = it%master_normal(:, i)/length
     end do
@@ -713,11 +812,12 @@ contains
   !> Per slave node, the weighted gap vector G_A = sum_C n_AC x_C - sum_B n_AB x_B of a set
   !> of pairs at positions x, and optionally A_A = sum_B n_AB. (Each node's running sum is
   !> held in locals within a pair; the order of the additions is that of the pairs.)
-  subroutine weighted_sums(x, it, pairs, npair, gap_vector, area)
+  subroutine weighted_sums(x, it, pairs, npair, first, last, gap_vector, area)
     real(wp), intent(in) :: x(:,:)                    !< (3, mesh nodes) positions
     type(contact_interface_t), intent(in) :: it       !< the interface
     type(pair_t), intent(in) :: pairs(:)              !< pairs
     integer, intent(in) :: npair                      !< pairs used
+    integer, intent(in) :: first, last                !< slave nodes wanted (others: 0)
     real(wp), intent(out) :: gap_vector(:,:)          !< (3, slave nodes)
     real(wp), intent(out), optional :: area(:)        !< (slave nodes)
     integer :: k, a, b, c, na, nm, slot, s, m, node
@@ -733,6 +833,7 @@ contains
       nm = it%master%nvertex(m)
       do a = 1, na
         slot = it%slave%local(a, s)
+        if (slot < first .or. slot > last) cycle
         g = gap_vector(:, slot)
         do b = 1, na
           node = it%slave%facets(b, s)
