@@ -13,6 +13,10 @@
 !>     pairs with an outward master facet facing the same way as the slave are skipped (the
 !>     far side of a master body);
 !>  4. normal gap g_A = n_A . G_A / A_A (< 0: penetration), pressure p_A = eps_A <-g_A>;
+!>     with IGNORE /= 0 (card C) p_A = eps_A <-g_A - o_A>: o_A >= 0 is the penetration of
+!>     node A at the first evaluation (an initial penetration is kept, not pushed out), and
+!>     it only shrinks, to the current penetration, as the bodies separate (0 once the node
+!>     has no partner);
 !>  5. slip from the change of the weights at fixed positions (objective: a rigid motion of
 !>     the pair gives none): ds_A = (I - n_A n_A) (G_A - G_A^old) / A_A, G_A^old with the
 !>     previous call's weights and today's positions; Coulomb return map on the tangential
@@ -68,8 +72,8 @@ module mefem_mortar_contact
   !> (3 x MAX_VERTICES), master normal (3).
   integer, parameter :: PAIR_RECORD_LENGTH = 1 + 9 + 3*MAX_VERTICES + 3
   !> Reals per slave node in the records the ranks exchange: A_A, g_A, p_A, n_A (3), t_A (3),
-  !> master normal (3), t_A in the node's frame (2).
-  integer, parameter :: NODE_RECORD_LENGTH = 14
+  !> master normal (3), t_A in the node's frame (2), initial-penetration offset o_A.
+  integer, parameter :: NODE_RECORD_LENGTH = 15
 
   !> A candidate pair with overlap: facets and mortar weights.
   type :: pair_t
@@ -113,6 +117,9 @@ module mefem_mortar_contact
     real(wp), allocatable :: traction_local(:,:)   !< (2, ns) t_A in the node's convected
                                                    !< tangent frame (kept between calls)
     integer, allocatable :: frame_node(:)          !< (ns) slave node fixing the frame's e1
+    logical :: keep_initial = .false.              !< IGNORE /= 0: initial penetrations kept
+    logical :: evaluated = .false.                 !< the first evaluation has been made
+    real(wp), allocatable :: offset(:)             !< (ns) o_A, penetration not pushed out
     ! pairs of the last and of the call before
     integer :: npair = 0, npair_old = 0
     type(pair_t), allocatable :: pairs(:), pairs_old(:)
@@ -183,6 +190,7 @@ contains
         used(it%master%nodes) = .true.
         it%fs = c%fs
         it%fd = c%fd
+        it%keep_initial = c%ignore /= 0
         it%dc = c%dc
         if (it%fd == 0.0_wp) it%fd = it%fs
         ns = size(it%slave%nodes)
@@ -210,6 +218,8 @@ contains
         it%gap = 0.0_wp
         it%area = 0.0_wp
         it%area_old = 0.0_wp
+        allocate(it%offset(ns))
+        it%offset = 0.0_wp
         it%margin = MARGIN_FACTOR*min(mean_facet_size(it%master, model%nodes%x), &
                                       mean_facet_size(it%slave, model%nodes%x))
         it%surface_nodes = [it%slave%nodes, it%master%nodes]
@@ -414,6 +424,7 @@ contains
     real(wp), intent(in) :: dt                        !< the time step just taken
     real(wp), intent(in) :: penalty_scale             !< factor on eps_material
     real(wp) :: eps, slip(3), trial(3), old(3), magnitude, mu, limit, tau(3), e1(3), e2(3)
+    real(wp) :: penetration
     integer :: a, dim, ns, first, last
     dim = contact%dim
     ns = size(it%slave%nodes)
@@ -440,12 +451,23 @@ contains
         it%gap(a) = 0.0_wp
         it%pressure(a) = 0.0_wp
         it%traction(:, a) = 0.0_wp
+        it%offset(a) = 0.0_wp
         cycle
       end if
       it%gap(a) = dot_product(it%normal(:, a), it%gap_vector(:, a))/it%area(a)
       eps = penalty_scale*it%eps_material
       if (dt > 0.0_wp) eps = min(eps, MASS_LIMIT*it%mass_per_area/(dt*dt))
-      it%pressure(a) = eps*max(-it%gap(a), 0.0_wp)
+      penetration = max(-it%gap(a), 0.0_wp)
+      if (it%keep_initial) then
+        ! the initial penetration is remembered; separating reduces it for good
+        if (it%evaluated) then
+          it%offset(a) = min(it%offset(a), penetration)
+        else
+          it%offset(a) = penetration
+        end if
+        penetration = max(penetration - it%offset(a), 0.0_wp)
+      end if
+      it%pressure(a) = eps*penetration
       if (it%pressure(a) <= 0.0_wp .or. it%fs <= 0.0_wp .or. it%area_old(a) <= 0.0_wp) then
         it%traction(:, a) = 0.0_wp
         it%traction_local(:, a) = 0.0_wp
@@ -472,6 +494,7 @@ contains
       it%traction_local(:, a) = [dot_product(trial, e1), dot_product(trial, e2)]
     end do
     if (contact%distributed) call exchange_nodes(it, first, last)
+    it%evaluated = .true.
     it%normal_force = 0.0_wp
     do a = 1, ns
       if (it%area(a) > 0.0_wp) it%normal_force = it%normal_force + it%area(a)*it%pressure(a)
@@ -534,7 +557,7 @@ contains
   end subroutine node_slice
 
   !> Every rank's slave-node results and state on every rank: A_A, g_A, p_A, n_A, t_A, the
-  !> master normal under A and t_A in the node's frame, of this rank's slice first:last,
+  !> master normal under A, t_A in the node's frame and o_A, of this rank's slice first:last,
   !> packed as NODE_RECORD_LENGTH reals per node; the slices of all ranks concatenated in
   !> rank order (one allgatherv), which is the slave-node order.
   subroutine exchange_nodes(it, first, last)
@@ -552,6 +575,7 @@ contains
       it%node_records(o + 7:o + 9) = it%traction(:, a)
       it%node_records(o + 10:o + 12) = it%master_normal(:, a)
       it%node_records(o + 13:o + 14) = it%traction_local(:, a)
+      it%node_records(o + 15) = it%offset(a)
     end do
     call comm_allgatherv_real(it%node_records, NODE_RECORD_LENGTH*max(0, last - first + 1), &
                               it%all_node_records, n_values)
@@ -564,6 +588,7 @@ contains
       it%traction(:, a) = it%all_node_records(o + 7:o + 9)
       it%master_normal(:, a) = it%all_node_records(o + 10:o + 12)
       it%traction_local(:, a) = it%all_node_records(o + 13:o + 14)
+      it%offset(a) = it%all_node_records(o + 15)
     end do
   end subroutine exchange_nodes
 

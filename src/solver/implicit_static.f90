@@ -233,6 +233,9 @@ contains
     do k = 1, model%n_contacts
       if (model%contacts(k)%fs > 0.0_wp) call fatal('implicit analysis takes frictionless '// &
           'contact only (FS = 0); see the contact at line '//itoa(model%contacts(k)%src%line))
+      if (model%contacts(k)%ignore /= 0) call fatal('implicit analysis takes IGNORE = 0 only '// &
+          '(initial penetrations are pushed out); see the contact at line '// &
+          itoa(model%contacts(k)%src%line))
     end do
     if (model%controls%end_time <= 0.0_wp) call fatal('implicit analysis needs '// &
         '*CONTROL_TERMINATION ENDTIM')
