@@ -34,14 +34,17 @@
 !> volume, so every rank holds all of them (replicated data). The driver gathers the current
 !> positions of the contact nodes (owners fill, one sum over ranks). The candidate search is
 !> the same on every rank (same data, same order). With distribute (the explicit analysis on
-!> more than one rank), step 2, the mortar kernels, is divided: rank r computes the weights of
-!> the r-th of nranks contiguous, equal slices of the candidate list (in its global order),
-!> and one allgatherv of compact records (candidate number, n_AB, n_AC, master normal:
-!> PAIR_RECORD_LENGTH reals per pair with overlap) concatenates the slices in rank order,
-!> which is the global candidate order: every rank then holds the same pair list as one rank
-!> would, and steps 3-6 (O(pairs), cheap next to the kernels) run on every rank alike.
-!> Contact forces are thus the same bits on every rank and for any number of ranks; each rank
-!> applies them at its local nodes.
+!> more than one rank) the work is divided: step 2, the mortar kernels, by candidates: rank r
+!> computes the weights of the r-th of nranks contiguous, equal slices of the candidate list
+!> (in its global order), and one allgatherv of compact records (candidate number, n_AB, n_AC,
+!> master normal: PAIR_RECORD_LENGTH reals per pair with overlap) concatenates the slices in
+!> rank order, which is the global candidate order: every rank then holds the same pair list
+!> as one rank would. Steps 3-5 by slave nodes: each rank takes a contiguous slice of the
+!> slave nodes balanced by their pair entries (node_slice), each node's sums running over the
+!> pairs in the global order, and one allgatherv of node records (results and state,
+!> NODE_RECORD_LENGTH reals per node) in node order. Step 6 (the force scatter, O(pairs)) runs
+!> on every rank alike. Contact forces are thus the same bits on every rank and for any number
+!> of ranks; each rank applies them at its local nodes.
 module mefem_mortar_contact
   use mefem_kinds, only: wp, i8
   use mefem_errors, only: status_t, fatal
