@@ -43,8 +43,10 @@
 !> slave nodes balanced by their pair entries (node_slice), each node's sums running over the
 !> pairs in the global order, and one allgatherv of node records (results and state,
 !> NODE_RECORD_LENGTH reals per node) in node order. Step 6 (the force scatter, O(pairs)) runs
-!> on every rank alike. Contact forces are thus the same bits on every rank and for any number
-!> of ranks; each rank applies them at its local nodes.
+!> on every rank alike. An interface with fewer than MIN_CANDIDATES_PER_RANK candidates per
+!> rank is not divided (every rank computes all of it, as one rank would: no collectives).
+!> Contact forces are thus the same bits on every rank and for any number of ranks; each rank
+!> applies them at its local nodes.
 module mefem_mortar_contact
   use mefem_kinds, only: wp, i8
   use mefem_errors, only: status_t, fatal
@@ -77,6 +79,13 @@ module mefem_mortar_contact
   !> Reals per slave node in the records the ranks exchange: A_A, g_A, p_A, n_A (3), t_A (3),
   !> master normal (3), t_A in the node's frame (2), initial-penetration offset o_A.
   integer, parameter :: NODE_RECORD_LENGTH = 15
+  !> An interface's work is divided among the ranks only when it has at least this many
+  !> candidate pairs per rank: below, the 4 collectives of a divided evaluation (tens of us,
+  !> far more on an oversubscribed machine) cost more than the kernels they share (about 0.5 us
+  !> per candidate), and every rank computes the whole interface (the same bits either way).
+  !> The environment variable MEFEM_CONTACT_DIVIDE_MIN overrides it (0: always divide; the
+  !> rank-independence tests use it to divide their small interfaces).
+  integer, parameter :: MIN_CANDIDATES_PER_RANK = 2000
 
   !> A candidate pair with overlap: facets and mortar weights.
   type :: pair_t
@@ -121,6 +130,7 @@ module mefem_mortar_contact
                                                    !< tangent frame (kept between calls)
     integer, allocatable :: frame_node(:)          !< (ns) slave node fixing the frame's e1
     logical :: keep_initial = .false.              !< IGNORE /= 0: initial penetrations kept
+    logical :: divided = .false.                   !< this evaluation's work is divided
     logical :: evaluated = .false.                 !< the first evaluation has been made
     real(wp), allocatable :: offset(:)             !< (ns) o_A, penetration not pushed out
     ! pairs of the last and of the call before
@@ -145,6 +155,7 @@ module mefem_mortar_contact
     integer :: n = 0                               !< interfaces
     logical :: distributed = .false.               !< mortar kernels divided among the ranks
     integer :: rank = 0, nranks = 1                !< this rank, ranks sharing the kernels
+    integer :: divide_min = MIN_CANDIDATES_PER_RANK !< candidates per rank to divide
     type(contact_interface_t), allocatable :: interfaces(:)
     integer :: nnode = 0                           !< contact nodes (union of all surfaces)
     integer, allocatable :: node_global(:)         !< (nnode) mesh nodes, ascending
@@ -177,6 +188,7 @@ contains
     if (contact%distributed) then
       contact%rank = comm_rank()
       contact%nranks = comm_size()
+      contact%divide_min = divide_threshold()
     end if
     contact%n = model%n_contacts
     allocate(contact%interfaces(contact%n), used(model%nodes%n))
@@ -241,6 +253,20 @@ contains
     contact%pressure = 0.0_wp
     contact%gap = 0.0_wp
   end subroutine mortar_contact_setup
+
+  !> Candidates per rank from which an interface is divided: MIN_CANDIDATES_PER_RANK, or the
+  !> value of the environment variable MEFEM_CONTACT_DIVIDE_MIN (an integer >= 0) if set.
+  integer function divide_threshold()
+    character(len=32) :: text
+    integer :: length, env_status, value, read_status
+    divide_threshold = MIN_CANDIDATES_PER_RANK
+    call get_environment_variable('MEFEM_CONTACT_DIVIDE_MIN', text, length, env_status)
+    if (env_status /= 0 .or. length == 0) return
+    read(text, *, iostat=read_status) value
+    if (read_status /= 0 .or. value < 0) call fatal('MEFEM_CONTACT_DIVIDE_MIN = '// &
+        trim(text)//': expected an integer >= 0 (candidate pairs per rank)')
+    divide_threshold = value
+  end function divide_threshold
 
   !> The penalty constants of an interface, one value for the whole interface (a penalty
   !> that varied from node to node would turn a uniform penetration into a non-uniform
@@ -435,6 +461,9 @@ contains
     last = ns
     if (.not. allocated(it%gap_old)) allocate(it%gap_old(3, ns))
     call update_candidates(contact, it)
+    ! the same decision on every rank (the candidate list is the same everywhere)
+    it%divided = contact%distributed .and. &
+                 int(it%ncandidate, i8) >= int(contact%divide_min, i8)*contact%nranks
     ! today's weights; the previous call's (with today's positions: slip, only with
     ! friction) for this rank's slave nodes
     call swap_pairs(it)
@@ -443,7 +472,7 @@ contains
     it%normal_old = it%normal
     it%master_normal_old = it%master_normal
     call mortar_pairs(contact, it)
-    if (contact%distributed) call node_slice(contact, it, first, last)
+    if (it%divided) call node_slice(contact, it, first, last)
     if (it%fs > 0.0_wp) call weighted_sums(contact%x, it, it%pairs_old, it%npair_old, first, &
                                            last, it%gap_old)
     call slave_normals(contact, it, first, last)
@@ -496,7 +525,7 @@ contains
       it%traction(:, a) = trial
       it%traction_local(:, a) = [dot_product(trial, e1), dot_product(trial, e2)]
     end do
-    if (contact%distributed) call exchange_nodes(it, first, last)
+    if (it%divided) call exchange_nodes(it, first, last)
     it%evaluated = .true.
     it%normal_force = 0.0_wp
     do a = 1, ns
@@ -728,7 +757,7 @@ contains
     integer :: k, s, m, i, nm, first, last
     first = 1
     last = it%ncandidate
-    if (contact%distributed) then
+    if (it%divided) then
       first = int(int(it%ncandidate, i8)*contact%rank/contact%nranks) + 1
       last = int(int(it%ncandidate, i8)*(contact%rank + 1)/contact%nranks)
     end if
@@ -781,7 +810,7 @@ contains
       end associate
       it%npair = it%npair + 1
     end do
-    if (contact%distributed) call exchange_pairs(it)
+    if (it%divided) call exchange_pairs(it)
   end subroutine mortar_pairs
 
   !> Every rank's pairs on every rank: this rank's pairs (it%pairs(1:npair)) packed into
