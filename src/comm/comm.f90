@@ -13,7 +13,7 @@ module mefem_comm
   public :: comm_rank, comm_size, comm_is_root, comm_fortran_handle, comm_wtime
   public :: comm_sum, comm_min, comm_max, comm_bcast, comm_exscan_sum
   public :: comm_allgather, comm_any, comm_gatherv_real, comm_gatherv_int
-  public :: comm_info_null_handle
+  public :: comm_info_null_handle, comm_allgatherv_real
 
   integer :: my_rank = 0    !< rank of this process in the world communicator
   integer :: n_ranks = 1    !< number of ranks
@@ -275,6 +275,30 @@ contains
     call MPI_Gatherv(mine, size(mine), MPI_INTEGER, all, counts, displs, &
                      MPI_INTEGER, 0, MPI_COMM_WORLD, ierr)
   end subroutine comm_gatherv_int
+
+  !> Concatenate variable-length real arrays of all ranks, in rank order, on every rank:
+  !> all(1:n_all) = [mine(1:n_mine) of rank 0, of rank 1, ...]. all is reallocated only when
+  !> it is too small (it then gets room for 3/2 of the total, so slowly growing totals do not
+  !> reallocate every call). Two collectives: the counts (allgather), then the values.
+  subroutine comm_allgatherv_real(mine, n_mine, all, n_all)
+    real(wp), intent(in) :: mine(:)                  !< this rank's values (1:n_mine used)
+    integer, intent(in) :: n_mine                    !< values of this rank
+    real(wp), allocatable, intent(inout) :: all(:)   !< all ranks' values (1:n_all), kept
+    integer, intent(out) :: n_all                    !< total count
+    integer :: counts(n_ranks), displs(n_ranks), ierr, r
+    call MPI_Allgather(n_mine, 1, MPI_INTEGER, counts, 1, MPI_INTEGER, MPI_COMM_WORLD, ierr)
+    displs(1) = 0
+    do r = 2, n_ranks
+      displs(r) = displs(r-1) + counts(r-1)
+    end do
+    n_all = sum(counts)
+    if (allocated(all)) then
+      if (size(all) < n_all) deallocate(all)
+    end if
+    if (.not. allocated(all)) allocate(all(max(1, n_all + n_all/2)))
+    call MPI_Allgatherv(mine, n_mine, MPI_DOUBLE_PRECISION, all, counts, displs, &
+                        MPI_DOUBLE_PRECISION, MPI_COMM_WORLD, ierr)
+  end subroutine comm_allgatherv_real
 
   !> Fortran integer handle of MPI_INFO_NULL (no MPI-IO hints), for HDF5's MPI-IO driver.
   integer function comm_info_null_handle()

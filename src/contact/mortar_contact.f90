@@ -14,6 +14,10 @@
 !>     pairs with an outward master facet facing the same way as the slave are skipped (the
 !>     far side of a master body);
 !>  4. normal gap g_A = n_A . G_A / A_A (< 0: penetration), pressure p_A = eps_A <-g_A>;
+!>     with IGNORE /= 0 (card C) p_A = eps_A <-g_A - o_A>: o_A >= 0 is the penetration of
+!>     node A at the first evaluation (an initial penetration is kept, not pushed out), and
+!>     it only shrinks, to the current penetration, as the bodies separate (0 once the node
+!>     has no partner);
 !>  5. slip from the change of the weights at fixed positions (objective: a rigid motion of
 !>     the pair gives none): ds_A = (I - n_A n_A) (G_A - G_A^old) / A_A, G_A^old with the
 !>     previous call's weights and today's positions; Coulomb return map on the tangential
@@ -27,14 +31,25 @@
 !> spring never lowers the stable time step: eps <= MASS_LIMIT min_A(m_A/a_A) / dt^2 (a_A the
 !> slave node's tributary area). Statics (implicit) scales it by a factor, without the limit.
 !>
-!> Parallel (documented choice): contact surfaces are small next to the volume, so every rank
-!> holds all of them (replicated data). The driver gathers the current positions of the
-!> contact nodes (owners fill, one sum over ranks) and every rank computes every interface with
-!> the same data in the same order: contact forces are the same bits on every rank and for any
-!> number of ranks; each rank then applies them at its local nodes. The contact work is thus
-!> not divided among ranks (doc/performance.md).
+!> Parallel (documented choice, doc/theory.md 10.8): contact surfaces are small next to the
+!> volume, so every rank holds all of them (replicated data). The driver gathers the current
+!> positions of the contact nodes (owners fill, one sum over ranks). The candidate search is
+!> the same on every rank (same data, same order). With distribute (the explicit analysis on
+!> more than one rank) the work is divided: step 2, the mortar kernels, by candidates: rank r
+!> computes the weights of the r-th of nranks contiguous, equal slices of the candidate list
+!> (in its global order), and one allgatherv of compact records (candidate number, n_AB, n_AC,
+!> master normal: PAIR_RECORD_LENGTH reals per pair with overlap) concatenates the slices in
+!> rank order, which is the global candidate order: every rank then holds the same pair list
+!> as one rank would. Steps 3-5 by slave nodes: each rank takes a contiguous slice of the
+!> slave nodes balanced by their pair entries (node_slice), each node's sums running over the
+!> pairs in the global order, and one allgatherv of node records (results and state,
+!> NODE_RECORD_LENGTH reals per node) in node order. Step 6 (the force scatter, O(pairs)) runs
+!> on every rank alike. An interface with fewer than MIN_CANDIDATES_PER_RANK candidates per
+!> rank is not divided (every rank computes all of it, as one rank would: no collectives).
+!> Contact forces are thus the same bits on every rank and for any number of ranks; each rank
+!> applies them at its local nodes.
 module mefem_mortar_contact
-  use mefem_kinds, only: wp
+  use mefem_kinds, only: wp, i8
   use mefem_errors, only: status_t, fatal
   use mefem_strings, only: itoa
   use mefem_model, only: model_t, contact_t
@@ -43,6 +58,7 @@ module mefem_mortar_contact
                                     contact_search_build
   use mefem_mortar_segmentation, only: mortar_segment_pair_2d, mortar_triangle_pair_3d
   use mefem_material_update, only: material_elastic_moduli
+  use mefem_comm, only: comm_rank, comm_size, comm_allgatherv_real
   implicit none
   private
 
@@ -58,8 +74,23 @@ module mefem_mortar_contact
                                                    !< between a slave normal and the reversed
                                                    !< normal of a master partner
 
+  !> Reals per pair in the records the ranks exchange: candidate number, n_ab (3 x 3), n_ac
+  !> (3 x MAX_VERTICES), master normal (3).
+  integer, parameter :: PAIR_RECORD_LENGTH = 1 + 9 + 3*MAX_VERTICES + 3
+  !> Reals per slave node in the records the ranks exchange: A_A, g_A, p_A, n_A (3), t_A (3),
+  !> master normal (3), t_A in the node's frame (2), initial-penetration offset o_A.
+  integer, parameter :: NODE_RECORD_LENGTH = 15
+  !> An interface's work is divided among the ranks only when it has at least this many
+  !> candidate pairs per rank: below, the 4 collectives of a divided evaluation (tens of us,
+  !> far more on an oversubscribed machine) cost more than the kernels they share (about 0.5 us
+  !> per candidate), and every rank computes the whole interface (the same bits either way).
+  !> The environment variable MEFEM_CONTACT_DIVIDE_MIN overrides it (0: always divide; the
+  !> rank-independence tests use it to divide their small interfaces).
+  integer, parameter :: MIN_CANDIDATES_PER_RANK = 2000
+
   !> A candidate pair with overlap: facets and mortar weights.
   type :: pair_t
+    integer :: candidate = 0                       !< position in the candidate list
     integer :: slave = 0, master = 0
     real(wp) :: n_ab(3, 3) = 0.0_wp                !< (slave vertex a, slave vertex b)
     real(wp) :: n_ac(3, MAX_VERTICES) = 0.0_wp     !< (slave vertex a, master vertex c)
@@ -99,9 +130,19 @@ module mefem_mortar_contact
     real(wp), allocatable :: traction_local(:,:)   !< (2, ns) t_A in the node's convected
                                                    !< tangent frame (kept between calls)
     integer, allocatable :: frame_node(:)          !< (ns) slave node fixing the frame's e1
+    logical :: keep_initial = .false.              !< IGNORE /= 0: initial penetrations kept
+    logical :: divided = .false.                   !< this evaluation's work is divided
+    logical :: evaluated = .false.                 !< the first evaluation has been made
+    real(wp), allocatable :: offset(:)             !< (ns) o_A, penetration not pushed out
     ! pairs of the last and of the call before
     integer :: npair = 0, npair_old = 0
     type(pair_t), allocatable :: pairs(:), pairs_old(:)
+    real(wp), allocatable :: records(:)            !< this rank's pairs packed (distributed)
+    real(wp), allocatable :: all_records(:)        !< every rank's, in rank order
+    real(wp), allocatable :: node_records(:)       !< this rank's slave-node results packed
+    real(wp), allocatable :: all_node_records(:)   !< every rank's, in rank order
+    real(wp), allocatable :: gap_old(:,:)          !< (3, ns) G_A with the old weights
+    integer, allocatable :: node_work(:)           !< (ns) work per slave node (node_slice)
     ! resultants of the last call (rcforc)
     real(wp) :: force_slave(3) = 0.0_wp            !< sum of the slave nodal forces
     real(wp) :: force_master(3) = 0.0_wp           !< sum of the master nodal forces
@@ -113,6 +154,9 @@ module mefem_mortar_contact
   type, public :: mortar_contact_t
     integer :: dim = 3
     integer :: n = 0                               !< interfaces
+    logical :: distributed = .false.               !< mortar kernels divided among the ranks
+    integer :: rank = 0, nranks = 1                !< this rank, ranks sharing the kernels
+    integer :: divide_min = MIN_CANDIDATES_PER_RANK !< candidates per rank to divide
     type(contact_interface_t), allocatable :: interfaces(:)
     integer :: nnode = 0                           !< contact nodes (union of all surfaces)
     integer, allocatable :: node_global(:)         !< (nnode) mesh nodes, ascending
@@ -127,15 +171,26 @@ module mefem_mortar_contact
 contains
 
   !> Build every interface of the model: surfaces, contact nodes, penalty constants.
-  !> mass(mesh nodes): lumped masses (the time-step limit of the penalty).
-  subroutine mortar_contact_setup(model, mass, contact)
+  !> mass(mesh nodes): lumped masses (the time-step limit of the penalty). distribute (default
+  !> no): divide the mortar kernels among the ranks (every rank must then call
+  !> mortar_contact_forces with the same positions, as the explicit analysis does).
+  subroutine mortar_contact_setup(model, mass, contact, distribute)
     type(model_t), intent(in) :: model                !< resolved model
     real(wp), intent(in) :: mass(:)                   !< (mesh nodes) lumped masses
     type(mortar_contact_t), intent(out) :: contact    !< the contact data
+    logical, intent(in), optional :: distribute       !< divide the kernels among the ranks
     type(status_t) :: status
     logical, allocatable :: used(:)
     integer :: k, i, ns, f
     contact%dim = model%dimension
+    contact%distributed = .false.
+    if (present(distribute)) contact%distributed = distribute
+    if (contact%distributed) contact%distributed = comm_size() > 1
+    if (contact%distributed) then
+      contact%rank = comm_rank()
+      contact%nranks = comm_size()
+      contact%divide_min = divide_threshold()
+    end if
     contact%n = model%n_contacts
     allocate(contact%interfaces(contact%n), used(model%nodes%n))
     used = .false.
@@ -151,6 +206,7 @@ contains
         used(it%master%nodes) = .true.
         it%fs = c%fs
         it%fd = c%fd
+        it%keep_initial = c%ignore /= 0
         it%dc = c%dc
         if (it%fd == 0.0_wp) it%fd = it%fs
         ns = size(it%slave%nodes)
@@ -178,6 +234,8 @@ contains
         it%gap = 0.0_wp
         it%area = 0.0_wp
         it%area_old = 0.0_wp
+        allocate(it%offset(ns))
+        it%offset = 0.0_wp
         it%margin = MARGIN_FACTOR*min(mean_facet_size(it%master, model%nodes%x), &
                                       mean_facet_size(it%slave, model%nodes%x))
         it%surface_nodes = [it%slave%nodes, it%master%nodes]
@@ -196,6 +254,20 @@ contains
     contact%pressure = 0.0_wp
     contact%gap = 0.0_wp
   end subroutine mortar_contact_setup
+
+  !> Candidates per rank from which an interface is divided: MIN_CANDIDATES_PER_RANK, or the
+  !> value of the environment variable MEFEM_CONTACT_DIVIDE_MIN (an integer >= 0) if set.
+  integer function divide_threshold()
+    character(len=32) :: text
+    integer :: length, env_status, value, read_status
+    divide_threshold = MIN_CANDIDATES_PER_RANK
+    call get_environment_variable('MEFEM_CONTACT_DIVIDE_MIN', text, length, env_status)
+    if (env_status /= 0 .or. length == 0) return
+    read(text, *, iostat=read_status) value
+    if (read_status /= 0 .or. value < 0) call fatal('MEFEM_CONTACT_DIVIDE_MIN = '// &
+        trim(text)//': expected an integer >= 0 (candidate pairs per rank)')
+    divide_threshold = value
+  end function divide_threshold
 
   !> The penalty constants of an interface, one value for the whole interface (a penalty
   !> that varied from node to node would turn a uniform penetration into a non-uniform
@@ -372,42 +444,63 @@ contains
     end associate
   end subroutine mortar_contact_slave_rows
 
-  !> One interface: steps 1-6 of the module header.
+  !> One interface: steps 1-6 of the module header. Distributed, steps 3-5 run for this
+  !> rank's slice of the slave nodes (node_slice: contiguous, balanced by the pairs of the
+  !> nodes) and the per-node results and state are exchanged (exchange_nodes) before the
+  !> nodal forces; each node's sums run over the pairs in the same order as on one rank.
   subroutine interface_forces(contact, it, dt, penalty_scale)
     type(mortar_contact_t), intent(inout) :: contact  !< contact data
     type(contact_interface_t), intent(inout) :: it    !< the interface
     real(wp), intent(in) :: dt                        !< the time step just taken
     real(wp), intent(in) :: penalty_scale             !< factor on eps_material
-    real(wp), allocatable :: gap_old(:,:)
     real(wp) :: eps, slip(3), trial(3), old(3), magnitude, mu, limit, tau(3), e1(3), e2(3)
-    integer :: a, dim
+    real(wp) :: penetration
+    integer :: a, dim, ns, first, last
     dim = contact%dim
+    ns = size(it%slave%nodes)
+    first = 1
+    last = ns
+    if (.not. allocated(it%gap_old)) allocate(it%gap_old(3, ns))
     call update_candidates(contact, it)
-    ! weights of the previous call with today's positions (slip), then today's weights
+    ! the same decision on every rank (the candidate list is the same everywhere)
+    it%divided = contact%distributed .and. &
+                 int(it%ncandidate, i8) >= int(contact%divide_min, i8)*contact%nranks
+    ! today's weights; the previous call's (with today's positions: slip, only with
+    ! friction) for this rank's slave nodes
     call swap_pairs(it)
     it%npair_old = it%npair
     it%area_old = it%area
-    allocate(gap_old(3, size(it%slave%nodes)))
-    call weighted_sums(contact%x, it, it%pairs_old, it%npair_old, gap_old)
     it%normal_old = it%normal
     it%master_normal_old = it%master_normal
     call mortar_pairs(contact, it)
-    call slave_normals(contact, it)
-    call weighted_sums(contact%x, it, it%pairs, it%npair, it%gap_vector, it%area)
+    if (it%divided) call node_slice(contact, it, first, last)
+    if (it%fs > 0.0_wp) call weighted_sums(contact%x, it, it%pairs_old, it%npair_old, first, &
+                                           last, it%gap_old)
+    call slave_normals(contact, it, first, last)
+    call weighted_sums(contact%x, it, it%pairs, it%npair, first, last, it%gap_vector, it%area)
     ! gap, pressure, friction per slave node
-    it%normal_force = 0.0_wp
-    do a = 1, size(it%slave%nodes)
+    do a = first, last
       if (it%area(a) <= 0.0_wp) then
         it%gap(a) = 0.0_wp
         it%pressure(a) = 0.0_wp
         it%traction(:, a) = 0.0_wp
+        it%offset(a) = 0.0_wp
         cycle
       end if
       it%gap(a) = dot_product(it%normal(:, a), it%gap_vector(:, a))/it%area(a)
       eps = penalty_scale*it%eps_material
       if (dt > 0.0_wp) eps = min(eps, MASS_LIMIT*it%mass_per_area/(dt*dt))
-      it%pressure(a) = eps*max(-it%gap(a), 0.0_wp)
-      it%normal_force = it%normal_force + it%area(a)*it%pressure(a)
+      penetration = max(-it%gap(a), 0.0_wp)
+      if (it%keep_initial) then
+        ! the initial penetration is remembered; separating reduces it for good
+        if (it%evaluated) then
+          it%offset(a) = min(it%offset(a), penetration)
+        else
+          it%offset(a) = penetration
+        end if
+        penetration = max(penetration - it%offset(a), 0.0_wp)
+      end if
+      it%pressure(a) = eps*penetration
       if (it%pressure(a) <= 0.0_wp .or. it%fs <= 0.0_wp .or. it%area_old(a) <= 0.0_wp) then
         it%traction(:, a) = 0.0_wp
         it%traction_local(:, a) = 0.0_wp
@@ -418,7 +511,7 @@ contains
       ! the slave normal: turning it by dn relative to the master moves the projected master
       ! point by g dn, which is no slip; a rigid rotation of the pair turns n and the master
       ! normal m (~ -n) together, dn + dm = 0, and keeps this term zero)
-      slip = tangential(it%normal(:, a), (it%gap_vector(:, a) - gap_old(:, a))/it%area(a) - &
+      slip = tangential(it%normal(:, a), (it%gap_vector(:, a) - it%gap_old(:, a))/it%area(a) - &
           it%gap(a)*((it%normal(:, a) - it%normal_old(:, a)) + &
                      (it%master_normal(:, a) - it%master_normal_old(:, a))))
       ! the old traction from its components in the node's convected frame (it turns with
@@ -436,11 +529,17 @@ contains
       it%traction(:, a) = trial
       it%traction_local(:, a) = [dot_product(trial, e1), dot_product(trial, e2)]
     end do
+    if (it%divided) call exchange_nodes(it, first, last)
+    it%evaluated = .true.
+    it%normal_force = 0.0_wp
+    do a = 1, ns
+      if (it%area(a) > 0.0_wp) it%normal_force = it%normal_force + it%area(a)*it%pressure(a)
+    end do
     ! nodal forces
     call nodal_forces(contact, it)
     it%tangential_force = 0.0_wp
     tau = 0.0_wp
-    do a = 1, size(it%slave%nodes)
+    do a = 1, ns
       tau = tau + it%area(a)*it%traction(:, a)
       associate (cn => contact%node_index(it%slave%nodes(a)))
         if (it%area(a) > 0.0_wp) then
@@ -451,6 +550,83 @@ contains
     end do
     it%tangential_force = norm2(tau(1:dim))
   end subroutine interface_forces
+
+  !> This rank's slice first:last of the slave nodes for steps 3-5: the ranks take
+  !> contiguous slices in rank order, balanced by the work of a node (1 + its pair-vertex
+  !> entries, counted from the pair list every rank holds, so every rank finds the same
+  !> slices). Empty slice: first = 1, last = 0.
+  subroutine node_slice(contact, it, first, last)
+    type(mortar_contact_t), intent(in) :: contact     !< contact data (rank, ranks)
+    type(contact_interface_t), intent(inout) :: it    !< the interface
+    integer, intent(out) :: first, last               !< this rank's slave nodes
+    integer(i8) :: total, lower, upper, running
+    integer :: k, i, a, ns
+    ns = size(it%slave%nodes)
+    if (.not. allocated(it%node_work)) allocate(it%node_work(ns))
+    it%node_work = 1
+    do k = 1, it%npair
+      do i = 1, it%slave%nvertex(it%pairs(k)%slave)
+        a = it%slave%local(i, it%pairs(k)%slave)
+        it%node_work(a) = it%node_work(a) + 1
+      end do
+    end do
+    total = sum(int(it%node_work, i8))
+    lower = total*contact%rank/contact%nranks
+    upper = total*(contact%rank + 1)/contact%nranks
+    first = 1
+    last = 0
+    running = 0
+    do a = 1, ns
+      running = running + it%node_work(a)
+      if (running <= lower) then
+        first = a + 1
+      else if (running <= upper) then
+        last = a
+      else
+        exit
+      end if
+    end do
+    if (last < first) then
+      first = 1
+      last = 0
+    end if
+  end subroutine node_slice
+
+  !> Every rank's slave-node results and state on every rank: A_A, g_A, p_A, n_A, t_A, the
+  !> master normal under A, t_A in the node's frame and o_A, of this rank's slice first:last,
+  !> packed as NODE_RECORD_LENGTH reals per node; the slices of all ranks concatenated in
+  !> rank order (one allgatherv), which is the slave-node order.
+  subroutine exchange_nodes(it, first, last)
+    type(contact_interface_t), intent(inout) :: it    !< the interface
+    integer, intent(in) :: first, last                !< this rank's slave nodes
+    integer :: a, o, n_values
+    if (.not. allocated(it%node_records)) &
+      allocate(it%node_records(NODE_RECORD_LENGTH*size(it%slave%nodes)))
+    do a = first, last
+      o = (a - first)*NODE_RECORD_LENGTH
+      it%node_records(o + 1) = it%area(a)
+      it%node_records(o + 2) = it%gap(a)
+      it%node_records(o + 3) = it%pressure(a)
+      it%node_records(o + 4:o + 6) = it%normal(:, a)
+      it%node_records(o + 7:o + 9) = it%traction(:, a)
+      it%node_records(o + 10:o + 12) = it%master_normal(:, a)
+      it%node_records(o + 13:o + 14) = it%traction_local(:, a)
+      it%node_records(o + 15) = it%offset(a)
+    end do
+    call comm_allgatherv_real(it%node_records, NODE_RECORD_LENGTH*max(0, last - first + 1), &
+                              it%all_node_records, n_values)
+    do a = 1, n_values/NODE_RECORD_LENGTH
+      o = (a - 1)*NODE_RECORD_LENGTH
+      it%area(a) = it%all_node_records(o + 1)
+      it%gap(a) = it%all_node_records(o + 2)
+      it%pressure(a) = it%all_node_records(o + 3)
+      it%normal(:, a) = it%all_node_records(o + 4:o + 6)
+      it%traction(:, a) = it%all_node_records(o + 7:o + 9)
+      it%master_normal(:, a) = it%all_node_records(o + 10:o + 12)
+      it%traction_local(:, a) = it%all_node_records(o + 13:o + 14)
+      it%offset(a) = it%all_node_records(o + 15)
+    end do
+  end subroutine exchange_nodes
 
   !> The pairs of the last call become the old ones (buffers swapped, not reallocated).
   subroutine swap_pairs(it)
@@ -488,16 +664,17 @@ contains
     t = v - dot_product(n, v)*n
   end function tangential
 
-  !> Averaged unit normals of the slave nodes: area-weighted outward normals of the slave
-  !> facets, each weighted by the fraction of it that master partners cover in this call
-  !> (sum of its pairs' n_AB over its length/area, at most 1), so that a node on the edge of
-  !> the contact zone is not tilted by the free side faces of its body, and its normal turns
-  !> continuously as a neighbour facet slides onto or off the master.
-  subroutine slave_normals(contact, it)
+  !> Averaged unit normals of the slave nodes first:last: area-weighted outward normals of
+  !> the slave facets, each weighted by the fraction of it that master partners cover in this
+  !> call (sum of its pairs' n_AB over its length/area, at most 1), so that a node on the edge
+  !> of the contact zone is not tilted by the free side faces of its body, and its normal
+  !> turns continuously as a neighbour facet slides onto or off the master.
+  subroutine slave_normals(contact, it, first, last)
     type(mortar_contact_t), intent(in) :: contact     !< contact data
     type(contact_interface_t), intent(inout) :: it    !< the interface
+    integer, intent(in) :: first, last                !< slave nodes wanted (others: 0)
     real(wp) :: a(3), length
-    integer :: f, i, k
+    integer :: f, i, k, slot
     real(wp) :: covered(it%slave%nfacet)
     covered = 0.0_wp
     do k = 1, it%npair
@@ -506,15 +683,18 @@ contains
     it%normal = 0.0_wp
     do f = 1, it%slave%nfacet
       if (covered(f) <= 0.0_wp) cycle
+      if (all(it%slave%local(1:it%slave%nvertex(f), f) < first) .or. &
+          all(it%slave%local(1:it%slave%nvertex(f), f) > last)) cycle
       a = contact_facet_area_vector(it%slave, f, contact%x)
       length = norm2(a)
       if (length <= 0.0_wp) cycle
       a = a*min(1.0_wp, covered(f)/length)
       do i = 1, it%slave%nvertex(f)
-        it%normal(:, it%slave%local(i, f)) = it%normal(:, it%slave%local(i, f)) + a
+        slot = it%slave%local(i, f)
+        if (slot >= first .and. slot <= last) it%normal(:, slot) = it%normal(:, slot) + a
       end do
     end do
-    do i = 1, size(it%slave%nodes)
+    do i = first, last
       length = norm2(it%normal(:, i))
       if (length > 0.0_wp) it%normal(:, i) = it%normal(:, i)/length
     end do
@@ -523,12 +703,14 @@ contains
     do k = 1, it%npair
       associate (p => it%pairs(k))
         do i = 1, it%slave%nvertex(p%slave)
-          it%master_normal(:, it%slave%local(i, p%slave)) = &
-              it%master_normal(:, it%slave%local(i, p%slave)) + sum(p%n_ac(i, :))*p%master_normal
+          slot = it%slave%local(i, p%slave)
+          if (slot < first .or. slot > last) cycle
+          it%master_normal(:, slot) = it%master_normal(:, slot) + &
+                                      sum(p%n_ac(i, :))*p%master_normal
         end do
       end associate
     end do
-    do i = 1, size(it%slave%nodes)
+    do i = first, last
       length = norm2(it%master_normal(:, i))
       if (length > 0.0_wp) it%master_normal(:, i) = it%master_normal(:, i)/length
     end do
@@ -556,15 +738,17 @@ contains
     it%searched = .true.
   end subroutine update_candidates
 
-  !> Unit normals of all facets of a surface at positions x (zero for a degenerate facet).
-  subroutine facet_unit_normals(surface, x, normals)
+  !> Unit normals of the facets first:last of a surface at positions x (zero for a
+  !> degenerate facet).
+  subroutine facet_unit_normals(surface, x, first, last, normals)
     type(contact_surface_t), intent(in) :: surface    !< the surface
     real(wp), intent(in) :: x(:,:)                    !< (3, mesh nodes) positions
+    integer, intent(in) :: first, last                !< facets wanted
     real(wp), allocatable, intent(inout) :: normals(:,:) !< (3, facets) reused between calls
     real(wp) :: a(3), length
     integer :: f
     if (.not. allocated(normals)) allocate(normals(3, surface%nfacet))
-    do f = 1, surface%nfacet
+    do f = first, last
       a = contact_facet_area_vector(surface, f, x)
       length = norm2(a)
       normals(:, f) = 0.0_wp
@@ -572,22 +756,32 @@ contains
     end do
   end subroutine facet_unit_normals
 
-  !> Mortar weights of every candidate pair with an overlap (into it%pairs).
+  !> Mortar weights of every candidate pair with an overlap (into it%pairs, in candidate
+  !> order). Distributed: this rank computes its slice of the candidates, and the slices of
+  !> all ranks are exchanged as records (exchange_pairs).
   subroutine mortar_pairs(contact, it)
     type(mortar_contact_t), intent(in) :: contact     !< contact data
     type(contact_interface_t), intent(inout) :: it    !< the interface
-    type(pair_t) :: p
     real(wp) :: xs(3, 3), xm(3, MAX_VERTICES), overlap, n_s(3), n_m(3), facing
-    integer :: k, s, m, i, nm
-    call facet_unit_normals(it%slave, contact%x, it%slave_normal)
-    call facet_unit_normals(it%master, contact%x, it%master_normal_f)
+    integer :: k, s, m, i, nm, first, last
+    first = 1
+    last = it%ncandidate
+    if (it%divided) then
+      first = int(int(it%ncandidate, i8)*contact%rank/contact%nranks) + 1
+      last = int(int(it%ncandidate, i8)*(contact%rank + 1)/contact%nranks)
+    end if
+    ! the slave facets of the slice are a range (the candidates are sorted by slave facet)
+    if (.not. allocated(it%slave_normal)) allocate(it%slave_normal(3, it%slave%nfacet))
+    if (first <= last) call facet_unit_normals(it%slave, contact%x, it%candidates(1, first), &
+                                               it%candidates(1, last), it%slave_normal)
+    call facet_unit_normals(it%master, contact%x, 1, it%master%nfacet, it%master_normal_f)
     if (.not. allocated(it%pairs)) allocate(it%pairs(0))
     if (size(it%pairs) < it%ncandidate) then       ! grows, never shrinks: no reallocation
       deallocate(it%pairs)                          ! once the contact has settled
       allocate(it%pairs(it%ncandidate + it%ncandidate/2))
     end if
     it%npair = 0
-    do k = 1, it%ncandidate
+    do k = first, last
       s = it%candidates(1, k)
       m = it%candidates(2, k)
       ! partners face each other: an outward master facet against the slave normal within
@@ -598,100 +792,183 @@ contains
       facing = dot_product(n_s, n_m)
       if (.not. it%master%outward(m)) facing = -abs(facing)
       if (facing > -FACING_COSINE) cycle
-      p%slave = s
-      p%master = m
-      p%n_ab = 0.0_wp
-      p%n_ac = 0.0_wp
       nm = it%master%nvertex(m)
-      if (contact%dim == 2) then
-        call mortar_segment_pair_2d(contact%x(1:2, it%slave%facets(1:2, s)), &
-                                    contact%x(1:2, it%master%facets(1:2, m)), &
-                                    p%n_ab(1:2, 1:2), p%n_ac(1:2, 1:2), overlap)
-      else
-        do i = 1, 3
-          xs(:, i) = contact%x(:, it%slave%facets(i, s))
-        end do
-        xm = 0.0_wp
-        do i = 1, nm
-          xm(:, i) = contact%x(:, it%master%facets(i, m))
-        end do
-        call mortar_triangle_pair_3d(xs, xm, nm, p%n_ab, p%n_ac, overlap)
-      end if
-      if (overlap <= 0.0_wp) cycle
-      p%master_normal = n_m/max(norm2(n_m), tiny(1.0_wp))
-      if (dot_product(p%master_normal, n_s) > 0.0_wp) p%master_normal = -p%master_normal
+      associate (p => it%pairs(it%npair + 1))
+        p%candidate = k
+        p%slave = s
+        p%master = m
+        if (contact%dim == 2) then
+          p%n_ab = 0.0_wp
+          p%n_ac = 0.0_wp
+          call mortar_segment_pair_2d(contact%x(1:2, it%slave%facets(1:2, s)), &
+                                      contact%x(1:2, it%master%facets(1:2, m)), &
+                                      p%n_ab(1:2, 1:2), p%n_ac(1:2, 1:2), overlap)
+        else
+          do i = 1, 3
+            xs(:, i) = contact%x(:, it%slave%facets(i, s))
+          end do
+          xm = 0.0_wp
+          do i = 1, nm
+            xm(:, i) = contact%x(:, it%master%facets(i, m))
+          end do
+          call mortar_triangle_pair_3d(xs, xm, nm, p%n_ab, p%n_ac, overlap)
+        end if
+        if (overlap <= 0.0_wp) cycle
+        p%master_normal = n_m/max(norm2(n_m), tiny(1.0_wp))
+        if (dot_product(p%master_normal, n_s) > 0.0_wp) p%master_normal = -p%master_normal
+      end associate
       it%npair = it%npair + 1
-      it%pairs(it%npair) = p
     end do
+    if (it%divided) call exchange_pairs(it)
   end subroutine mortar_pairs
 
+  !> Every rank's pairs on every rank: this rank's pairs (it%pairs(1:npair)) packed into
+  !> records of PAIR_RECORD_LENGTH reals, the records of all ranks concatenated in rank order
+  !> (one allgatherv), unpacked into it%pairs. The slices are contiguous and in rank order,
+  !> so the result is the pair list in global candidate order, the same bits as on one rank.
+  subroutine exchange_pairs(it)
+    type(contact_interface_t), intent(inout) :: it    !< the interface
+    integer :: q, o, i, j, k, n_values
+    if (.not. allocated(it%records)) allocate(it%records(PAIR_RECORD_LENGTH*size(it%pairs)))
+    if (size(it%records) < PAIR_RECORD_LENGTH*it%npair) then
+      deallocate(it%records)
+      allocate(it%records(PAIR_RECORD_LENGTH*size(it%pairs)))
+    end if
+    do q = 1, it%npair
+      o = (q - 1)*PAIR_RECORD_LENGTH
+      associate (p => it%pairs(q))
+        it%records(o + 1) = real(p%candidate, wp)
+        do j = 1, 3
+          do i = 1, 3
+            it%records(o + 1 + i + 3*(j - 1)) = p%n_ab(i, j)
+          end do
+        end do
+        do j = 1, MAX_VERTICES
+          do i = 1, 3
+            it%records(o + 10 + i + 3*(j - 1)) = p%n_ac(i, j)
+          end do
+        end do
+        it%records(o + 11 + 3*MAX_VERTICES:o + 13 + 3*MAX_VERTICES) = p%master_normal
+      end associate
+    end do
+    call comm_allgatherv_real(it%records, PAIR_RECORD_LENGTH*it%npair, it%all_records, n_values)
+    it%npair = n_values/PAIR_RECORD_LENGTH
+    do q = 1, it%npair
+      o = (q - 1)*PAIR_RECORD_LENGTH
+      associate (p => it%pairs(q))
+        k = nint(it%all_records(o + 1))
+        p%candidate = k
+        p%slave = it%candidates(1, k)
+        p%master = it%candidates(2, k)
+        do j = 1, 3
+          do i = 1, 3
+            p%n_ab(i, j) = it%all_records(o + 1 + i + 3*(j - 1))
+          end do
+        end do
+        do j = 1, MAX_VERTICES
+          do i = 1, 3
+            p%n_ac(i, j) = it%all_records(o + 10 + i + 3*(j - 1))
+          end do
+        end do
+        p%master_normal = it%all_records(o + 11 + 3*MAX_VERTICES:o + 13 + 3*MAX_VERTICES)
+      end associate
+    end do
+  end subroutine exchange_pairs
+
   !> Per slave node, the weighted gap vector G_A = sum_C n_AC x_C - sum_B n_AB x_B of a set
-  !> of pairs at positions x, and optionally A_A = sum_B n_AB.
-  subroutine weighted_sums(x, it, pairs, npair, gap_vector, area)
+  !> of pairs at positions x, and optionally A_A = sum_B n_AB. (Each node's running sum is
+  !> held in locals within a pair; the order of the additions is that of the pairs.)
+  subroutine weighted_sums(x, it, pairs, npair, first, last, gap_vector, area)
     real(wp), intent(in) :: x(:,:)                    !< (3, mesh nodes) positions
     type(contact_interface_t), intent(in) :: it       !< the interface
     type(pair_t), intent(in) :: pairs(:)              !< pairs
     integer, intent(in) :: npair                      !< pairs used
+    integer, intent(in) :: first, last                !< slave nodes wanted (others: 0)
     real(wp), intent(out) :: gap_vector(:,:)          !< (3, slave nodes)
     real(wp), intent(out), optional :: area(:)        !< (slave nodes)
-    integer :: k, a, b, c, na, nm
+    integer :: k, a, b, c, na, nm, slot, s, m, node
+    real(wp) :: g(3), w, sum_weights
+    logical :: with_area
+    with_area = present(area)
     gap_vector = 0.0_wp
-    if (present(area)) area = 0.0_wp
+    if (with_area) area = 0.0_wp
     do k = 1, npair
-      associate (p => pairs(k))
-        na = it%slave%nvertex(p%slave)
-        nm = it%master%nvertex(p%master)
-        do a = 1, na
-          associate (slot => it%slave%local(a, p%slave))
-            do b = 1, na
-              gap_vector(:, slot) = gap_vector(:, slot) - p%n_ab(a, b)*x(:, it%slave%facets(b, &
-                  p%slave))
-              if (present(area)) area(slot) = area(slot) + p%n_ab(a, b)
-            end do
-            do c = 1, nm
-              gap_vector(:, slot) = gap_vector(:, slot) + p%n_ac(a, c)*x(:, it%master%facets(c, &
-                  p%master))
-            end do
-          end associate
+      s = pairs(k)%slave
+      m = pairs(k)%master
+      na = it%slave%nvertex(s)
+      nm = it%master%nvertex(m)
+      do a = 1, na
+        slot = it%slave%local(a, s)
+        if (slot < first .or. slot > last) cycle
+        g = gap_vector(:, slot)
+        do b = 1, na
+          node = it%slave%facets(b, s)
+          w = pairs(k)%n_ab(a, b)
+          g(1) = g(1) - w*x(1, node)
+          g(2) = g(2) - w*x(2, node)
+          g(3) = g(3) - w*x(3, node)
         end do
-      end associate
+        do c = 1, nm
+          node = it%master%facets(c, m)
+          w = pairs(k)%n_ac(a, c)
+          g(1) = g(1) + w*x(1, node)
+          g(2) = g(2) + w*x(2, node)
+          g(3) = g(3) + w*x(3, node)
+        end do
+        gap_vector(:, slot) = g
+        if (with_area) then
+          sum_weights = area(slot)
+          do b = 1, na
+            sum_weights = sum_weights + pairs(k)%n_ab(a, b)
+          end do
+          area(slot) = sum_weights
+        end if
+      end do
     end do
   end subroutine weighted_sums
 
   !> Nodal forces of the interface's traction tau_A = -p_A n_A + t_A, added to contact%force:
   !> slave f_B += sum_A n_AB tau_A, master f_C -= sum_A n_AC tau_A; and their resultants.
+  !> (Running sums in locals; the order of the additions is that of the pairs.)
   subroutine nodal_forces(contact, it)
     type(mortar_contact_t), intent(inout) :: contact  !< contact data
     type(contact_interface_t), intent(inout) :: it    !< the interface
-    real(wp) :: tau(3, 3)
-    integer :: k, a, b, c, na, nm, node
-    it%force_slave = 0.0_wp
-    it%force_master = 0.0_wp
+    real(wp) :: tau(3, 3), f(3), total_slave(3), total_master(3), w
+    integer :: k, a, b, c, na, nm, node, slot, s, m
+    total_slave = 0.0_wp
+    total_master = 0.0_wp
     do k = 1, it%npair
-      associate (p => it%pairs(k))
-        na = it%slave%nvertex(p%slave)
-        nm = it%master%nvertex(p%master)
+      s = it%pairs(k)%slave
+      m = it%pairs(k)%master
+      na = it%slave%nvertex(s)
+      nm = it%master%nvertex(m)
+      do a = 1, na
+        slot = it%slave%local(a, s)
+        tau(:, a) = -it%pressure(slot)*it%normal(:, slot) + it%traction(:, slot)
+      end do
+      do b = 1, na
+        node = contact%node_index(it%slave%facets(b, s))
+        f = contact%force(:, node)
         do a = 1, na
-          associate (slot => it%slave%local(a, p%slave))
-            tau(:, a) = -it%pressure(slot)*it%normal(:, slot) + it%traction(:, slot)
-          end associate
+          w = it%pairs(k)%n_ab(a, b)
+          f = f + w*tau(:, a)
+          total_slave = total_slave + w*tau(:, a)
         end do
-        do b = 1, na
-          node = contact%node_index(it%slave%facets(b, p%slave))
-          do a = 1, na
-            contact%force(:, node) = contact%force(:, node) + p%n_ab(a, b)*tau(:, a)
-            it%force_slave = it%force_slave + p%n_ab(a, b)*tau(:, a)
-          end do
+        contact%force(:, node) = f
+      end do
+      do c = 1, nm
+        node = contact%node_index(it%master%facets(c, m))
+        f = contact%force(:, node)
+        do a = 1, na
+          w = it%pairs(k)%n_ac(a, c)
+          f = f - w*tau(:, a)
+          total_master = total_master - w*tau(:, a)
         end do
-        do c = 1, nm
-          node = contact%node_index(it%master%facets(c, p%master))
-          do a = 1, na
-            contact%force(:, node) = contact%force(:, node) - p%n_ac(a, c)*tau(:, a)
-            it%force_master = it%force_master - p%n_ac(a, c)*tau(:, a)
-          end do
-        end do
-      end associate
+        contact%force(:, node) = f
+      end do
     end do
+    it%force_slave = total_slave
+    it%force_master = total_master
   end subroutine nodal_forces
 
 end module mefem_mortar_contact

@@ -26,6 +26,10 @@
 !>   the numbering starts or on its direction, and treats a warped quad as 4 flat triangles.
 !>   A quad with node 4 = node 3 (LS-DYNA's degenerate quad) gives the triangle's weights,
 !>   with columns 3 and 4 summing to the triangle's column 3.
+!> - 3D clipping runs in the slave triangle's barycentric coordinates lambda: the slave edges
+!>   are the lines lambda_i = 0, so clipping by the slave is keeping lambda_i >= 0 (no
+!>   division per polygon vertex), a master whose vertices all have lambda_i <= 0 for one i
+!>   lies beyond that edge (rejected at once), and the integrands are polynomials in lambda.
 !> Tolerances: a pair whose overlap is below OVERLAP_REL_TOL times the slave length/area
 !> returns all zeros; a degenerate slave (zero length, or a triangle with |2A| <=
 !> DEGENERATE_REL_TOL h_max^2) returns all zeros. No routine allocates; all are pure.
@@ -51,11 +55,13 @@ module mefem_mortar_segmentation
 
   !> 2-point Gauss-Legendre abscissa on [-1, 1] (weights 1): exact for cubics.
   real(wp), parameter :: GAUSS2_ABSCISSA = 0.57735026918962576451_wp
-  !> 3-point interior rule on a triangle, exact for quadratics: the point g has barycentric
-  !> TRI3_MAJOR at vertex g and TRI3_MINOR at the other two; each weight is area/3.
-  real(wp), parameter :: TRI3_MAJOR = 2.0_wp/3.0_wp, TRI3_MINOR = 1.0_wp/6.0_wp
   !> Master function value of each quad node at the vertex centroid of its pallets.
   real(wp), parameter :: PALLET_CENTRE_VALUE = 0.25_wp
+  !> Master nodes at the vertices of a master triangle (no pallet centre).
+  integer, parameter :: TRIANGLE_CORNERS(3) = [1, 2, 3]
+  !> Exact integral of a product of barycentrics over a triangle T:
+  !> int_T lambda_i lambda_j = |T| (1 + delta_ij) / LINEAR_PRODUCT_DIVISOR.
+  real(wp), parameter :: LINEAR_PRODUCT_DIVISOR = 12.0_wp
 
 contains
 
@@ -108,10 +114,11 @@ contains
 
   !> Mortar integrals of one slave triangle against one master triangle or quadrilateral.
   !> The master (each pallet of a quad) is projected onto the slave plane along the slave
-  !> normal, clipped against the slave triangle (Sutherland-Hodgman), the overlap polygon is
-  !> fan-triangulated about its vertex average and each sub-triangle integrated with the
-  !> 3-point rule exact for quadratics (n_AB; n_AC follows exactly from it and the master
-  !> functions at the slave vertices, see integrate_master_triangle). Degenerate slave,
+  !> normal, clipped against the slave triangle (Sutherland-Hodgman in the slave's
+  !> barycentric coordinates), the overlap polygon is fan-triangulated about its vertex
+  !> average and each sub-triangle integrated exactly (n_AB; n_AC follows exactly from it
+  !> and the master functions at the slave vertices, see integrate_master_triangle). A
+  !> master entirely beyond one slave edge is rejected before any clipping. Degenerate slave,
   !> invalid nm or overlap below OVERLAP_REL_TOL times the slave area: all outputs zero.
   pure subroutine mortar_triangle_pair_3d(xs, xm, nm, n_ab, n_ac, overlap)
     real(wp), intent(in) :: xs(3, 3)     !< slave vertices (columns), counter-clockwise from outside
@@ -123,7 +130,8 @@ contains
                                          !< when nm = 3
     real(wp), intent(out) :: overlap     !< overlap area (0: none)
     real(wp) :: edge12(3), edge13(3), perpendicular(3), e1(3), e2(3), offset(3)
-    real(wp) :: slave_2d(2, 3), master_2d(2, 4), pallet_2d(2, 3), node_map(3, 4)
+    real(wp) :: slave_2d(2, 3), master_2d(2, 4), pallet_2d(2, 3)
+    real(wp) :: master_lambda(3, 4), pallet_lambda(3, 3)
     real(wp) :: longest_squared, length12, along, height, slave_det
     integer :: i, j
 
@@ -148,31 +156,32 @@ contains
     slave_2d(:, 1) = 0.0_wp
     slave_2d(:, 2) = [length12, 0.0_wp]
     slave_2d(:, 3) = [along, height]
-    ! Projection along the normal = dropping the normal component.
+    ! Projection along the normal = dropping the normal component; the master vertices in
+    ! the slave's barycentric coordinates.
     do j = 1, nm
       offset = xm(:, j) - xs(:, 1)
       master_2d(:, j) = [dot_product(offset, e1), dot_product(offset, e2)]
+      call barycentric(slave_2d, slave_det, master_2d(:, j), master_lambda(:, j))
+    end do
+    ! most candidates of the search do not overlap: the whole master beyond one slave edge
+    do i = 1, 3
+      if (all(master_lambda(i, 1:nm) <= 0.0_wp)) return
     end do
     if (nm == 3) then
-      node_map = 0.0_wp
-      do i = 1, 3
-        node_map(i, i) = 1.0_wp
-      end do
-      call integrate_master_triangle(slave_2d, slave_det, master_2d(:, 1:3), node_map, &
-          n_ab, n_ac, overlap)
+      call integrate_master_triangle(slave_2d, slave_det, master_2d(:, 1:3), &
+          master_lambda(:, 1:3), TRIANGLE_CORNERS, n_ab, n_ac, overlap)
     else
       ! The projection is affine, so the projected vertex centroid is the pallet centre.
       pallet_2d(:, 1) = sum(master_2d, dim=2)/real(nm, wp)
+      pallet_lambda(:, 1) = sum(master_lambda, dim=2)/real(nm, wp)
       do i = 1, 4
         j = mod(i, 4) + 1
         pallet_2d(:, 2) = master_2d(:, i)
         pallet_2d(:, 3) = master_2d(:, j)
-        node_map = 0.0_wp
-        node_map(1, :) = PALLET_CENTRE_VALUE
-        node_map(2, i) = 1.0_wp
-        node_map(3, j) = 1.0_wp
-        call integrate_master_triangle(slave_2d, slave_det, pallet_2d, node_map, &
-            n_ab, n_ac, overlap)
+        pallet_lambda(:, 2) = master_lambda(:, i)
+        pallet_lambda(:, 3) = master_lambda(:, j)
+        call integrate_master_triangle(slave_2d, slave_det, pallet_2d, pallet_lambda, &
+            [0, i, j], n_ab, n_ac, overlap)
       end do
     end if
     if (overlap < OVERLAP_REL_TOL*0.5_wp*slave_det) then
@@ -182,65 +191,86 @@ contains
     end if
   end subroutine mortar_triangle_pair_3d
 
-  !> Add the mortar integrals over (projected master triangle) /\ (slave triangle), both in
-  !> the slave plane's 2D frame. The overlap polygon is fan-triangulated about its vertex
-  !> average; the 3-point rule exact for quadratics gives M_AB = int lambda_A lambda_B
-  !> (lambda: slave barycentrics). The master functions are affine on the plane, so
-  !> N_C^m = sum_B P_BC lambda_B with P_BC = N_C^m at slave vertex B (extrapolated), and
-  !> n_AC = M P exactly; the absolute round-off stays ~eps times the slave area even for
-  !> slender masters (|P| ~ L_slave/w_master while |M| <= overlap <= l_master w_master).
-  !> N_C^m at a point is sum_k mu_k node_map(k, C), mu the master triangle's barycentrics.
-  pure subroutine integrate_master_triangle(slave_2d, slave_det, master_2d, node_map, &
-      n_ab, n_ac, overlap)
+  !> Add the mortar integrals over (projected master triangle) /\ (slave triangle). The master
+  !> triangle, given in the slave plane's 2D frame and in the slave's barycentric coordinates
+  !> lambda, is clipped by lambda_3 >= 0, lambda_1 >= 0, lambda_2 >= 0 (the slave edges 1-2,
+  !> 2-3, 3-1); the overlap polygon is fan-triangulated about its vertex average, and on each
+  !> fan triangle T (vertices with lambda values u, v, w, area |T|) the integrand, a product
+  !> of two linear functions, is integrated exactly: int_T lambda_A lambda_B = |T|/12
+  !> (s_A s_B + u_A u_B + v_A v_B + w_A w_B), s = u + v + w; summed over the fan, each
+  !> polygon vertex collects the weights of its two fan triangles and the centre the total.
+  !> The master functions are affine on the plane, so N_C^m = sum_B P_BC lambda_B with
+  !> P_BC = N_C^m at slave vertex B (extrapolated), and n_AC = M P exactly; the absolute
+  !> round-off stays ~eps times the slave area even for slender masters (|P| ~
+  !> L_slave/w_master while |M| <= overlap <= l_master w_master). Vertex k of the master
+  !> triangle is master node corner(k) (N = 1 there, 0 at the other nodes), or the centre of
+  !> a quad's pallets when corner(k) = 0 (N = PALLET_CENTRE_VALUE for all four nodes).
+  pure subroutine integrate_master_triangle(slave_2d, slave_det, master_2d, master_lambda, &
+      corner, n_ab, n_ac, overlap)
     real(wp), intent(in) :: slave_2d(2, 3)      !< slave triangle, counter-clockwise
     real(wp), intent(in) :: slave_det           !< twice the slave area (> 0)
     real(wp), intent(in) :: master_2d(2, 3)     !< projected master triangle, either orientation
-    real(wp), intent(in) :: node_map(3, 4)      !< master node values at its 3 vertices
+    real(wp), intent(in) :: master_lambda(3, 3) !< its vertices' slave barycentrics (columns)
+    integer, intent(in) :: corner(3)            !< master node at each vertex, 0: pallet centre
     real(wp), intent(inout) :: n_ab(3, 3)       !< accumulated int N_A N_B
     real(wp), intent(inout) :: n_ac(3, 4)       !< accumulated int N_A N_C^m
     real(wp), intent(inout) :: overlap          !< accumulated overlap area
-    real(wp) :: polygon(2, MAX_POLYGON_VERTICES), lambda(3, MAX_POLYGON_VERTICES)
-    real(wp) :: centre(2), lambda_centre(3), base(3), points(3, 3), mass(3, 3), p(3, 4), mu(3)
+    real(wp) :: lambda(3, MAX_POLYGON_VERTICES), scratch(3, MAX_POLYGON_VERTICES)
+    real(wp) :: vertex_weight(MAX_POLYGON_VERTICES)
+    real(wp) :: lambda_centre(3), total(3), mass(3, 3), p(3, 4), mu(3)
     real(wp) :: master_det, orientation, sub_area, weight, area
-    integer :: n_polygon, k, k_next, g, a, b
+    integer :: n_polygon, n_scratch, k, k_next, a, b
 
     master_det = cross2(master_2d(:, 2) - master_2d(:, 1), master_2d(:, 3) - master_2d(:, 1))
     ! A master seen edge-on covers nothing (and its barycentrics would be undefined).
     if (abs(master_det) <= OVERLAP_REL_TOL*slave_det) return
-    if (bounding_boxes_apart(master_2d, slave_2d)) return
-    call sutherland_hodgman(3, master_2d, 3, slave_2d, n_polygon, polygon)
+    do k = 1, 3     ! this pallet lies beyond one slave edge
+      if (all(master_lambda(k, :) <= 0.0_wp)) return
+    end do
+    n_polygon = 3
+    lambda(:, 1:3) = master_lambda
+    call clip_barycentric(3, n_polygon, lambda, n_scratch, scratch)
+    call clip_barycentric(1, n_scratch, scratch, n_polygon, lambda)
+    call clip_barycentric(2, n_polygon, lambda, n_scratch, scratch)
+    n_polygon = n_scratch
     if (n_polygon < 3) return
     ! The clipped polygon keeps the master's orientation.
     orientation = sign(1.0_wp, master_det)
-    ! The barycentrics are affine: evaluate at the vertices, average for the centre.
-    centre = 0.0_wp
     lambda_centre = 0.0_wp
     do k = 1, n_polygon
-      call barycentric(slave_2d, slave_det, polygon(:, k), lambda(:, k))
-      centre = centre + polygon(:, k)
-      lambda_centre = lambda_centre + lambda(:, k)
+      lambda_centre = lambda_centre + scratch(:, k)
     end do
-    centre = centre/real(n_polygon, wp)
     lambda_centre = lambda_centre/real(n_polygon, wp)
     mass = 0.0_wp
     area = 0.0_wp
+    vertex_weight(1:n_polygon) = 0.0_wp
     do k = 1, n_polygon
       k_next = k + 1
       if (k == n_polygon) k_next = 1
-      sub_area = 0.5_wp*orientation*cross2(polygon(:, k) - centre, polygon(:, k_next) - centre)
+      ! area from the barycentrics: (lambda_2, lambda_3) map to the plane with det slave_det
+      sub_area = 0.5_wp*orientation*slave_det*cross2(scratch(2:3, k) - lambda_centre(2:3), &
+                                                     scratch(2:3, k_next) - lambda_centre(2:3))
       area = area + sub_area
-      weight = sub_area/3.0_wp
-      ! Gauss point g: TRI3_MAJOR at vertex g of (centre, v_k, v_k+1), TRI3_MINOR elsewhere.
-      base = TRI3_MINOR*(lambda_centre + lambda(:, k) + lambda(:, k_next))
-      points(:, 1) = base + (TRI3_MAJOR - TRI3_MINOR)*lambda_centre
-      points(:, 2) = base + (TRI3_MAJOR - TRI3_MINOR)*lambda(:, k)
-      points(:, 3) = base + (TRI3_MAJOR - TRI3_MINOR)*lambda(:, k_next)
-      do g = 1, 3
-        do b = 1, 3
-          do a = 1, b
-            mass(a, b) = mass(a, b) + weight*points(a, g)*points(b, g)
-          end do
+      weight = sub_area/LINEAR_PRODUCT_DIVISOR
+      vertex_weight(k) = vertex_weight(k) + weight
+      vertex_weight(k_next) = vertex_weight(k_next) + weight
+      total = lambda_centre + scratch(:, k) + scratch(:, k_next)
+      do b = 1, 3
+        do a = 1, b
+          mass(a, b) = mass(a, b) + weight*total(a)*total(b)
         end do
+      end do
+    end do
+    do k = 1, n_polygon
+      do b = 1, 3
+        do a = 1, b
+          mass(a, b) = mass(a, b) + vertex_weight(k)*scratch(a, k)*scratch(b, k)
+        end do
+      end do
+    end do
+    do b = 1, 3
+      do a = 1, b
+        mass(a, b) = mass(a, b) + area/LINEAR_PRODUCT_DIVISOR*lambda_centre(a)*lambda_centre(b)
       end do
     end do
     do b = 1, 3
@@ -251,7 +281,14 @@ contains
     ! P(B, C): master functions at the slave vertices.
     do b = 1, 3
       call barycentric(master_2d, master_det, slave_2d(:, b), mu)
-      p(b, :) = mu(1)*node_map(1, :) + mu(2)*node_map(2, :) + mu(3)*node_map(3, :)
+      p(b, :) = 0.0_wp
+      do k = 1, 3
+        if (corner(k) == 0) then
+          p(b, :) = p(b, :) + mu(k)*PALLET_CENTRE_VALUE
+        else
+          p(b, corner(k)) = p(b, corner(k)) + mu(k)
+        end if
+      end do
     end do
     n_ab = n_ab + mass
     do b = 1, 4
@@ -259,6 +296,37 @@ contains
     end do
     overlap = overlap + area
   end subroutine integrate_master_triangle
+
+  !> One Sutherland-Hodgman pass in barycentric coordinates: keep the part of a convex
+  !> polygon where lambda_i >= 0 (points on the line count as inside). New vertices are
+  !> interpolated along the cut edges and get lambda_i = 0 exactly.
+  pure subroutine clip_barycentric(i, n_in, polygon_in, n_out, polygon_out)
+    integer, intent(in) :: i                                   !< barycentric kept >= 0
+    integer, intent(in) :: n_in                                !< input vertex count
+    real(wp), intent(in) :: polygon_in(3, MAX_POLYGON_VERTICES)    !< input (columns 1:n_in)
+    integer, intent(out) :: n_out                              !< output vertex count
+    real(wp), intent(out) :: polygon_out(3, MAX_POLYGON_VERTICES)  !< output (1:n_out)
+    real(wp) :: side, side_next
+    integer :: k, k_next
+    n_out = 0
+    do k = 1, n_in
+      k_next = k + 1
+      if (k == n_in) k_next = 1
+      side = polygon_in(i, k)
+      side_next = polygon_in(i, k_next)
+      if (side >= 0.0_wp .and. n_out < MAX_POLYGON_VERTICES) then
+        n_out = n_out + 1
+        polygon_out(:, n_out) = polygon_in(:, k)
+      end if
+      if (((side >= 0.0_wp) .neqv. (side_next >= 0.0_wp)) .and. &
+          n_out < MAX_POLYGON_VERTICES) then
+        n_out = n_out + 1
+        polygon_out(:, n_out) = polygon_in(:, k) + side/(side - side_next) &
+            *(polygon_in(:, k_next) - polygon_in(:, k))
+        polygon_out(i, n_out) = 0.0_wp
+      end if
+    end do
+  end subroutine clip_barycentric
 
   !> Clip a convex polygon (subject, either orientation) by a convex counter-clockwise polygon
   !> (clip) with the Sutherland-Hodgman algorithm: one pass per clip edge keeps the part on
@@ -316,19 +384,6 @@ contains
       end do
     end do
   end subroutine sutherland_hodgman
-
-  !> True when the bounding boxes of two triangles do not overlap (touching counts as apart).
-  pure logical function bounding_boxes_apart(t1, t2)
-    real(wp), intent(in) :: t1(2, 3), t2(2, 3)   !< triangles (columns)
-    integer :: i
-    bounding_boxes_apart = .false.
-    do i = 1, 2
-      if (max(t1(i, 1), t1(i, 2), t1(i, 3)) <= min(t2(i, 1), t2(i, 2), t2(i, 3)) .or. &
-          min(t1(i, 1), t1(i, 2), t1(i, 3)) >= max(t2(i, 1), t2(i, 2), t2(i, 3))) then
-        bounding_boxes_apart = .true.
-      end if
-    end do
-  end function bounding_boxes_apart
 
   !> Signed area of a polygon (shoelace): positive when counter-clockwise.
   pure function polygon_signed_area(n, polygon) result(area)

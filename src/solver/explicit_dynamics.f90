@@ -484,9 +484,11 @@ contains
       s%v_old = s%v
     end if
 
-    ! mortar contact: every rank holds all surfaces; its local and owned contact nodes
+    ! mortar contact: every rank holds all surfaces (the mortar kernels are divided among
+    ! the ranks); its local and owned contact nodes
     if (model%n_contacts > 0) then
-      call mortar_contact_setup(model, mass_global(1:cells%n_mesh_nodes), s%contact)
+      call mortar_contact_setup(model, mass_global(1:cells%n_mesh_nodes), s%contact, &
+                                distribute=.true.)
       allocate(s%contact_local(s%contact%nnode), s%contact_owned(s%contact%nnode), &
                s%contact_buffer(3, s%contact%nnode))
       do k = 1, s%contact%nnode
@@ -682,8 +684,9 @@ contains
   end subroutine compute_forces
 
   !> Mortar contact forces at the current positions: the contact nodes' positions gathered on
-  !> every rank (owners fill, one sum), every interface computed on every rank alike, the
-  !> forces taken at this rank's local nodes.
+  !> every rank (owners fill, one sum), the mortar kernels divided among the ranks and the
+  !> rest of every interface computed on every rank alike (mefem_mortar_contact), the forces
+  !> taken at this rank's local nodes.
   subroutine contact_forces(s, dt)
     type(explicit_state_t), intent(inout) :: s        !< local state
     real(wp), intent(in) :: dt                        !< the step that reached the positions

@@ -263,6 +263,11 @@ contains
     end do
     if (model%n_rigid_walls > 0) call fatal('implicit analysis does not take rigid walls '// &
         '(use a rigid part as a contact tool)')
+    do k = 1, model%n_contacts
+      if (model%contacts(k)%ignore /= 0) call fatal('implicit analysis takes IGNORE = 0 only '// &
+          '(initial penetrations are pushed out); see the contact at line '// &
+          itoa(model%contacts(k)%src%line))
+    end do
     if (model%controls%end_time <= 0.0_wp) call fatal('implicit analysis needs '// &
         '*CONTROL_TERMINATION ENDTIM')
     ! rigid parts are tools: their nodes may not be shared with deformable elements

@@ -6,9 +6,20 @@ top and side faces not), frictionless and with friction, ENDCYC cycles, on 1 and
 the contact time per cycle, per slave facet and cycle, and its share of the cycle.
 
 usage: tests/bench/run_contact_bench.py [--small]   (default N = 160: 51 200 contact facets)
+environment: MEFEM (binary, default bin/mefem: e.g. an older build for before/after),
+BENCH_CONTACT_RANKS (default "1 2"), BENCH_CONTACT_FRICTION (default "0 0.2").
+The sheet starts 0.01 mm above the tool, inside the search margin: every bottom facet has its
+candidates and overlapping partners from the first cycle, so the search, the mortar kernels and
+the driver do their full work, but within the run the sheet does not yet touch the tool (zero
+pressure; the friction return map is not exercised).
+Columns: wall s of the run, the driver's wall time per cycle and contact time per cycle (rank
+0), contact ns per bottom facet and cycle, the contact share of rank 0's cycle, and the CPU
+share of the run (CPU time of all processes / (wall x ranks): below 1 when other jobs shared
+the cores, and the wall figures of that row are inflated).
 """
 import os
 import re
+import resource
 import subprocess
 import sys
 import time
@@ -59,21 +70,29 @@ def deck(friction):
 
 print('contact benchmark: %d x %d x 1 cubes x 6 ME-FEM tets on a rigid plate, %d cycles' % (
     N, N, CYCLES))
-print('%-12s %5s %10s %12s %14s %18s %10s' % ('case', 'ranks', 'wall s', 'cycle ms',
-                                             'contact ms', 'ns/facet-cycle', 'share %'))
+print('%-12s %5s %10s %12s %14s %18s %10s %10s' % ('case', 'ranks', 'wall s', 'cycle ms',
+                                                  'contact ms', 'ns/facet-cycle', 'share %',
+                                                  'CPU share'))
 env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT='1', OMPI_ALLOW_RUN_AS_ROOT_CONFIRM='1',
-           OMPI_MCA_rmaps_base_oversubscribe='1')
-for friction in (0.0, 0.2):
+           OMPI_MCA_rmaps_base_oversubscribe='1', OPENBLAS_NUM_THREADS='1')
+binary = os.environ.get('MEFEM', os.path.join(ROOT, 'bin', 'mefem'))
+rank_counts = [int(v) for v in os.environ.get('BENCH_CONTACT_RANKS', '1 2').split()]
+frictions = [float(v) for v in os.environ.get('BENCH_CONTACT_FRICTION', '0 0.2').split()]
+for friction in frictions:
     blocks, nelem = deck(friction)
     path = os.path.join(OUT, 'contact_bench_fs%g.k' % friction)
     write_deck(path, blocks, title='contact benchmark')
-    for ranks in (1, 2):
-        cmd = [os.path.join(ROOT, 'bin', 'mefem'), '-o', os.path.join(OUT, 'run'), path]
+    for ranks in rank_counts:
+        cmd = [binary, '-o', os.path.join(OUT, 'run'), path]
         if ranks > 1:
             cmd = MPIRUN + ['-np', str(ranks)] + cmd
+        usage = resource.getrusage(resource.RUSAGE_CHILDREN)
+        cpu0 = usage.ru_utime + usage.ru_stime
         t0 = time.time()
         p = subprocess.run(cmd, cwd=ROOT, capture_output=True, text=True, env=env)
         wall = time.time() - t0
+        usage = resource.getrusage(resource.RUSAGE_CHILDREN)
+        cpu_share = (usage.ru_utime + usage.ru_stime - cpu0) / (wall * ranks)
         text = p.stdout + p.stderr
         if p.returncode != 0:
             print('run failed:', text[-800:])
@@ -82,6 +101,6 @@ for friction in (0.0, 0.2):
         per_cycle = float(re.search(r'contact (\S+) s per cycle', text).group(1))
         cycle = float(re.search(r'average wall time per cycle\s+(\S+) s', text).group(1))
         facets = 2 * N * N                          # the bottom facets in contact
-        print('%-12s %5d %10.1f %12.3f %14.3f %18.1f %10.1f' % (
+        print('%-12s %5d %10.1f %12.3f %14.3f %18.1f %10.1f %10.2f' % (
             'FS=%g' % friction, ranks, wall, 1e3 * cycle, 1e3 * per_cycle,
-            1e9 * per_cycle / facets, share))
+            1e9 * per_cycle / facets, share, cpu_share), flush=True)

@@ -26,6 +26,9 @@ from lsdyna_ascii import read_glstat, read_rcforc
 
 E, NU, RHO, P = 1000.0, 0.3, 1.0e-9, 10.0
 T = 1.0e-4
+# divide the contact work among the ranks however small the interfaces (by default only from
+# 2000 candidate pairs per rank; doc/theory.md 10.8), so that the rank checks exercise it
+os.environ['MEFEM_CONTACT_DIVIDE_MIN'] = '0'
 checks = Checks('contact_patch')
 
 
@@ -83,6 +86,7 @@ def patch_deck(dim):
 
 
 forces = {}
+states = {}
 for dim, ranks_list in ((3, (1, 2, 4)), (2, (1,))):
     x, n_lower, blocks = patch_deck(dim)
     for ranks in ranks_list:
@@ -93,6 +97,12 @@ for dim, ranks_list in ((3, (1, 2, 4)), (2, (1,))):
             continue
         r = read_rcforc(os.path.join(out, 'rcforc'))[1]
         forces[(dim, ranks)] = np.array([r['master'][c] for c in ('x', 'y', 'z')])
+        with h5py.File(os.path.join(out, name + '.h5')) as f:
+            # the last state's nodal fields in node-id order, for the bitwise rank check
+            last = sorted(f['states'].keys())[-1]
+            order = np.argsort(f['mesh/node_ids'][()])
+            states[(dim, ranks)] = [f['states/%s/point/%s' % (last, k)][()][order]
+                                    for k in ('displacement', 'velocity', 'contact_pressure')]
         if ranks != 1:
             continue
         with h5py.File(os.path.join(out, name + '.h5')) as f:
@@ -126,4 +136,11 @@ if (3, 1) in forces:
             same = np.array_equal(forces[(3, 1)], forces[(3, ranks)])
             checks.check(same, '3D: contact force history on %d ranks identical to 1 rank' %
                          ranks, '%.3e' % np.max(abs(forces[(3, 1)] - forces[(3, ranks)])))
+            # the mortar kernels are divided among the ranks (doc/theory.md 10.8): the last
+            # state's displacements, velocities and contact pressures must be the same bits
+            same = all(np.array_equal(a, b) for a, b in zip(states[(3, 1)], states[(3, ranks)]))
+            checks.check(same, '3D: last state (displacement, velocity, contact pressure) on '
+                         '%d ranks bit-identical to 1 rank' % ranks, '%.3e' % max(
+                             np.max(abs(a - b)) for a, b in zip(states[(3, 1)],
+                                                                states[(3, ranks)])))
 checks.exit()
