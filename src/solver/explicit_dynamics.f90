@@ -713,10 +713,12 @@ contains
     real(wp) :: ue(3, CELL_MAX_NODES), f(3, 3), tau(3, 3), hist_new(NHIST), sound, omega2
     real(wp) :: dt_cell, target, factor
     type(status_t) :: status
-    integer :: nn, dim
+    integer :: nn, dim, k
     dim = s%dim
     nn = s%nnodes(l)
-    ue(1:dim, 1:nn) = s%u(:, s%nodes(1:nn, l))
+    do k = 1, nn                 ! gather by a loop (a vector subscript allocates a temporary)
+      ue(1:dim, k) = s%u(1:dim, s%nodes(k, l))
+    end do
     call cell_deformation_gradient(dim, nn, s%grad(:, :, l), ue(1:dim, 1:nn), f)
     call material_update(model%materials(s%material(l)), model%curves, f, s%hist(:, l), &
                          hist_new, tau, sound_speed=sound, status=status)
