@@ -168,7 +168,9 @@ module mefem_explicit_dynamics
   !> Wall time spent in the phases of the cycle (for the run summary).
   type :: timing_t
     real(wp) :: forces = 0.0_wp                !< cells: F, material, forces, time step
-    real(wp) :: exchange = 0.0_wp              !< waiting for the halo and the reductions
+    real(wp) :: exchange = 0.0_wp              !< halo assembly (waiting and summing)
+    real(wp) :: reduction = 0.0_wp             !< the time-step reduction (waits for the
+                                               !< slowest rank)
     real(wp) :: update = 0.0_wp                !< nodal update, conditions, energies
     real(wp) :: output = 0.0_wp                !< states and histories
     real(wp) :: contact = 0.0_wp               !< contact: gather, search, mortar, forces
@@ -245,7 +247,9 @@ contains
       if (s%bodies%n > 0) call rigid_body_resultants(s)
       timing%update = timing%update + (comm_wtime() - clock)
       dt_old = dt
+      clock = comm_wtime()
       dt = next_time_step(s)
+      timing%reduction = timing%reduction + (comm_wtime() - clock)
       if (dt < 0.0_wp) call stop_on_failure(model, decomp, cells, layout, s, schedule, cycle, &
                                             t, dt_old, timing)
       call write_outputs(model, decomp, cells, layout, s, schedule, cycle, t, dt_old, .false., &
@@ -263,7 +267,7 @@ contains
     call write_outputs(model, decomp, cells, layout, s, schedule, cycle, t, dt_old, .true., timing)
     call close_histories()
     call progress_finish()
-    call report_timing(model, s, cycle, timing, comm_wtime() - t_start)
+    call report_timing(model, s, cycle, timing, halo%assembly_wait, comm_wtime() - t_start)
   end subroutine explicit_dynamics_run
 
   !> What the explicit solver takes (anything else is reported before the run starts).
@@ -1217,18 +1221,30 @@ contains
     call rcforc_close()
   end subroutine close_histories
 
-  !> Run summary: cycles, and where the time went per element and cell cycle.
-  subroutine report_timing(model, s, cycle, timing, wall)
+  !> Run summary: cycles, and where the time went per element and cell cycle; with several
+  !> ranks, the spread over ranks (min / max) of the cells and of the phase times, which
+  !> tells load imbalance (forces) from communication (halo wait, time-step reduction).
+  subroutine report_timing(model, s, cycle, timing, halo_wait, wall)
     type(model_t), intent(in) :: model                !< resolved model
     type(explicit_state_t), intent(in) :: s           !< local state
     integer, intent(in) :: cycle                      !< cycles run
     type(timing_t), intent(in) :: timing              !< phase times (this rank)
+    real(wp), intent(in) :: halo_wait                 !< time waiting in the halo assembly
     real(wp), intent(in) :: wall                      !< wall time of the whole analysis
-    real(wp) :: loop, counts(2), ranks
+    real(wp) :: loop, counts(2), ranks, spread(2, 5)
+    integer :: k
     counts = [real(count(deformable_element(model)), wp), real(s%ncell, wp)]
     counts(2) = real(s%ncell, wp)
     call comm_sum(counts(2))
-    loop = timing%forces + timing%exchange + timing%update + timing%output + timing%contact
+    loop = timing%forces + timing%exchange + timing%reduction + timing%update + timing%output + &
+           timing%contact
+    spread(1, :) = [real(s%ncell, wp), timing%forces, halo_wait, timing%reduction, &
+                    timing%update]
+    spread(2, :) = spread(1, :)
+    do k = 1, size(spread, 2)
+      call comm_min(spread(1, k))
+      call comm_max(spread(2, k))
+    end do
     call comm_max(loop)
     ranks = real(comm_size(), wp)
     call say('explicit: '//itoa(cycle)//' cycles, '//rtoa(wall)//' s')
@@ -1237,10 +1253,17 @@ contains
                ' ns per element-cycle, '//rtoa(1.0e9_wp*loop*ranks/(counts(2)*cycle))// &
                ' ns per cell-cycle (core time = wall x '//itoa(comm_size())//' ranks)')
       call say('explicit: rank 0 time in forces '//rtoa(100.0_wp*timing%forces/loop)// &
-               ' %, halo exchange and reductions '//rtoa(100.0_wp*timing%exchange/loop)// &
+               ' %, halo exchange and reductions '// &
+               rtoa(100.0_wp*(timing%exchange + timing%reduction)/loop)// &
                ' %, nodal update '//rtoa(100.0_wp*timing%update/loop)//' %, output '// &
                rtoa(100.0_wp*timing%output/loop)//' %, contact '// &
                rtoa(100.0_wp*timing%contact/loop)//' %')
+      if (comm_size() > 1) call say('explicit: min / max over ranks: cells '// &
+          itoa(nint(spread(1, 1)))//' / '//itoa(nint(spread(2, 1)))//', forces '// &
+          rtoa(spread(1, 2))//' / '//rtoa(spread(2, 2))//' s, halo wait '// &
+          rtoa(spread(1, 3))//' / '//rtoa(spread(2, 3))//' s, time-step reduction '// &
+          rtoa(spread(1, 4))//' / '//rtoa(spread(2, 4))//' s, nodal update '// &
+          rtoa(spread(1, 5))//' / '//rtoa(spread(2, 5))//' s')
       if (timing%contact > 0.0_wp) call say('explicit: contact '// &
           rtoa(timing%contact/cycle)//' s per cycle on rank 0')
     end if
