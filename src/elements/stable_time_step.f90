@@ -22,11 +22,12 @@ module mefem_stable_time_step
   use mefem_model, only: model_t
   use mefem_cells, only: cells_t, CELL_MAX_NODES
   use mefem_lumped_mass, only: simplex_measure
+  use mefem_material_state, only: BLOCK_POINTS
   implicit none
   private
 
   public :: cell_mass_shares, cell_inverse_mass_metric, cell_critical_omega_squared, &
-            symmetric_max_eigenvalue
+            symmetric_max_eigenvalue, block_critical_omega_squared
 
 contains
 
@@ -181,6 +182,84 @@ contains
                       (max(lambda, 0.0_wp)*trace_w + 2.0_wp*mu*lambda_max)
     end if
   end function cell_critical_omega_squared
+
+  !> Block form (3D) of cell_critical_omega_squared for n cells of one material, structure of
+  !> arrays (entry i is cell i), with adj(F) and J = det F from mefem_cell_finite_strain's
+  !> block_adjugate (the same expressions): the same arithmetic per cell, so the same bits.
+  !> The stages without calls vectorise across cells; acos and cos run in a scalar loop of
+  !> their own.
+  pure subroutine block_critical_omega_squared(n, weight, w0, adj, det, lambda, mu, &
+                                               omega_squared)
+    integer, intent(in) :: n                      !< cells (<= BLOCK_POINTS)
+    integer, parameter :: ld = BLOCK_POINTS       !< leading dimension
+    real(wp), intent(in) :: weight(ld)            !< reference volumes
+    real(wp), intent(in) :: w0(ld, 9)             !< reference inverse-mass metrics, by column
+    real(wp), intent(in) :: adj(ld, 9)            !< adj(F), column by column
+    real(wp), intent(in) :: det(ld)               !< J = det F
+    real(wp), intent(in) :: lambda                !< Lame's first constant (< 0 counts as 0)
+    real(wp), intent(in) :: mu                    !< shear modulus
+    real(wp), intent(out) :: omega_squared(ld)    !< bounds of omega^2 (huge for J <= 0)
+    real(wp), parameter :: ONE_THIRD = 1.0_wp/3.0_wp, ONE_SIXTH = 1.0_wp/6.0_wp
+    real(wp) :: y(9), w11, w22, w33, w12, w23, w13, p1, d11, d22, d33, lambda_plus
+    real(wp), dimension(ld) :: trace_w, q, p2, root, r, lambda_max
+    integer :: i, b
+    do i = 1, n
+      ! y = W0 adj (y(a, b) at a + 3(b-1)), w = adj^T y (upper triangle)
+      do b = 0, 2
+        y(1 + 3*b) = w0(i, 1)*adj(i, 1 + 3*b) + w0(i, 4)*adj(i, 2 + 3*b) + w0(i, 7)*adj(i, 3 + 3*b)
+        y(2 + 3*b) = w0(i, 2)*adj(i, 1 + 3*b) + w0(i, 5)*adj(i, 2 + 3*b) + w0(i, 8)*adj(i, 3 + 3*b)
+        y(3 + 3*b) = w0(i, 3)*adj(i, 1 + 3*b) + w0(i, 6)*adj(i, 2 + 3*b) + w0(i, 9)*adj(i, 3 + 3*b)
+      end do
+      w11 = adj(i, 1)*y(1) + adj(i, 2)*y(2) + adj(i, 3)*y(3)
+      w12 = adj(i, 1)*y(4) + adj(i, 2)*y(5) + adj(i, 3)*y(6)
+      w22 = adj(i, 4)*y(4) + adj(i, 5)*y(5) + adj(i, 6)*y(6)
+      w13 = adj(i, 1)*y(7) + adj(i, 2)*y(8) + adj(i, 3)*y(9)
+      w23 = adj(i, 4)*y(7) + adj(i, 5)*y(8) + adj(i, 6)*y(9)
+      w33 = adj(i, 7)*y(7) + adj(i, 8)*y(8) + adj(i, 9)*y(9)
+      trace_w(i) = w11 + w22 + w33
+      ! largest eigenvalue (max_eigenvalue_3), in stages: selects, square roots and divisions
+      ! in loops of their own (gfortran vectorises neither a division of a selected value nor
+      ! a select of a quotient)
+      q(i) = (w11 + w22 + w33)*ONE_THIRD
+      p1 = w12**2 + w13**2 + w23**2
+      d11 = w11 - q(i)
+      d22 = w22 - q(i)
+      d33 = w33 - q(i)
+      p2(i) = d11**2 + d22**2 + d33**2 + 2.0_wp*p1
+      r(i) = 0.5_wp*(d11*(d22*d33 - w23*w23) - w12*(w12*d33 - w23*w13) + w13*(w12*w23 - &
+             d22*w13))
+    end do
+    do i = 1, n                                   ! p2 = 0: a multiple of the identity
+      root(i) = merge(p2(i), 6.0_wp, p2(i) > 0.0_wp)
+    end do
+    do i = 1, n
+      root(i) = sqrt(root(i)*ONE_SIXTH)
+      r(i) = r(i)/(root(i)*root(i)*root(i))
+    end do
+    do i = 1, n                                   ! min(1, max(-1, r)), a NaN -> -1 as with max
+      r(i) = merge(r(i), -1.0_wp, r(i) >= -1.0_wp)
+      r(i) = merge(1.0_wp, r(i), r(i) > 1.0_wp)
+      root(i) = merge(root(i), 0.0_wp, p2(i) > 0.0_wp)      ! then q + 2 p cos(phi) = q
+    end do
+    ! not vectorised: gfortran would call libmvec's acos and cos for pairs of cells and libm's
+    ! for a left-over cell; they differ in the last bits, and which cells pair up depends on
+    ! the blocks, i.e. on the number of ranks (results must not)
+    !GCC$ novector
+    do i = 1, n
+      lambda_max(i) = cos(acos(r(i))*ONE_THIRD)
+    end do
+    lambda_plus = max(lambda, 0.0_wp)
+    do i = 1, n
+      lambda_max(i) = q(i) + 2.0_wp*root(i)*lambda_max(i)
+      p2(i) = merge(det(i), 1.0_wp, det(i) > 0.0_wp)       ! (p2 reused: J or 1)
+    end do
+    do i = 1, n
+      omega_squared(i) = weight(i)/p2(i)*(lambda_plus*trace_w(i) + 2.0_wp*mu*lambda_max(i))
+    end do
+    do i = 1, n
+      omega_squared(i) = merge(omega_squared(i), huge(1.0_wp), det(i) > 0.0_wp)
+    end do
+  end subroutine block_critical_omega_squared
 
   !> Largest eigenvalue of a symmetric n x n matrix, n = 1, 2, 3, in closed form (2x2: mean
   !> plus the radius; 3x3: the trigonometric solution of the characteristic cubic, Smith 1961).

@@ -38,12 +38,15 @@ module mefem_explicit_dynamics
                         halo_assemble
   use mefem_cells, only: cells_t, cells_build, cells_summary, CELL_MAX_NODES
   use mefem_cell_finite_strain, only: cell_deformation_gradient, cell_internal_force, &
-                                      inverse_3x3
+                                      inverse_3x3, block_deformation_gradient, &
+                                      block_adjugate, block_internal_force
   use mefem_lumped_mass, only: lumped_mass
   use mefem_stable_time_step, only: cell_mass_shares, cell_inverse_mass_metric, &
-                                    cell_critical_omega_squared
-  use mefem_material_state, only: NHIST, HIST_ALPHA, material_state_init
-  use mefem_material_update, only: material_update, material_elastic_moduli
+                                    cell_critical_omega_squared, block_critical_omega_squared
+  use mefem_material_state, only: NHIST, HIST_ALPHA, material_state_init, &
+                                  BLOCK_CELLS => BLOCK_POINTS
+  use mefem_material_update, only: material_update, material_update_block, &
+                                   material_elastic_moduli
   use mefem_curves, only: curve_value
   use mefem_boundary_conditions, only: fixed_dofs, external_forces, target_nodes, &
                                        initial_velocities
@@ -113,6 +116,12 @@ module mefem_explicit_dynamics
     ! cells
     integer, allocatable :: outer(:)           !< local cells touching a shared node
     integer, allocatable :: inner(:)           !< the other local cells
+    ! blocks of the 3D cell loop: the outer cells, then the inner ones, each grouped by
+    ! (material, number of nodes) in ascending cell order and cut into at most BLOCK_CELLS
+    integer :: nblock = 0                      !< blocks (3D; 0 in 2D)
+    integer :: nblock_outer = 0                !< the first nblock_outer blocks are outer cells
+    integer, allocatable :: block_start(:)     !< (nblock+1) offsets into block_cell
+    integer, allocatable :: block_cell(:)      !< local cells, block by block
     integer, allocatable :: cell_global(:)     !< (ncell) global cell index
     integer, allocatable :: cell_element(:)    !< (ncell) first model element of the cell
     integer, allocatable :: nnodes(:)          !< (ncell) nodes of the cell
@@ -375,6 +384,7 @@ contains
       call material_state_init(s%hist(:, l))
     end do
     s%cell_force = 0.0_wp
+    if (dim == 3) call build_blocks(s)
     s%mass_scaling = model%controls%dt2ms < 0.0_wp
     if (s%mass_scaling) allocate(s%added(1, CELL_MAX_NODES, s%ncell))
 
@@ -658,13 +668,23 @@ contains
     s%dt_stable = huge(1.0_wp)
     s%dt_cell = 0
     s%failed = .false.
-    do k = 1, size(s%outer)
-      call cell_forces(model, s, s%outer(k))
-    end do
-    call halo_assemble_start(halo, s%cell_force)
-    do k = 1, size(s%inner)
-      call cell_forces(model, s, s%inner(k))
-    end do
+    if (s%nblock > 0 .or. s%ncell == 0) then
+      do k = 1, s%nblock_outer
+        call block_forces(model, s, k)
+      end do
+      call halo_assemble_start(halo, s%cell_force)
+      do k = s%nblock_outer + 1, s%nblock
+        call block_forces(model, s, k)
+      end do
+    else
+      do k = 1, size(s%outer)
+        call cell_forces(model, s, s%outer(k))
+      end do
+      call halo_assemble_start(halo, s%cell_force)
+      do k = 1, size(s%inner)
+        call cell_forces(model, s, s%inner(k))
+      end do
+    end if
     timing%forces = timing%forces + (comm_wtime() - clock)
     clock = comm_wtime()
     call halo_assemble_finish(halo, s%cell_force, s%f_int_new)
@@ -756,11 +776,162 @@ contains
       s%added(1, 1:nn, l) = factor*s%share(1:nn, l)
     end if
     dt_cell = model%controls%tssfac*dt_cell
+    call take_smaller_step(model, s, l, dt_cell)
+  end subroutine cell_forces
+
+  !> Keep the smallest cell step and its cell; among equal steps the cell of the lowest
+  !> element id (independent of the order in which cells are computed).
+  subroutine take_smaller_step(model, s, l, dt_cell)
+    type(model_t), intent(in) :: model                !< resolved model
+    type(explicit_state_t), intent(inout) :: s        !< local state
+    integer, intent(in) :: l                          !< local cell
+    real(wp), intent(in) :: dt_cell                   !< its stable step (TSSFAC applied)
     if (dt_cell < s%dt_stable) then
       s%dt_stable = dt_cell
       s%dt_cell = l
+    else if (dt_cell == s%dt_stable .and. s%dt_cell > 0) then
+      if (model%elements%id(s%cell_element(l)) < model%elements%id(s%cell_element(s%dt_cell))) &
+        s%dt_cell = l
     end if
-  end subroutine cell_forces
+  end subroutine take_smaller_step
+
+  !> Group the local cells into blocks for block_forces: outer cells first (they must be done
+  !> before the halo exchange starts), then inner ones; within each, cells of equal (material,
+  !> node count) together in ascending cell order, cut into blocks of at most BLOCK_CELLS.
+  !> The order of computation does not change any result: every cell writes its own
+  !> contributions and the assembly order is fixed by the layout's plan.
+  subroutine build_blocks(s)
+    type(explicit_state_t), intent(inout) :: s        !< local state (cells set up)
+    integer, allocatable :: starts(:)
+    allocate(s%block_cell(s%ncell), starts(s%ncell + 2))
+    s%nblock = 0
+    starts(1) = 1
+    call group(s%outer, 0)
+    s%nblock_outer = s%nblock
+    call group(s%inner, size(s%outer))
+    s%block_start = starts(1:s%nblock + 1)
+  contains
+
+    !> Append the blocks of one list of cells (placed after `offset` cells of block_cell).
+    subroutine group(list, offset)
+      integer, intent(in) :: list(:)                  !< local cells, ascending
+      integer, intent(in) :: offset                   !< cells already placed
+      logical :: placed(size(list))
+      integer :: k, m, placed_count, key_material, key_nodes, in_block
+      placed = .false.
+      placed_count = offset
+      do k = 1, size(list)
+        if (placed(k)) cycle
+        key_material = s%material(list(k))
+        key_nodes = s%nnodes(list(k))
+        in_block = 0
+        do m = k, size(list)
+          if (placed(m)) cycle
+          if (s%material(list(m)) /= key_material .or. s%nnodes(list(m)) /= key_nodes) cycle
+          if (in_block == BLOCK_CELLS) then
+            s%nblock = s%nblock + 1
+            starts(s%nblock + 1) = placed_count + 1
+            in_block = 0
+          end if
+          placed(m) = .true.
+          placed_count = placed_count + 1
+          s%block_cell(placed_count) = list(m)
+          in_block = in_block + 1
+        end do
+        s%nblock = s%nblock + 1
+        starts(s%nblock + 1) = placed_count + 1
+      end do
+    end subroutine group
+
+  end subroutine build_blocks
+
+  !> One block of 3D cells of one material and node count (build_blocks): the steps of
+  !> cell_forces with the cells in the inner loops. The block's data are gathered into
+  !> structure-of-arrays temporaries (entry i is the block's i-th cell), the kernels run over
+  !> the block (vectorised across cells; each cell's arithmetic is cell_forces', so the
+  !> results are the same bits), and the forces, histories and step are scattered back. A
+  !> cell whose material update fails is redone by cell_forces, which reports it.
+  subroutine block_forces(model, s, b)
+    type(model_t), intent(in) :: model                !< resolved model
+    type(explicit_state_t), intent(inout) :: s        !< local state
+    integer, intent(in) :: b                          !< block
+    integer, parameter :: LD = BLOCK_CELLS
+    real(wp) :: u(LD, 3, CELL_MAX_NODES), grad(LD, 3, CELL_MAX_NODES)
+    real(wp) :: force(LD, 3, CELL_MAX_NODES), f(LD, 9), adj(LD, 9), det(LD), hist(LD, NHIST)
+    real(wp) :: tau(LD, 6), w0(LD, 9), weight(LD), omega2(LD), dt_cell, target, factor
+    logical :: ok(LD)
+    integer :: cell(LD), n, nn, i, a, k, l, node, first
+    first = s%block_start(b)
+    n = s%block_start(b + 1) - first
+    if (n == 0) return
+    nn = s%nnodes(s%block_cell(first))
+    ! gather
+    do i = 1, n
+      l = s%block_cell(first + i - 1)
+      cell(i) = l
+      weight(i) = s%weight(l)
+      do a = 1, nn
+        node = s%nodes(a, l)
+        u(i, 1, a) = s%u(1, node)
+        u(i, 2, a) = s%u(2, node)
+        u(i, 3, a) = s%u(3, node)
+        grad(i, 1, a) = s%grad(1, a, l)
+        grad(i, 2, a) = s%grad(2, a, l)
+        grad(i, 3, a) = s%grad(3, a, l)
+      end do
+      do k = 1, NHIST
+        hist(i, k) = s%hist(k, l)
+      end do
+      do k = 1, 3
+        w0(i, 3*k - 2) = s%w0(1, k, l)
+        w0(i, 3*k - 1) = s%w0(2, k, l)
+        w0(i, 3*k) = s%w0(3, k, l)
+      end do
+    end do
+    ! F, J and adj(F) once per cell; material update; forces; stable-step bound
+    call block_deformation_gradient(n, nn, u, grad, f)
+    call block_adjugate(n, f, adj, det)
+    call material_update_block(model%materials(s%material(cell(1))), model%curves, n, f, det, &
+                               hist, tau, ok)
+    call block_internal_force(n, nn, grad, weight, adj, det, tau, force)
+    call block_critical_omega_squared(n, weight, w0, adj, det, s%lame(1, cell(1)), &
+                                      s%lame(2, cell(1)), omega2)
+    ! scatter
+    do i = 1, n
+      l = cell(i)
+      if (.not. ok(i)) then
+        call cell_forces(model, s, l)                ! reports the failure
+        cycle
+      end if
+      do k = 1, NHIST
+        s%hist(k, l) = hist(i, k)
+      end do
+      do a = 1, nn
+        s%cell_force(1, a, l) = force(i, 1, a)
+        s%cell_force(2, a, l) = force(i, 2, a)
+        s%cell_force(3, a, l) = force(i, 3, a)
+      end do
+      if (.not. (omega2(i) >= 0.0_wp .and. omega2(i) < huge(1.0_wp))) then     ! NaN, overflow
+        if (.not. s%failed) s%failure = 'element '// &
+            itoa(model%elements%id(first_element(s, l)))//': the stable time step is not a '// &
+            'number (NaN or infinite deformation)'
+        s%failed = .true.
+        cycle
+      end if
+      dt_cell = 2.0_wp/sqrt(max(omega2(i), tiny(1.0_wp)))
+      if (s%mass_scaling) then
+        target = abs(model%controls%dt2ms)
+        factor = 0.0_wp
+        if (dt_cell < target) then
+          factor = (target/dt_cell)**2 - 1.0_wp
+          dt_cell = target
+        end if
+        s%added(1, 1:nn, l) = factor*s%share(1:nn, l)
+      end if
+      dt_cell = model%controls%tssfac*dt_cell
+      call take_smaller_step(model, s, l, dt_cell)
+    end do
+  end subroutine block_forces
 
   !> The model element a local cell belongs to (the first of its one or two elements).
   integer function first_element(s, l)
