@@ -244,7 +244,7 @@ contains
       clock = comm_wtime()
       call update_velocities(model, s, t, dt_old, dt)
       if (s%nwall > 0) s%u_old = s%u
-      s%u = s%u + dt*s%v
+      call advance_displacements(s%dim*s%nnode, dt, s%v, s%u)
       if (s%bodies%n > 0) call move_rigid_bodies(model, s, t, dt_old, dt)
       if (s%nwall > 0) call apply_rigid_walls(model, s, t + dt, dt_old, dt)
       timing%update = timing%update + (comm_wtime() - clock)
@@ -617,12 +617,8 @@ contains
     real(wp) :: dt_avg, amount, work
     integer :: k, n, i, m
     dt_avg = 0.5_wp*(dt_old + dt)
-    s%v_old = s%v
-    s%driven = .false.
-    do n = 1, s%nnode
-      if (s%active(n)) s%v(:, n) = s%v(:, n) + dt_avg*s%a(:, n)
-    end do
-    where (s%fixed) s%v = 0.0_wp
+    call advance_velocities(s%dim, s%nnode, dt_avg, s%active, s%fixed, s%a, s%v, s%v_old, &
+                            s%driven)
     work = 0.0_wp
     do k = 1, s%nprescribed
       n = s%prescribed_node(k)
@@ -981,16 +977,65 @@ contains
   !> motion outside its BIRTH..DEATH window leaves its dof free).
   subroutine accelerations(s)
     type(explicit_state_t), intent(inout) :: s        !< local state
-    integer :: n
-    do n = 1, s%nnode
-      if (s%active(n)) then
-        s%a(:, n) = (s%f_ext(:, n) + s%f_con(:, n) - s%f_int(:, n))/s%mass(n)
-      else
-        s%a(:, n) = 0.0_wp
-      end if
-    end do
-    where (s%fixed .or. s%driven) s%a = 0.0_wp
+    call nodal_accelerations(s%dim, s%nnode, s%active, s%fixed, s%driven, s%f_ext, s%f_con, &
+                             s%f_int, s%mass, s%a)
   end subroutine accelerations
+
+  !> The loop of accelerations on plain arrays (the compiler then keeps the array addresses
+  !> in registers instead of reloading them from the state after every store).
+  pure subroutine nodal_accelerations(dim, nnode, active, fixed, driven, f_ext, f_con, f_int, &
+                                      mass, a)
+    integer, intent(in) :: dim, nnode                 !< dimension, local nodes
+    logical, intent(in) :: active(nnode)              !< integrated nodes
+    logical, intent(in) :: fixed(dim, nnode), driven(dim, nnode) !< dofs with a = 0
+    real(wp), intent(in) :: f_ext(dim, nnode), f_con(dim, nnode), f_int(dim, nnode) !< forces
+    real(wp), intent(in) :: mass(nnode)               !< lumped masses
+    real(wp), intent(out) :: a(dim, nnode)            !< accelerations
+    integer :: n, d
+    do n = 1, nnode
+      do d = 1, dim
+        if (active(n) .and. .not. (fixed(d, n) .or. driven(d, n))) then
+          a(d, n) = (f_ext(d, n) + f_con(d, n) - f_int(d, n))/mass(n)
+        else
+          a(d, n) = 0.0_wp
+        end if
+      end do
+    end do
+  end subroutine nodal_accelerations
+
+  !> v^{n+1/2} = v^{n-1/2} + dt_avg a^n at the integrated nodes, 0 at fixed dofs; keeps
+  !> v^{n-1/2} and clears the driven flags (first part of update_velocities, on plain arrays).
+  pure subroutine advance_velocities(dim, nnode, dt_avg, active, fixed, a, v, v_old, driven)
+    integer, intent(in) :: dim, nnode                 !< dimension, local nodes
+    real(wp), intent(in) :: dt_avg                    !< (dt^{n-1/2} + dt^{n+1/2})/2
+    logical, intent(in) :: active(nnode)              !< integrated nodes
+    logical, intent(in) :: fixed(dim, nnode)          !< SPC / TC fixed dofs
+    real(wp), intent(in) :: a(dim, nnode)             !< a^n
+    real(wp), intent(inout) :: v(dim, nnode)          !< v^{n-1/2} -> v^{n+1/2}
+    real(wp), intent(out) :: v_old(dim, nnode)        !< v^{n-1/2}
+    logical, intent(out) :: driven(dim, nnode)        !< cleared
+    integer :: n, d
+    do n = 1, nnode
+      do d = 1, dim
+        v_old(d, n) = v(d, n)
+        if (active(n)) v(d, n) = v(d, n) + dt_avg*a(d, n)
+        if (fixed(d, n)) v(d, n) = 0.0_wp
+        driven(d, n) = .false.
+      end do
+    end do
+  end subroutine advance_velocities
+
+  !> u^{n+1} = u^n + dt v^{n+1/2} over all dofs (plain arrays).
+  pure subroutine advance_displacements(ndof, dt, v, u)
+    integer, intent(in) :: ndof                       !< dim x local nodes
+    real(wp), intent(in) :: dt                        !< dt^{n+1/2}
+    real(wp), intent(in) :: v(ndof)                   !< v^{n+1/2}
+    real(wp), intent(inout) :: u(ndof)                !< u^n -> u^{n+1}
+    integer :: k
+    do k = 1, ndof
+      u(k) = u(k) + dt*v(k)
+    end do
+  end subroutine advance_displacements
 
   !> Trapezoidal internal energy and external work of the step just made (owned nodes), then
   !> the new forces become the current ones (array swap, no copy).
@@ -998,16 +1043,24 @@ contains
     type(explicit_state_t), intent(inout) :: s        !< local state
     real(wp), intent(in) :: dt                        !< dt^{n+1/2}
     real(wp), allocatable :: scratch(:,:)
-    real(wp) :: internal, external, sliding
-    integer :: n
+    real(wp) :: internal, external, sliding, dot_int, dot_ext, dot_con
+    integer :: n, d
     internal = 0.0_wp
     external = 0.0_wp
     sliding = 0.0_wp
     do n = 1, s%nnode
       if (.not. s%owned(n)) cycle
-      internal = internal + 0.5_wp*dt*dot_product(s%f_int(:, n) + s%f_int_new(:, n), s%v(:, n))
-      external = external + 0.5_wp*dt*dot_product(s%f_ext(:, n) + s%f_ext_new(:, n), s%v(:, n))
-      sliding = sliding - 0.5_wp*dt*dot_product(s%f_con(:, n) + s%f_con_new(:, n), s%v(:, n))
+      dot_int = 0.0_wp                       ! the dot products summed as dot_product does
+      dot_ext = 0.0_wp
+      dot_con = 0.0_wp
+      do d = 1, s%dim
+        dot_int = dot_int + (s%f_int(d, n) + s%f_int_new(d, n))*s%v(d, n)
+        dot_ext = dot_ext + (s%f_ext(d, n) + s%f_ext_new(d, n))*s%v(d, n)
+        dot_con = dot_con + (s%f_con(d, n) + s%f_con_new(d, n))*s%v(d, n)
+      end do
+      internal = internal + 0.5_wp*dt*dot_int
+      external = external + 0.5_wp*dt*dot_ext
+      sliding = sliding - 0.5_wp*dt*dot_con
     end do
     s%internal_energy = s%internal_energy + internal
     s%external_work = s%external_work + external
