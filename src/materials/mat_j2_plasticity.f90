@@ -201,10 +201,10 @@ contains
   !> The hardening law, the return map of plastic points, the rare unimodular shifts that
   !> need Newton steps and the cube root outside the series range run point by point.
   !> det F and the history are checked; a point that fails (det F <= 0, det F_n <= 0, yield
-  !> stress <= 0, no convergence) gets ok(i) = .false. and a meaningless hist(i, :) (the
-  !> caller keeps the old one and calls mat_j2_update on it for the message).
+  !> stress <= 0, no convergence) gets ok(i) = .false. and keeps its history (the caller
+  !> calls mat_j2_update on it for the message).
   !> f(i, 1:9): F_{n+1} column by column; j(i) = det F_{n+1} (the caller's, same expression);
-  !> hist(i, :): history at t_n in, at t_{n+1} out;
+  !> hist(i, :): history at t_n in, at t_{n+1} out (points that fail: unchanged);
   !> tau(i, 1:6): Kirchhoff stress XX YY ZZ XY YZ ZX.
   subroutine mat_j2_update_block(mat, curves, law, n, f, j, hist, tau, ok)
     type(material_t), intent(in) :: mat                !< *MAT_024 / *MAT_018 parameters
@@ -338,16 +338,26 @@ contains
         call unimodular_shift(be_new(i, :), i_bar(i))
       end if
     end do
-    ! 6: the new history (elastic points: dgamma = 0, alpha_n + 0 = alpha_n)
-    do i = 1, n
-      do k = 1, 9
-        hist(i, HIST_F + k - 1) = f(i, k)
+    ! 6: the new history (elastic points: dgamma = 0, alpha_n + 0 = alpha_n); a block with a
+    ! failed point takes the (rare) loop that leaves that point's history as it was
+    if (all(ok(1:n))) then
+      do i = 1, n
+        do k = 1, 9
+          hist(i, HIST_F + k - 1) = f(i, k)
+        end do
+        do k = 0, 5
+          hist(i, HIST_BE + k) = be_new(i, 1 + k)
+        end do
+        hist(i, HIST_ALPHA) = hist(i, HIST_ALPHA) + SQRT_TWO_THIRDS*dgamma(i)
       end do
-      do k = 0, 5
-        hist(i, HIST_BE + k) = be_new(i, 1 + k)
+    else
+      do i = 1, n
+        if (.not. ok(i)) cycle
+        hist(i, HIST_F:HIST_F + 8) = f(i, :)
+        hist(i, HIST_BE:HIST_BE + 5) = be_new(i, :)
+        hist(i, HIST_ALPHA) = hist(i, HIST_ALPHA) + SQRT_TWO_THIRDS*dgamma(i)
       end do
-      hist(i, HIST_ALPHA) = hist(i, HIST_ALPHA) + SQRT_TWO_THIRDS*dgamma(i)
-    end do
+    end if
   end subroutine mat_j2_update_block
 
   !> Plastic multiplier dgamma of the return map: root of

@@ -83,8 +83,8 @@ contains
   !> Explicit update of a block of n points of one material (structure of arrays, entry i of
   !> every array is point i; no tangent, no wave speed): the J2 laws by their block kernel,
   !> the other laws point by point through material_update (same results as material_update
-  !> point by point). A point whose update fails gets ok(i) = .false. and a meaningless
-  !> hist(i, :); material_update on its old history gives the reason.
+  !> point by point). A point whose update fails gets ok(i) = .false. and keeps its history;
+  !> material_update on it gives the reason.
   subroutine material_update_block(mat, curves, n, f, j, hist, tau, ok)
     type(material_t), intent(in) :: mat                !< the material card
     type(curve_t), intent(in) :: curves(:)              !< the model's curves (LCSS)

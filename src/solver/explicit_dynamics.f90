@@ -122,6 +122,15 @@ module mefem_explicit_dynamics
     integer :: nblock_outer = 0                !< the first nblock_outer blocks are outer cells
     integer, allocatable :: block_start(:)     !< (nblock+1) offsets into block_cell
     integer, allocatable :: block_cell(:)      !< local cells, block by block
+    ! 3D: the cells' gradients, metric, volume and history live in the blocks, in the block
+    ! kernels' structure-of-arrays layout (entry i of block b is cell block_cell(block_start(b)
+    ! + i - 1)); grad, w0 and hist above are then deallocated
+    integer, allocatable :: cell_block(:)      !< (ncell) block of each local cell
+    integer, allocatable :: cell_slot(:)       !< (ncell) its entry in the block
+    real(wp), allocatable :: block_grad(:,:,:,:)  !< (BLOCK_CELLS, 3, CELL_MAX_NODES, nblock)
+    real(wp), allocatable :: block_w0(:,:,:)   !< (BLOCK_CELLS, 9, nblock) W0 by column
+    real(wp), allocatable :: block_weight(:,:) !< (BLOCK_CELLS, nblock) reference volumes
+    real(wp), allocatable :: block_hist(:,:,:) !< (BLOCK_CELLS, NHIST, nblock) histories
     integer, allocatable :: cell_global(:)     !< (ncell) global cell index
     integer, allocatable :: cell_element(:)    !< (ncell) first model element of the cell
     integer, allocatable :: nnodes(:)          !< (ncell) nodes of the cell
@@ -725,11 +734,46 @@ contains
   end subroutine contact_forces
 
   !> One cell: smoothed F, material update (history committed at once: explicit), the
-  !> nodal force contributions and the cell's stable step (with added mass if scaling).
+  !> nodal force contributions and the cell's stable step (with added mass if scaling). The
+  !> cell's data come from the blocks (3D) or the per-cell arrays (2D).
   subroutine cell_forces(model, s, l)
     type(model_t), intent(in) :: model                !< resolved model
     type(explicit_state_t), intent(inout) :: s        !< local state
     integer, intent(in) :: l                          !< local cell
+    real(wp) :: grad(3, CELL_MAX_NODES), w0(3, 3), hist_old(NHIST)
+    if (s%nblock > 0) then
+      call block_cell_data(s, l, grad, w0, hist_old)
+      call cell_evaluate(model, s, l, grad, w0, hist_old)
+    else
+      hist_old = s%hist(:, l)
+      call cell_evaluate(model, s, l, s%grad(:, :, l), s%w0(:, :, l), hist_old)
+    end if
+  end subroutine cell_forces
+
+  !> Gradients, metric and history of local cell l from the block storage (3D).
+  subroutine block_cell_data(s, l, grad, w0, hist)
+    type(explicit_state_t), intent(in) :: s           !< local state (3D, blocks built)
+    integer, intent(in) :: l                          !< local cell
+    real(wp), intent(out) :: grad(3, CELL_MAX_NODES)  !< reference gradients
+    real(wp), intent(out) :: w0(3, 3)                 !< inverse-mass metric
+    real(wp), intent(out) :: hist(NHIST)              !< history
+    integer :: b, i
+    b = s%cell_block(l)
+    i = s%cell_slot(l)
+    grad = s%block_grad(i, :, :, b)
+    w0 = reshape(s%block_w0(i, :, b), [3, 3])
+    hist = s%block_hist(i, :, b)
+  end subroutine block_cell_data
+
+  !> The work of cell_forces on the cell's data; the new history is stored (blocks or
+  !> per-cell array) once the material update succeeded.
+  subroutine cell_evaluate(model, s, l, grad, w0, hist_old)
+    type(model_t), intent(in) :: model                !< resolved model
+    type(explicit_state_t), intent(inout) :: s        !< local state
+    integer, intent(in) :: l                          !< local cell
+    real(wp), intent(in), contiguous :: grad(:,:)     !< (dim, CELL_MAX_NODES) gradients
+    real(wp), intent(in), contiguous :: w0(:,:)       !< (dim, dim) inverse-mass metric
+    real(wp), intent(in) :: hist_old(NHIST)           !< history at t_n
     real(wp) :: ue(3, CELL_MAX_NODES), f(3, 3), tau(3, 3), hist_new(NHIST), sound, omega2
     real(wp) :: dt_cell, target, factor
     type(status_t) :: status
@@ -739,8 +783,8 @@ contains
     do k = 1, nn                 ! gather by a loop (a vector subscript allocates a temporary)
       ue(1:dim, k) = s%u(1:dim, s%nodes(k, l))
     end do
-    call cell_deformation_gradient(dim, nn, s%grad(:, :, l), ue(1:dim, 1:nn), f)
-    call material_update(model%materials(s%material(l)), model%curves, f, s%hist(:, l), &
+    call cell_deformation_gradient(dim, nn, grad, ue(1:dim, 1:nn), f)
+    call material_update(model%materials(s%material(l)), model%curves, f, hist_old, &
                          hist_new, tau, sound_speed=sound, status=status)
     if (.not. status%ok) then
       s%cell_force(:, :, l) = 0.0_wp
@@ -749,11 +793,13 @@ contains
       s%failed = .true.
       return
     end if
-    s%hist(:, l) = hist_new
-    call cell_internal_force(dim, nn, s%grad(:, :, l), s%weight(l), f, tau, &
-                             s%cell_force(:, 1:nn, l))
-    omega2 = cell_critical_omega_squared(dim, s%weight(l), s%w0(:, :, l), f, s%lame(1, l), &
-                                         s%lame(2, l))
+    if (s%nblock > 0) then
+      s%block_hist(s%cell_slot(l), :, s%cell_block(l)) = hist_new
+    else
+      s%hist(:, l) = hist_new
+    end if
+    call cell_internal_force(dim, nn, grad, s%weight(l), f, tau, s%cell_force(:, 1:nn, l))
+    omega2 = cell_critical_omega_squared(dim, s%weight(l), w0, f, s%lame(1, l), s%lame(2, l))
     if (.not. (omega2 >= 0.0_wp .and. omega2 < huge(1.0_wp))) then     ! NaN or overflow
       if (.not. s%failed) s%failure = 'element '// &
           itoa(model%elements%id(first_element(s, l)))//': the stable time step is not a '// &
@@ -773,7 +819,7 @@ contains
     end if
     dt_cell = model%controls%tssfac*dt_cell
     call take_smaller_step(model, s, l, dt_cell)
-  end subroutine cell_forces
+  end subroutine cell_evaluate
 
   !> Keep the smallest cell step and its cell; among equal steps the cell of the lowest
   !> element id (independent of the order in which cells are computed).
@@ -799,6 +845,7 @@ contains
   subroutine build_blocks(s)
     type(explicit_state_t), intent(inout) :: s        !< local state (cells set up)
     integer, allocatable :: starts(:)
+    integer :: b, k, l, i
     allocate(s%block_cell(s%ncell), starts(s%ncell + 2))
     s%nblock = 0
     starts(1) = 1
@@ -806,6 +853,28 @@ contains
     s%nblock_outer = s%nblock
     call group(s%inner, size(s%outer))
     s%block_start = starts(1:s%nblock + 1)
+    ! move the cells' data into the blocks (unused entries zero)
+    allocate(s%cell_block(s%ncell), s%cell_slot(s%ncell))
+    allocate(s%block_grad(BLOCK_CELLS, 3, CELL_MAX_NODES, s%nblock), &
+             s%block_w0(BLOCK_CELLS, 9, s%nblock), s%block_weight(BLOCK_CELLS, s%nblock), &
+             s%block_hist(BLOCK_CELLS, NHIST, s%nblock))
+    s%block_grad = 0.0_wp
+    s%block_w0 = 0.0_wp
+    s%block_weight = 0.0_wp
+    s%block_hist = 0.0_wp
+    do b = 1, s%nblock
+      do k = s%block_start(b), s%block_start(b + 1) - 1
+        l = s%block_cell(k)
+        i = k - s%block_start(b) + 1
+        s%cell_block(l) = b
+        s%cell_slot(l) = i
+        s%block_grad(i, :, :, b) = s%grad(:, :, l)
+        s%block_w0(i, :, b) = reshape(s%w0(:, :, l), [9])
+        s%block_weight(i, b) = s%weight(l)
+        s%block_hist(i, :, b) = s%hist(:, l)
+      end do
+    end do
+    deallocate(s%grad, s%w0, s%hist)
   contains
 
     !> Append the blocks of one list of cells (placed after `offset` cells of block_cell).
@@ -852,56 +921,41 @@ contains
     type(explicit_state_t), intent(inout) :: s        !< local state
     integer, intent(in) :: b                          !< block
     integer, parameter :: LD = BLOCK_CELLS
-    real(wp) :: u(LD, 3, CELL_MAX_NODES), grad(LD, 3, CELL_MAX_NODES)
-    real(wp) :: force(LD, 3, CELL_MAX_NODES), f(LD, 9), adj(LD, 9), det(LD), hist(LD, NHIST)
-    real(wp) :: tau(LD, 6), w0(LD, 9), weight(LD), omega2(LD), dt_cell, target, factor
+    real(wp) :: u(LD, 3, CELL_MAX_NODES), force(LD, 3, CELL_MAX_NODES)
+    real(wp) :: f(LD, 9), adj(LD, 9), det(LD), tau(LD, 6), omega2(LD), dt_cell, target, factor
     logical :: ok(LD)
-    integer :: cell(LD), n, nn, i, a, k, l, node, first
+    integer :: n, nn, i, a, l, node, first
     first = s%block_start(b)
     n = s%block_start(b + 1) - first
     if (n == 0) return
     nn = s%nnodes(s%block_cell(first))
-    ! gather
+    ! gather the displacements (the rest is stored in the blocks)
     do i = 1, n
       l = s%block_cell(first + i - 1)
-      cell(i) = l
-      weight(i) = s%weight(l)
       do a = 1, nn
         node = s%nodes(a, l)
         u(i, 1, a) = s%u(1, node)
         u(i, 2, a) = s%u(2, node)
         u(i, 3, a) = s%u(3, node)
-        grad(i, 1, a) = s%grad(1, a, l)
-        grad(i, 2, a) = s%grad(2, a, l)
-        grad(i, 3, a) = s%grad(3, a, l)
-      end do
-      do k = 1, NHIST
-        hist(i, k) = s%hist(k, l)
-      end do
-      do k = 1, 3
-        w0(i, 3*k - 2) = s%w0(1, k, l)
-        w0(i, 3*k - 1) = s%w0(2, k, l)
-        w0(i, 3*k) = s%w0(3, k, l)
       end do
     end do
-    ! F, J and adj(F) once per cell; material update; forces; stable-step bound
-    call block_deformation_gradient(n, nn, u, grad, f)
+    ! F, J and adj(F) once per cell; material update (history in place); forces; stable step
+    call block_deformation_gradient(n, nn, u, s%block_grad(:, :, :, b), f)
     call block_adjugate(n, f, adj, det)
-    call material_update_block(model%materials(s%material(cell(1))), model%curves, n, f, det, &
-                               hist, tau, ok)
-    call block_internal_force(n, nn, grad, weight, adj, det, tau, force)
-    call block_critical_omega_squared(n, weight, w0, adj, det, s%lame(1, cell(1)), &
-                                      s%lame(2, cell(1)), omega2)
-    ! scatter
+    l = s%block_cell(first)
+    call material_update_block(model%materials(s%material(l)), model%curves, n, f, det, &
+                               s%block_hist(:, :, b), tau, ok)
+    call block_internal_force(n, nn, s%block_grad(:, :, :, b), s%block_weight(:, b), adj, det, &
+                              tau, force)
+    call block_critical_omega_squared(n, s%block_weight(:, b), s%block_w0(:, :, b), adj, det, &
+                                      s%lame(1, l), s%lame(2, l), omega2)
+    ! scatter the forces; the step
     do i = 1, n
-      l = cell(i)
+      l = s%block_cell(first + i - 1)
       if (.not. ok(i)) then
         call cell_forces(model, s, l)                ! reports the failure
         cycle
       end if
-      do k = 1, NHIST
-        s%hist(k, l) = hist(i, k)
-      end do
       do a = 1, nn
         s%cell_force(1, a, l) = force(i, 1, a)
         s%cell_force(2, a, l) = force(i, 2, a)
@@ -1158,6 +1212,7 @@ contains
     type(output_field_t) :: cell_fields(4)
     real(wp), allocatable :: stress(:,:), alpha(:)
     real(wp) :: ue(3, CELL_MAX_NODES), f(3, 3), tau(3, 3), scratch(NHIST), sound, finv(3, 3), det
+    real(wp) :: grad(3, CELL_MAX_NODES), w0(3, 3), hist(NHIST)
     type(status_t) :: status
     integer :: l, c, nn, k, local
     allocate(stress(6, cells%n), alpha(cells%n))
@@ -1167,14 +1222,20 @@ contains
       c = s%cell_global(l)
       nn = s%nnodes(l)
       ue(1:s%dim, 1:nn) = s%u(:, s%nodes(1:nn, l))
-      call cell_deformation_gradient(s%dim, nn, s%grad(:, :, l), ue(1:s%dim, 1:nn), f)
+      if (s%nblock > 0) then
+        call block_cell_data(s, l, grad, w0, hist)
+        call cell_deformation_gradient(s%dim, nn, grad, ue(1:s%dim, 1:nn), f)
+      else
+        hist = s%hist(:, l)
+        call cell_deformation_gradient(s%dim, nn, s%grad(:, :, l), ue(1:s%dim, 1:nn), f)
+      end if
       ! the history holds this F already: re-evaluating returns the committed stress
-      call material_update(model%materials(s%material(l)), model%curves, f, s%hist(:, l), &
+      call material_update(model%materials(s%material(l)), model%curves, f, hist, &
                            scratch, tau, sound_speed=sound, status=status)
       if (.not. status%ok) cycle
       call inverse_3x3(f, finv, det)
       stress(:, c) = [tau(1, 1), tau(2, 2), tau(3, 3), tau(1, 2), tau(2, 3), tau(3, 1)]/det
-      alpha(c) = s%hist(HIST_ALPHA, l)
+      alpha(c) = hist(HIST_ALPHA)
     end do
     call comm_sum(stress)
     call comm_sum(alpha)
