@@ -775,7 +775,6 @@ contains
     real(wp), intent(in), contiguous :: w0(:,:)       !< (dim, dim) inverse-mass metric
     real(wp), intent(in) :: hist_old(NHIST)           !< history at t_n
     real(wp) :: ue(3, CELL_MAX_NODES), f(3, 3), tau(3, 3), hist_new(NHIST), sound, omega2
-    real(wp) :: dt_cell, target, factor
     type(status_t) :: status
     integer :: nn, dim, k
     dim = s%dim
@@ -800,6 +799,20 @@ contains
     end if
     call cell_internal_force(dim, nn, grad, s%weight(l), f, tau, s%cell_force(:, 1:nn, l))
     omega2 = cell_critical_omega_squared(dim, s%weight(l), w0, f, s%lame(1, l), s%lame(2, l))
+    call take_cell_step(model, s, l, omega2)
+  end subroutine cell_evaluate
+
+  !> A cell's stable step 2/omega from its bound omega^2 (a NaN or overflow fails the cell),
+  !> with the mass added if scaling, times TSSFAC; the smallest is kept with its cell, among
+  !> equal steps the cell of the lowest element id (independent of the order in which cells
+  !> are computed).
+  subroutine take_cell_step(model, s, l, omega2)
+    type(model_t), intent(in) :: model                !< resolved model
+    type(explicit_state_t), intent(inout) :: s        !< local state
+    integer, intent(in) :: l                          !< local cell
+    real(wp), intent(in) :: omega2                    !< its bound of omega^2
+    real(wp) :: dt_cell, target, factor
+    integer :: nn
     if (.not. (omega2 >= 0.0_wp .and. omega2 < huge(1.0_wp))) then     ! NaN or overflow
       if (.not. s%failed) s%failure = 'element '// &
           itoa(model%elements%id(first_element(s, l)))//': the stable time step is not a '// &
@@ -809,6 +822,7 @@ contains
     end if
     dt_cell = 2.0_wp/sqrt(max(omega2, tiny(1.0_wp)))
     if (s%mass_scaling) then
+      nn = s%nnodes(l)
       target = abs(model%controls%dt2ms)
       factor = 0.0_wp
       if (dt_cell < target) then
@@ -818,16 +832,6 @@ contains
       s%added(1, 1:nn, l) = factor*s%share(1:nn, l)
     end if
     dt_cell = model%controls%tssfac*dt_cell
-    call take_smaller_step(model, s, l, dt_cell)
-  end subroutine cell_evaluate
-
-  !> Keep the smallest cell step and its cell; among equal steps the cell of the lowest
-  !> element id (independent of the order in which cells are computed).
-  subroutine take_smaller_step(model, s, l, dt_cell)
-    type(model_t), intent(in) :: model                !< resolved model
-    type(explicit_state_t), intent(inout) :: s        !< local state
-    integer, intent(in) :: l                          !< local cell
-    real(wp), intent(in) :: dt_cell                   !< its stable step (TSSFAC applied)
     if (dt_cell < s%dt_stable) then
       s%dt_stable = dt_cell
       s%dt_cell = l
@@ -835,7 +839,7 @@ contains
       if (model%elements%id(s%cell_element(l)) < model%elements%id(s%cell_element(s%dt_cell))) &
         s%dt_cell = l
     end if
-  end subroutine take_smaller_step
+  end subroutine take_cell_step
 
   !> Group the local cells into blocks for block_forces: outer cells first (they must be done
   !> before the halo exchange starts), then inner ones; within each, cells of equal (material,
@@ -922,7 +926,7 @@ contains
     integer, intent(in) :: b                          !< block
     integer, parameter :: LD = BLOCK_CELLS
     real(wp) :: u(LD, 3, CELL_MAX_NODES), force(LD, 3, CELL_MAX_NODES)
-    real(wp) :: f(LD, 9), adj(LD, 9), det(LD), tau(LD, 6), omega2(LD), dt_cell, target, factor
+    real(wp) :: f(LD, 9), adj(LD, 9), det(LD), tau(LD, 6), omega2(LD)
     logical :: ok(LD)
     integer :: n, nn, i, a, l, node, first
     first = s%block_start(b)
@@ -961,25 +965,7 @@ contains
         s%cell_force(2, a, l) = force(i, 2, a)
         s%cell_force(3, a, l) = force(i, 3, a)
       end do
-      if (.not. (omega2(i) >= 0.0_wp .and. omega2(i) < huge(1.0_wp))) then     ! NaN, overflow
-        if (.not. s%failed) s%failure = 'element '// &
-            itoa(model%elements%id(first_element(s, l)))//': the stable time step is not a '// &
-            'number (NaN or infinite deformation)'
-        s%failed = .true.
-        cycle
-      end if
-      dt_cell = 2.0_wp/sqrt(max(omega2(i), tiny(1.0_wp)))
-      if (s%mass_scaling) then
-        target = abs(model%controls%dt2ms)
-        factor = 0.0_wp
-        if (dt_cell < target) then
-          factor = (target/dt_cell)**2 - 1.0_wp
-          dt_cell = target
-        end if
-        s%added(1, 1:nn, l) = factor*s%share(1:nn, l)
-      end if
-      dt_cell = model%controls%tssfac*dt_cell
-      call take_smaller_step(model, s, l, dt_cell)
+      call take_cell_step(model, s, l, omega2(i))
     end do
   end subroutine block_forces
 
