@@ -372,8 +372,12 @@ contains
     real(wp), intent(in) :: values(ncomp, nsource) !< cell contributions, one per column
     real(wp), intent(inout) :: f(:,:)              !< (ncomp, nnode_local) nodal sums
     integer :: i, m, p, source, offset
-    f(1:ncomp, :) = 0.0_wp
     if (ncomp == 3) then
+      do i = 1, size(f, 2)                        ! (not f = 0: one memset call per node)
+        f(1, i) = 0.0_wp
+        f(2, i) = 0.0_wp
+        f(3, i) = 0.0_wp
+      end do
       do source = 1, nsource
         i = halo%source_node(source)
         if (i == 0) cycle
@@ -382,6 +386,7 @@ contains
         f(3, i) = f(3, i) + values(3, source)
       end do
     else
+      f(1:ncomp, :) = 0.0_wp
       do source = 1, nsource
         i = halo%source_node(source)
         if (i == 0) cycle

@@ -702,7 +702,7 @@ contains
     end if
     timing%exchange = timing%exchange + (comm_wtime() - clock)
     call external_nodal_forces(model, s, t)
-    s%f_con_new = 0.0_wp
+    call set_to_zero(size(s%f_con_new), s%f_con_new)
     if (s%contact%n > 0 .and. dt > 0.0_wp) then
       clock = comm_wtime()
       call contact_forces(s, dt)
@@ -983,7 +983,7 @@ contains
     real(wp), intent(in) :: t                         !< time
     real(wp), allocatable :: force(:,:)
     integer :: l, g
-    s%f_ext_new = 0.0_wp
+    call set_to_zero(size(s%f_ext_new), s%f_ext_new)
     if (model%n_nodal_loads + model%n_pressure_loads == 0) return
     allocate(force(s%dim, model%nodes%n))
     force = 0.0_wp
@@ -1064,6 +1064,17 @@ contains
       end do
     end do
   end subroutine advance_velocities
+
+  !> Zero a nodal array as one flat array (an array assignment on the (dim, nnode) component
+  !> became one memset call per node).
+  pure subroutine set_to_zero(n, a)
+    integer, intent(in) :: n                          !< number of entries
+    real(wp), intent(out) :: a(n)                     !< the array
+    integer :: k
+    do k = 1, n
+      a(k) = 0.0_wp
+    end do
+  end subroutine set_to_zero
 
   !> u^{n+1} = u^n + dt v^{n+1/2} over all dofs (plain arrays).
   pure subroutine advance_displacements(ndof, dt, v, u)
