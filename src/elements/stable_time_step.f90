@@ -261,7 +261,7 @@ contains
       r(i) = 0.5_wp*(d11*(d22*d33 - w23*w23) - w12*(w12*d33 - w23*w13) + w13*(w12*w23 - &
              d22*w13))
     end do
-    do i = 1, n                                   ! p2 = 0: a multiple of the identity
+    do i = 1, n               ! p2 = 0 (a multiple of the identity): 6 only avoids 0/0 below
       root(i) = merge(p2(i), 6.0_wp, p2(i) > 0.0_wp)
     end do
     do i = 1, n
@@ -280,6 +280,8 @@ contains
       x = 2.0_wp*sqrt(0.5_wp*(1.0_wp + r(i))) - 1.0_wp
       b1 = 0.0_wp
       b2 = 0.0_wp
+      ! (20 = COS_THIRD_DEGREE: the directive takes a literal; fully unrolled, the loop over
+      ! the cells vectorises)
       !GCC$ unroll 20
       do k = COS_THIRD_DEGREE, 1, -1
         b0 = 2.0_wp*x*b1 - b2 + COS_THIRD_ACOS(k)
