@@ -7,7 +7,10 @@
 !>     (VAD 0 velocity, 1 acceleration, 2 displacement);
 !>   u^{n+1} = u^n + dt^{n+1/2} v^{n+1/2}
 !>   f_int^{n+1}: per cell the smoothed F, the material update and f = w P grad, assembled
-!>     in ascending global cell order (bit-identical for any number of ranks);
+!>     in ascending global cell order (bit-identical for any number of ranks); in 3D the
+!>     cells are computed in blocks of one material and node count (build_blocks,
+!>     block_forces: structure-of-arrays kernels, each cell's arithmetic that of the point
+!>     kernels);
 !>   a^{n+1} = (f_ext^{n+1} - f_int^{n+1}) / m
 !>   dt^{n+3/2} = TSSFAC min over cells of 2/omega_cell (global minimum), optionally with
 !>     mass scaling (DT2MS < 0: mass added only to cells whose step is below TSSFAC |DT2MS|).
