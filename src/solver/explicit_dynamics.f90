@@ -127,7 +127,7 @@ module mefem_explicit_dynamics
     integer, allocatable :: block_cell(:)      !< local cells, block by block
     ! 3D: the cells' gradients, metric, volume and history live in the blocks, in the block
     ! kernels' structure-of-arrays layout (entry i of block b is cell block_cell(block_start(b)
-    ! + i - 1)); grad, w0 and hist above are then deallocated
+    ! + i - 1)); grad, w0 and hist above are then not allocated
     integer, allocatable :: cell_block(:)      !< (ncell) block of each local cell
     integer, allocatable :: cell_slot(:)       !< (ncell) its entry in the block
     real(wp), allocatable :: block_grad(:,:,:,:)  !< (BLOCK_CELLS, 3, CELL_MAX_NODES, nblock)
@@ -371,10 +371,11 @@ contains
     s%active = s%mass > 0.0_wp
 
     ! cells: local copies in the layout's order
-    allocate(s%cell_global(s%ncell), s%nnodes(s%ncell), s%grad(dim, CELL_MAX_NODES, s%ncell), &
-             s%weight(s%ncell), s%material(s%ncell), s%lame(2, s%ncell), &
-             s%w0(dim, dim, s%ncell), s%share(CELL_MAX_NODES, s%ncell), &
-             s%hist(NHIST, s%ncell), s%cell_force(dim, CELL_MAX_NODES, s%ncell))
+    allocate(s%cell_global(s%ncell), s%nnodes(s%ncell), s%weight(s%ncell), &
+             s%material(s%ncell), s%lame(2, s%ncell), s%share(CELL_MAX_NODES, s%ncell), &
+             s%cell_force(dim, CELL_MAX_NODES, s%ncell))
+    if (dim == 2) allocate(s%grad(dim, CELL_MAX_NODES, s%ncell), s%w0(dim, dim, s%ncell), &
+                           s%hist(NHIST, s%ncell))      ! 3D: in the blocks (build_blocks)
     s%cell_global = layout%cell_global(1:s%ncell)
     s%cell_element = cells%elements(1, s%cell_global)
     s%node_global = layout%node_global
@@ -386,17 +387,19 @@ contains
     do l = 1, s%ncell
       c = s%cell_global(l)
       s%nnodes(l) = cells%nnodes(c)
-      s%grad(:, :, l) = cells%grad(:, :, c)
       s%weight(l) = cells%weight(c)
       s%material(l) = cells%material(c)
       call material_elastic_moduli(model%materials(s%material(l)), lambda, mu)
       s%lame(:, l) = [lambda, mu]
-      s%w0(:, :, l) = w0_global(:, :, c)
       s%share(:, l) = share_global(:, c)
-      call material_state_init(s%hist(:, l))
+      if (dim == 2) then
+        s%grad(:, :, l) = cells%grad(:, :, c)
+        s%w0(:, :, l) = w0_global(:, :, c)
+        call material_state_init(s%hist(:, l))
+      end if
     end do
     s%cell_force = 0.0_wp
-    if (dim == 3) call build_blocks(s)
+    if (dim == 3) call build_blocks(s, cells, w0_global)
     s%mass_scaling = model%controls%dt2ms < 0.0_wp
     if (s%mass_scaling) allocate(s%added(1, CELL_MAX_NODES, s%ncell))
 
@@ -849,10 +852,12 @@ contains
   !> node count) together in ascending cell order, cut into blocks of at most BLOCK_CELLS.
   !> The order of computation does not change any result: every cell writes its own
   !> contributions and the assembly order is fixed by the layout's plan.
-  subroutine build_blocks(s)
+  subroutine build_blocks(s, cells, w0_global)
     type(explicit_state_t), intent(inout) :: s        !< local state (cells set up)
+    type(cells_t), intent(in) :: cells                !< all cells (gradients)
+    real(wp), intent(in) :: w0_global(:,:,:)          !< (3, 3, cells%n) inverse-mass metrics
     integer, allocatable :: starts(:)
-    integer :: b, k, l, i
+    integer :: b, k, l, i, c
     allocate(s%block_cell(s%ncell), starts(s%ncell + 2))
     s%nblock = 0
     starts(1) = 1
@@ -860,7 +865,7 @@ contains
     s%nblock_outer = s%nblock
     call group(s%inner, size(s%outer))
     s%block_start = starts(1:s%nblock + 1)
-    ! move the cells' data into the blocks (unused entries zero)
+    ! the cells' data in the blocks (unused entries zero), virgin histories
     allocate(s%cell_block(s%ncell), s%cell_slot(s%ncell))
     allocate(s%block_grad(BLOCK_CELLS, 3, CELL_MAX_NODES, s%nblock), &
              s%block_w0(BLOCK_CELLS, 9, s%nblock), s%block_weight(BLOCK_CELLS, s%nblock), &
@@ -873,15 +878,15 @@ contains
       do k = s%block_start(b), s%block_start(b + 1) - 1
         l = s%block_cell(k)
         i = k - s%block_start(b) + 1
+        c = s%cell_global(l)
         s%cell_block(l) = b
         s%cell_slot(l) = i
-        s%block_grad(i, :, :, b) = s%grad(:, :, l)
-        s%block_w0(i, :, b) = reshape(s%w0(:, :, l), [9])
+        s%block_grad(i, :, :, b) = cells%grad(:, :, c)
+        s%block_w0(i, :, b) = reshape(w0_global(:, :, c), [9])
         s%block_weight(i, b) = s%weight(l)
-        s%block_hist(i, :, b) = s%hist(:, l)
+        call material_state_init(s%block_hist(i, :, b))
       end do
     end do
-    deallocate(s%grad, s%w0, s%hist)
   contains
 
     !> Append the blocks of one list of cells (placed after `offset` cells of block_cell).
