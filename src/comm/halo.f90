@@ -27,7 +27,8 @@
 module mefem_halo
   use mefem_kinds, only: wp
   use mefem_errors, only: fatal_local
-  use mefem_comm, only: comm_requests_t, comm_isend_real, comm_irecv_real, comm_waitall
+  use mefem_comm, only: comm_requests_t, comm_isend_real, comm_irecv_real, comm_waitall, &
+                        comm_wtime
   use mefem_decomposition, only: decomposition_t
   use mefem_explicit_layout, only: explicit_layout_t
   implicit none
@@ -78,6 +79,8 @@ module mefem_halo
     real(wp), allocatable :: assembly_receive(:) !< (ncomp_max * received contributions)
     type(comm_requests_t) :: assembly_requests   !< halo_assemble transfers in flight
     integer :: assembly_ncomp = 0                !< components of the assembly in flight
+    real(wp) :: assembly_wait = 0.0_wp           !< wall time spent waiting for neighbours'
+                                                 !< contributions (s, summed over calls)
   end type halo_t
 
   !> Build a halo from a decomposition_t or an explicit_layout_t (the latter with the
@@ -339,6 +342,7 @@ contains
     type(halo_t), intent(inout), asynchronous :: halo !< halo built from an explicit layout
     real(wp), intent(in) :: cell_values(:,:,:)     !< (ncomp, slots, ncell_local), all final
     real(wp), intent(out) :: f(:,:)                !< (ncomp, nnode_local) nodal sums
+    real(wp) :: clock
     integer :: ncomp
 
     ncomp = size(cell_values, 1)
@@ -346,7 +350,9 @@ contains
       call fatal_local('halo_assemble_finish: no matching halo_assemble_start')
     call check_cells(halo, cell_values, 'halo_assemble_finish')
     call check_nodal(halo, f, 'halo_assemble_finish')
+    clock = comm_wtime()
     call comm_waitall(halo%assembly_requests)
+    halo%assembly_wait = halo%assembly_wait + (comm_wtime() - clock)
     halo%assembly_ncomp = 0
     call sum_in_plan_order(halo, ncomp, size(cell_values, 2)*size(cell_values, 3), &
                            cell_values, f)
@@ -366,8 +372,12 @@ contains
     real(wp), intent(in) :: values(ncomp, nsource) !< cell contributions, one per column
     real(wp), intent(inout) :: f(:,:)              !< (ncomp, nnode_local) nodal sums
     integer :: i, m, p, source, offset
-    f(1:ncomp, :) = 0.0_wp
     if (ncomp == 3) then
+      do i = 1, size(f, 2)                        ! (not f = 0: one memset call per node)
+        f(1, i) = 0.0_wp
+        f(2, i) = 0.0_wp
+        f(3, i) = 0.0_wp
+      end do
       do source = 1, nsource
         i = halo%source_node(source)
         if (i == 0) cycle
@@ -376,6 +386,7 @@ contains
         f(3, i) = f(3, i) + values(3, source)
       end do
     else
+      f(1:ncomp, :) = 0.0_wp
       do source = 1, nsource
         i = halo%source_node(source)
         if (i == 0) cycle

@@ -8,10 +8,12 @@
 !> stiffness, the same code for ME-FEM domains and standard elements. Free of allocation.
 module mefem_cell_finite_strain
   use mefem_kinds, only: wp
+  use mefem_material_state, only: BLOCK_POINTS
   implicit none
   private
 
   public :: cell_deformation_gradient, cell_internal_force, cell_tangent, inverse_3x3
+  public :: block_deformation_gradient, block_adjugate, block_internal_force
 
 contains
 
@@ -124,6 +126,110 @@ contains
       end do
     end if
   end subroutine cell_internal_force
+
+  !> Block form (3D) of cell_deformation_gradient for n cells of nn nodes each, structure of
+  !> arrays (entry i is cell i; the loops over cells are innermost and vectorise): the same
+  !> sums in the same order, so the same bits. f(i, 1:9) is F column by column.
+  pure subroutine block_deformation_gradient(n, nn, u, grad, f)
+    integer, intent(in) :: n, nn                  !< cells (<= BLOCK_POINTS), nodes per cell
+    integer, parameter :: ld = BLOCK_POINTS       !< leading dimension
+    real(wp), intent(in) :: u(ld, 3, nn)          !< displacements of the cells' nodes
+    real(wp), intent(in) :: grad(ld, 3, nn)       !< reference gradients
+    real(wp), intent(out) :: f(ld, 9)             !< deformation gradients
+    integer :: i, a
+    do i = 1, n
+      f(i, 1) = 1.0_wp
+      f(i, 2:4) = 0.0_wp
+      f(i, 5) = 1.0_wp
+      f(i, 6:8) = 0.0_wp
+      f(i, 9) = 1.0_wp
+    end do
+    do a = 1, nn
+      do i = 1, n
+        f(i, 1) = f(i, 1) + u(i, 1, a)*grad(i, 1, a)
+        f(i, 2) = f(i, 2) + u(i, 2, a)*grad(i, 1, a)
+        f(i, 3) = f(i, 3) + u(i, 3, a)*grad(i, 1, a)
+        f(i, 4) = f(i, 4) + u(i, 1, a)*grad(i, 2, a)
+        f(i, 5) = f(i, 5) + u(i, 2, a)*grad(i, 2, a)
+        f(i, 6) = f(i, 6) + u(i, 3, a)*grad(i, 2, a)
+        f(i, 7) = f(i, 7) + u(i, 1, a)*grad(i, 3, a)
+        f(i, 8) = f(i, 8) + u(i, 2, a)*grad(i, 3, a)
+        f(i, 9) = f(i, 9) + u(i, 3, a)*grad(i, 3, a)
+      end do
+    end do
+  end subroutine block_deformation_gradient
+
+  !> Adjugates and determinants of n 3x3 matrices (block form of adjugate_3x3, the same
+  !> expressions); m(i, :) and adj(i, :) column by column.
+  pure subroutine block_adjugate(n, m, adj, det)
+    integer, intent(in) :: n                      !< matrices (<= BLOCK_POINTS)
+    integer, parameter :: ld = BLOCK_POINTS       !< leading dimension
+    real(wp), intent(in) :: m(ld, 9)              !< the matrices
+    real(wp), intent(out) :: adj(ld, 9)           !< their adjugates
+    real(wp), intent(out) :: det(ld)              !< their determinants
+    integer :: i
+    do i = 1, n
+      adj(i, 1) = m(i, 5)*m(i, 9) - m(i, 8)*m(i, 6)
+      adj(i, 4) = m(i, 7)*m(i, 6) - m(i, 4)*m(i, 9)
+      adj(i, 7) = m(i, 4)*m(i, 8) - m(i, 7)*m(i, 5)
+      adj(i, 2) = m(i, 8)*m(i, 3) - m(i, 2)*m(i, 9)
+      adj(i, 5) = m(i, 1)*m(i, 9) - m(i, 7)*m(i, 3)
+      adj(i, 8) = m(i, 7)*m(i, 2) - m(i, 1)*m(i, 8)
+      adj(i, 3) = m(i, 2)*m(i, 6) - m(i, 5)*m(i, 3)
+      adj(i, 6) = m(i, 4)*m(i, 3) - m(i, 1)*m(i, 6)
+      adj(i, 9) = m(i, 1)*m(i, 5) - m(i, 4)*m(i, 2)
+      det(i) = m(i, 1)*adj(i, 1) + m(i, 4)*adj(i, 2) + m(i, 7)*adj(i, 3)
+    end do
+  end subroutine block_adjugate
+
+  !> Block form (3D) of cell_internal_force: f_I = (w/J) (tau adj(F)^T) G_I for n cells of nn
+  !> nodes, with adj(F) and J from block_adjugate and tau symmetric (XX YY ZZ XY YZ ZX); the
+  !> same expressions, so the same bits. Cells with J = 0 get zero forces.
+  pure subroutine block_internal_force(n, nn, grad, weight, adj, det, tau, force)
+    integer, intent(in) :: n, nn                  !< cells (<= BLOCK_POINTS), nodes per cell
+    integer, parameter :: ld = BLOCK_POINTS       !< leading dimension
+    real(wp), intent(in) :: grad(ld, 3, nn)       !< reference gradients
+    real(wp), intent(in) :: weight(ld)            !< reference volumes
+    real(wp), intent(in) :: adj(ld, 9)            !< adj(F), column by column
+    real(wp), intent(in) :: det(ld)               !< J = det F
+    real(wp), intent(in) :: tau(ld, 6)            !< Kirchhoff stresses
+    real(wp), intent(out) :: force(ld, 3, nn)     !< nodal forces
+    real(wp) :: p(ld, 9), factor(ld)
+    integer :: i, a
+    ! selects and divisions in loops of their own (gfortran vectorises neither a division
+    ! of a selected value nor a select of a quotient)
+    do i = 1, n
+      factor(i) = merge(det(i), 1.0_wp, det(i) /= 0.0_wp)
+    end do
+    do i = 1, n
+      factor(i) = weight(i)/factor(i)
+    end do
+    do i = 1, n
+      factor(i) = merge(factor(i), 0.0_wp, det(i) /= 0.0_wp)
+    end do
+    do i = 1, n
+      ! p(r, c) = sum_k tau(r, k) adj(c, k) (J times the first Piola-Kirchhoff stress)
+      p(i, 1) = tau(i, 1)*adj(i, 1) + tau(i, 4)*adj(i, 4) + tau(i, 6)*adj(i, 7)
+      p(i, 2) = tau(i, 4)*adj(i, 1) + tau(i, 2)*adj(i, 4) + tau(i, 5)*adj(i, 7)
+      p(i, 3) = tau(i, 6)*adj(i, 1) + tau(i, 5)*adj(i, 4) + tau(i, 3)*adj(i, 7)
+      p(i, 4) = tau(i, 1)*adj(i, 2) + tau(i, 4)*adj(i, 5) + tau(i, 6)*adj(i, 8)
+      p(i, 5) = tau(i, 4)*adj(i, 2) + tau(i, 2)*adj(i, 5) + tau(i, 5)*adj(i, 8)
+      p(i, 6) = tau(i, 6)*adj(i, 2) + tau(i, 5)*adj(i, 5) + tau(i, 3)*adj(i, 8)
+      p(i, 7) = tau(i, 1)*adj(i, 3) + tau(i, 4)*adj(i, 6) + tau(i, 6)*adj(i, 9)
+      p(i, 8) = tau(i, 4)*adj(i, 3) + tau(i, 2)*adj(i, 6) + tau(i, 5)*adj(i, 9)
+      p(i, 9) = tau(i, 6)*adj(i, 3) + tau(i, 5)*adj(i, 6) + tau(i, 3)*adj(i, 9)
+    end do
+    do a = 1, nn
+      do i = 1, n
+        force(i, 1, a) = factor(i)*(p(i, 1)*grad(i, 1, a) + p(i, 4)*grad(i, 2, a) + &
+                                    p(i, 7)*grad(i, 3, a))
+        force(i, 2, a) = factor(i)*(p(i, 2)*grad(i, 1, a) + p(i, 5)*grad(i, 2, a) + &
+                                    p(i, 8)*grad(i, 3, a))
+        force(i, 3, a) = factor(i)*(p(i, 3)*grad(i, 1, a) + p(i, 6)*grad(i, 2, a) + &
+                                    p(i, 9)*grad(i, 3, a))
+      end do
+    end do
+  end subroutine block_internal_force
 
   !> Adjugate (transposed cofactor matrix, m adj = det 1) and determinant of a 3x3 matrix.
   pure subroutine adjugate_3x3(m, adj, det)

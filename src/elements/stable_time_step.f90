@@ -22,11 +22,42 @@ module mefem_stable_time_step
   use mefem_model, only: model_t
   use mefem_cells, only: cells_t, CELL_MAX_NODES
   use mefem_lumped_mass, only: simplex_measure
+  use mefem_material_state, only: BLOCK_POINTS
   implicit none
   private
 
   public :: cell_mass_shares, cell_inverse_mass_metric, cell_critical_omega_squared, &
-            symmetric_max_eigenvalue
+            symmetric_max_eigenvalue, block_critical_omega_squared
+
+  !> Chebyshev coefficients of y(x) = cos(acos(r)/3) = cos(2/3 acos(t)), t = sqrt((1 + r)/2),
+  !> x = 2 t - 1 in [-1, 1] (y is analytic there: no square-root singularity at r = -1 or 1),
+  !> degree 20: interpolation at 200 Chebyshev nodes in extended precision (numpy long
+  !> double). Clenshaw's sum in double precision is within 2 ulp of cos(acos(r)/3) of libm
+  !> over r in [-1, 1] (measured at 200 001 points); the coefficients fall by about 6.4 per
+  !> degree, the last is 3e-18.
+  integer, parameter :: COS_THIRD_DEGREE = 20
+  real(wp), parameter :: COS_THIRD_ACOS(0:COS_THIRD_DEGREE) = [ &
+    7.58091165435129111e-1_wp, &
+    2.49336021027088517e-1_wp, &
+    -8.02117454879531719e-3_wp, &
+    6.55646818891165019e-4_wp, &
+    -6.89243563279822499e-5_wp, &
+    8.18887717312905114e-6_wp, &
+    -1.04660554608263512e-6_wp, &
+    1.40433228461435231e-7_wp, &
+    -1.95103261907848130e-8_wp, &
+    2.78232037527904160e-9_wp, &
+    -4.04939122136249000e-10_wp, &
+    5.99038651885944231e-11_wp, &
+    -8.98095774831686481e-12_wp, &
+    1.36154514312342160e-12_wp, &
+    -2.08373611334383711e-13_wp, &
+    3.21494198450567034e-14_wp, &
+    -4.99523816407942992e-15_wp, &
+    7.80933477606549092e-16_wp, &
+    -1.22733854329704071e-16_wp, &
+    1.94007136744556161e-17_wp, &
+    -3.02058725254461529e-18_wp]
 
 contains
 
@@ -181,6 +212,96 @@ contains
                       (max(lambda, 0.0_wp)*trace_w + 2.0_wp*mu*lambda_max)
     end if
   end function cell_critical_omega_squared
+
+  !> Block form (3D) of cell_critical_omega_squared for n cells of one material, structure of
+  !> arrays (entry i is cell i), with adj(F) and J = det F from mefem_cell_finite_strain's
+  !> block_adjugate (the same expressions): the same arithmetic per cell except the
+  !> trigonometric step cos(acos(r)/3) of the eigenvalue, here a Chebyshev series (within 2
+  !> ulp of libm's; the bound differs from cell_critical_omega_squared's in the last bits).
+  !> Every stage vectorises across cells.
+  pure subroutine block_critical_omega_squared(n, weight, w0, adj, det, lambda, mu, &
+                                               omega_squared)
+    integer, intent(in) :: n                      !< cells (<= BLOCK_POINTS)
+    integer, parameter :: ld = BLOCK_POINTS       !< leading dimension
+    real(wp), intent(in) :: weight(ld)            !< reference volumes
+    real(wp), intent(in) :: w0(ld, 9)             !< reference inverse-mass metrics, by column
+    real(wp), intent(in) :: adj(ld, 9)            !< adj(F), column by column
+    real(wp), intent(in) :: det(ld)               !< J = det F
+    real(wp), intent(in) :: lambda                !< Lame's first constant (< 0 counts as 0)
+    real(wp), intent(in) :: mu                    !< shear modulus
+    real(wp), intent(out) :: omega_squared(ld)    !< bounds of omega^2 (huge for J <= 0)
+    real(wp), parameter :: ONE_THIRD = 1.0_wp/3.0_wp, ONE_SIXTH = 1.0_wp/6.0_wp
+    real(wp) :: y(9), w11, w22, w33, w12, w23, w13, p1, d11, d22, d33, lambda_plus
+    real(wp) :: x, b0, b1, b2
+    real(wp), dimension(ld) :: trace_w, q, p2, root, r, lambda_max
+    integer :: i, b, k
+    do i = 1, n
+      ! y = W0 adj (y(a, b) at a + 3(b-1)), w = adj^T y (upper triangle)
+      do b = 0, 2
+        y(1 + 3*b) = w0(i, 1)*adj(i, 1 + 3*b) + w0(i, 4)*adj(i, 2 + 3*b) + w0(i, 7)*adj(i, 3 + 3*b)
+        y(2 + 3*b) = w0(i, 2)*adj(i, 1 + 3*b) + w0(i, 5)*adj(i, 2 + 3*b) + w0(i, 8)*adj(i, 3 + 3*b)
+        y(3 + 3*b) = w0(i, 3)*adj(i, 1 + 3*b) + w0(i, 6)*adj(i, 2 + 3*b) + w0(i, 9)*adj(i, 3 + 3*b)
+      end do
+      w11 = adj(i, 1)*y(1) + adj(i, 2)*y(2) + adj(i, 3)*y(3)
+      w12 = adj(i, 1)*y(4) + adj(i, 2)*y(5) + adj(i, 3)*y(6)
+      w22 = adj(i, 4)*y(4) + adj(i, 5)*y(5) + adj(i, 6)*y(6)
+      w13 = adj(i, 1)*y(7) + adj(i, 2)*y(8) + adj(i, 3)*y(9)
+      w23 = adj(i, 4)*y(7) + adj(i, 5)*y(8) + adj(i, 6)*y(9)
+      w33 = adj(i, 7)*y(7) + adj(i, 8)*y(8) + adj(i, 9)*y(9)
+      trace_w(i) = w11 + w22 + w33
+      ! largest eigenvalue (max_eigenvalue_3), in stages: selects, square roots and divisions
+      ! in loops of their own (gfortran vectorises neither a division of a selected value nor
+      ! a select of a quotient)
+      q(i) = (w11 + w22 + w33)*ONE_THIRD
+      p1 = w12**2 + w13**2 + w23**2
+      d11 = w11 - q(i)
+      d22 = w22 - q(i)
+      d33 = w33 - q(i)
+      p2(i) = d11**2 + d22**2 + d33**2 + 2.0_wp*p1
+      r(i) = 0.5_wp*(d11*(d22*d33 - w23*w23) - w12*(w12*d33 - w23*w13) + w13*(w12*w23 - &
+             d22*w13))
+    end do
+    do i = 1, n               ! p2 = 0 (a multiple of the identity): 6 only avoids 0/0 below
+      root(i) = merge(p2(i), 6.0_wp, p2(i) > 0.0_wp)
+    end do
+    do i = 1, n
+      root(i) = sqrt(root(i)*ONE_SIXTH)
+      r(i) = r(i)/(root(i)*root(i)*root(i))
+    end do
+    do i = 1, n                                   ! min(1, max(-1, r)), a NaN -> -1 as with max
+      r(i) = merge(r(i), -1.0_wp, r(i) >= -1.0_wp)
+      r(i) = merge(1.0_wp, r(i), r(i) > 1.0_wp)
+      root(i) = merge(root(i), 0.0_wp, p2(i) > 0.0_wp)      ! then q + 2 p cos(phi) = q
+    end do
+    ! cos(acos(r)/3) by its Chebyshev series (COS_THIRD_ACOS): only +, * and sqrt, so the loop
+    ! vectorises and a cell's bits do not depend on its place in the block (libmvec's acos and
+    ! cos, which gfortran would use for pairs of cells, differ from libm's in the last bits)
+    do i = 1, n
+      x = 2.0_wp*sqrt(0.5_wp*(1.0_wp + r(i))) - 1.0_wp
+      b1 = 0.0_wp
+      b2 = 0.0_wp
+      ! (20 = COS_THIRD_DEGREE: the directive takes a literal; fully unrolled, the loop over
+      ! the cells vectorises)
+      !GCC$ unroll 20
+      do k = COS_THIRD_DEGREE, 1, -1
+        b0 = 2.0_wp*x*b1 - b2 + COS_THIRD_ACOS(k)
+        b2 = b1
+        b1 = b0
+      end do
+      lambda_max(i) = x*b1 - b2 + COS_THIRD_ACOS(0)
+    end do
+    lambda_plus = max(lambda, 0.0_wp)
+    do i = 1, n
+      lambda_max(i) = q(i) + 2.0_wp*root(i)*lambda_max(i)
+      p2(i) = merge(det(i), 1.0_wp, det(i) > 0.0_wp)       ! (p2 reused: J or 1)
+    end do
+    do i = 1, n
+      omega_squared(i) = weight(i)/p2(i)*(lambda_plus*trace_w(i) + 2.0_wp*mu*lambda_max(i))
+    end do
+    do i = 1, n
+      omega_squared(i) = merge(omega_squared(i), huge(1.0_wp), det(i) > 0.0_wp)
+    end do
+  end subroutine block_critical_omega_squared
 
   !> Largest eigenvalue of a symmetric n x n matrix, n = 1, 2, 3, in closed form (2x2: mean
   !> plus the radius; 3x3: the trigonometric solution of the characteristic cubic, Smith 1961).

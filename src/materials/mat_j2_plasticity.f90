@@ -37,12 +37,12 @@ module mefem_mat_j2_plasticity
   use mefem_errors, only: status_t
   use mefem_strings, only: itoa, rtoa
   use mefem_tensor_algebra, only: IDENTITY, deviator, add_outer_product, add_symmetric_identity
-  use mefem_material_state, only: NHIST, HIST_F, HIST_BE, HIST_ALPHA
+  use mefem_material_state, only: NHIST, HIST_F, HIST_BE, HIST_ALPHA, BLOCK_POINTS
   use mefem_hardening, only: hardening_yield
   implicit none
   private
 
-  public :: mat_j2_update
+  public :: mat_j2_update, mat_j2_update_block
 
   real(wp), parameter :: SQRT_TWO_THIRDS = sqrt(2.0_wp/3.0_wp)
   real(wp), parameter :: ONE_THIRD = 1.0_wp/3.0_wp       !< (products instead of divisions)
@@ -50,6 +50,8 @@ module mefem_mat_j2_plasticity
   integer, parameter :: MAX_RETURN_ITERATIONS = 100       !< Newton/bisection steps
   !> |J_{n+1}/J_n - 1| up to which inverse_cube_root uses its series and Newton step
   real(wp), parameter :: CUBE_ROOT_SERIES_RANGE = 0.01_wp
+  !> Taylor coefficients of (1 + d)^(-1/3) (inverse_cube_root)
+  real(wp), parameter :: C1 = -1.0_wp/3.0_wp, C2 = 2.0_wp/9.0_wp, C3 = -14.0_wp/81.0_wp
   !> Symmetric tensors as 6 components, in the Voigt order of the history (mefem_material_state)
   integer, parameter :: XX = 1, YY = 2, ZZ = 3, XY = 4, YZ = 5, ZX = 6, SYM = 6
 
@@ -192,6 +194,172 @@ contains
     call add_outer_product(c_tau, -factor*2.0_wp/3.0_wp, IDENTITY, s_trial_full)
   end subroutine mat_j2_update
 
+  !> The explicit update of a block of n points of one material (no tangent, no wave speed):
+  !> the steps of mat_j2_update with the points in the inner loops, structure-of-arrays
+  !> (entry i of every array is point i), so that the compiler vectorises across points.
+  !> Each point's arithmetic is mat_j2_update's, operation for operation (same bits).
+  !> The hardening law, the return map of plastic points, the rare unimodular shifts that
+  !> need Newton steps and the cube root outside the series range run point by point.
+  !> det F and the history are checked; a point that fails (det F <= 0, det F_n <= 0, yield
+  !> stress <= 0, no convergence) gets ok(i) = .false. and keeps its history (the caller
+  !> calls mat_j2_update on it for the message).
+  !> f(i, 1:9): F_{n+1} column by column; j(i) = det F_{n+1} (the caller's, same expression);
+  !> hist(i, :): history at t_n in, at t_{n+1} out (points that fail: unchanged);
+  !> tau(i, 1:6): Kirchhoff stress XX YY ZZ XY YZ ZX.
+  subroutine mat_j2_update_block(mat, curves, law, n, f, j, hist, tau, ok)
+    type(material_t), intent(in) :: mat                !< *MAT_024 / *MAT_018 parameters
+    type(curve_t), intent(in) :: curves(:)              !< the model's curves (for LCSS)
+    integer, intent(in) :: law                          !< HARDENING_* of mefem_hardening
+    integer, intent(in) :: n                            !< points in the block (<= BLOCK_POINTS)
+    integer, parameter :: ld = BLOCK_POINTS             !< leading dimension
+    real(wp), intent(in) :: f(ld, 9)                    !< deformation gradients F_{n+1}
+    real(wp), intent(in) :: j(ld)                       !< their determinants
+    real(wp), intent(inout) :: hist(ld, NHIST)          !< histories t_n -> t_{n+1}
+    real(wp), intent(out) :: tau(ld, SYM)               !< Kirchhoff stresses
+    logical, intent(out) :: ok(ld)                      !< point updated
+    real(wp) :: mu, kappa, inverse_mu
+    real(wp), dimension(ld) :: j_old, x, y, d, scale, i_bar, mu_bar, norm_trial, yield_old
+    real(wp), dimension(ld) :: slope, dgamma, i2, i3, g, jp, denominator
+    real(wp) :: a(9), adj(9), rel(9), tt(9), be_old(SYM), be_trial(SYM), s(SYM), dv(SYM)
+    real(wp) :: s_trial(ld, SYM), be_new(ld, SYM), be_shifted(ld, SYM), return_factor
+    logical :: plastic(ld), converged, shifted(ld)
+    integer :: i, k
+    mu = mat%young/(2.0_wp*(1.0_wp + mat%poisson))
+    kappa = mat%young/(3.0_wp*(1.0_wp - 2.0_wp*mat%poisson))
+    inverse_mu = 1.0_wp/mu
+    ! det F_n, and which points can be updated (a 1 in place of a J_n <= 0: no division by 0)
+    do i = 1, n
+      do k = 1, 9
+        a(k) = hist(i, HIST_F + k - 1)        ! F_n column by column: a(1) = F11, a(2) = F21 ..
+      end do
+      j_old(i) = a(1)*(a(5)*a(9) - a(8)*a(6)) - a(4)*(a(2)*a(9) - a(8)*a(3)) &
+               + a(7)*(a(2)*a(6) - a(5)*a(3))
+    end do
+    do i = 1, n
+      ok(i) = j(i) > 0.0_wp .and. j_old(i) > 0.0_wp
+      x(i) = merge(j_old(i), 1.0_wp, ok(i))
+    end do
+    ! 1-2: relative deformation and elastic trial state (as mat_j2_update)
+    do i = 1, n
+      do k = 1, 9
+        a(k) = hist(i, HIST_F + k - 1)
+      end do
+      ! adjugate of F_n (adj(k) = adj(row, col) stored column by column like a)
+      adj(1) = a(5)*a(9) - a(8)*a(6)
+      adj(4) = a(7)*a(6) - a(4)*a(9)
+      adj(7) = a(4)*a(8) - a(7)*a(5)
+      adj(2) = a(8)*a(3) - a(2)*a(9)
+      adj(5) = a(1)*a(9) - a(7)*a(3)
+      adj(8) = a(7)*a(2) - a(1)*a(8)
+      adj(3) = a(2)*a(6) - a(5)*a(3)
+      adj(6) = a(4)*a(3) - a(1)*a(6)
+      adj(9) = a(1)*a(5) - a(4)*a(2)
+      ! rel(r, c) = sum_k F(r, k) adj(k, c)
+      do k = 0, 2
+        rel(1 + 3*k) = f(i, 1)*adj(1 + 3*k) + f(i, 4)*adj(2 + 3*k) + f(i, 7)*adj(3 + 3*k)
+        rel(2 + 3*k) = f(i, 2)*adj(1 + 3*k) + f(i, 5)*adj(2 + 3*k) + f(i, 8)*adj(3 + 3*k)
+        rel(3 + 3*k) = f(i, 3)*adj(1 + 3*k) + f(i, 6)*adj(2 + 3*k) + f(i, 9)*adj(3 + 3*k)
+      end do
+      y(i) = 1.0_wp/x(i)                       ! inverse_j_old
+      x(i) = j(i)*y(i)
+      d(i) = x(i) - 1.0_wp
+      scale(i) = 1.0_wp + d(i)*(C1 + d(i)*(C2 + d(i)*C3))
+      scale(i) = scale(i)*(4.0_wp - x(i)*(scale(i)*scale(i)*scale(i)))*ONE_THIRD
+      be_old = hist(i, HIST_BE:HIST_BE + 5)
+      do k = 1, 3                              ! tt(k, :) = rel(k, :) be_bar_n
+        tt(k) = rel(k)*be_old(XX) + rel(k + 3)*be_old(XY) + rel(k + 6)*be_old(ZX)
+        tt(k + 3) = rel(k)*be_old(XY) + rel(k + 3)*be_old(YY) + rel(k + 6)*be_old(YZ)
+        tt(k + 6) = rel(k)*be_old(ZX) + rel(k + 3)*be_old(YZ) + rel(k + 6)*be_old(ZZ)
+      end do
+      ! unscaled be_trial, kept in be_new until the scale is known
+      be_new(i, XX) = tt(1)*rel(1) + tt(4)*rel(4) + tt(7)*rel(7)
+      be_new(i, YY) = tt(2)*rel(2) + tt(5)*rel(5) + tt(8)*rel(8)
+      be_new(i, ZZ) = tt(3)*rel(3) + tt(6)*rel(6) + tt(9)*rel(9)
+      be_new(i, XY) = tt(1)*rel(2) + tt(4)*rel(5) + tt(7)*rel(8)
+      be_new(i, YZ) = tt(2)*rel(3) + tt(5)*rel(6) + tt(8)*rel(9)
+      be_new(i, ZX) = tt(3)*rel(1) + tt(6)*rel(4) + tt(9)*rel(7)
+    end do
+    do i = 1, n                                ! cube root outside the series range: **
+      if (ok(i) .and. .not. abs(d(i)) <= CUBE_ROOT_SERIES_RANGE) &
+        scale(i) = x(i)**(-1.0_wp/3.0_wp)
+    end do
+    do i = 1, n
+      scale(i) = scale(i)*y(i)
+      scale(i) = scale(i)*scale(i)
+      be_trial = scale(i)*be_new(i, :)
+      i_bar(i) = (be_trial(XX) + be_trial(YY) + be_trial(ZZ))*ONE_THIRD
+      mu_bar(i) = mu*i_bar(i)
+      s_trial(i, XX:ZZ) = mu*(be_trial(XX:ZZ) - i_bar(i))
+      s_trial(i, XY:ZX) = mu*be_trial(XY:ZX)
+      norm_trial(i) = sqrt(s_trial(i, XX)*s_trial(i, XX) + s_trial(i, YY)*s_trial(i, YY) + &
+                           s_trial(i, ZZ)*s_trial(i, ZZ) + 2.0_wp*(s_trial(i, XY)*s_trial(i, XY) &
+                           + s_trial(i, YZ)*s_trial(i, YZ) + s_trial(i, ZX)*s_trial(i, ZX)))
+    end do
+    ! 3-4: yield check (hardening law point by point) and return map of the plastic points
+    do i = 1, n
+      plastic(i) = .false.
+      dgamma(i) = 0.0_wp
+      denominator(i) = 1.0_wp
+      if (.not. ok(i)) cycle
+      call hardening_yield(law, mat, curves, hist(i, HIST_ALPHA), yield_old(i), slope(i))
+      ok(i) = yield_old(i) > 0.0_wp
+      plastic(i) = ok(i) .and. norm_trial(i) - SQRT_TWO_THIRDS*yield_old(i) > 0.0_wp
+      if (plastic(i)) then
+        call return_map(law, mat, curves, hist(i, HIST_ALPHA), norm_trial(i), mu_bar(i), &
+                        dgamma(i), slope(i), converged)
+        ok(i) = converged
+        denominator(i) = norm_trial(i)
+      end if
+    end do
+    ! 5: s, be_new = s/mu, the unimodular shift's first test, tau (branch-free: elastic points
+    ! have dgamma = 0, so return_factor = 1 and s = s_trial exactly)
+    do i = 1, n
+      return_factor = 1.0_wp - 2.0_wp*mu_bar(i)*dgamma(i)/denominator(i)
+      s = return_factor*s_trial(i, :)
+      be_new(i, :) = s*inverse_mu
+      dv = be_new(i, :)
+      dv(XX:ZZ) = dv(XX:ZZ) - (be_new(i, XX) + be_new(i, YY) + be_new(i, ZZ))*ONE_THIRD
+      i2(i) = -0.5_wp*(dv(XX)*dv(XX) + dv(YY)*dv(YY) + dv(ZZ)*dv(ZZ) + &
+                       2.0_wp*(dv(XY)*dv(XY) + dv(YZ)*dv(YZ) + dv(ZX)*dv(ZX)))
+      i3(i) = dv(XX)*(dv(YY)*dv(ZZ) - dv(YZ)*dv(YZ)) - dv(XY)*(dv(XY)*dv(ZZ) - dv(YZ)*dv(ZX)) &
+            + dv(ZX)*(dv(XY)*dv(YZ) - dv(YY)*dv(ZX))
+      g(i) = (i_bar(i)*i_bar(i) + i2(i))*i_bar(i) + i3(i) - 1.0_wp
+      shifted(i) = abs(g(i)) <= 4.0_wp*epsilon(1.0_wp)
+      be_shifted(i, :) = dv
+      be_shifted(i, XX:ZZ) = dv(XX:ZZ) + i_bar(i)
+      jp(i) = 0.5_wp*kappa*(j(i)*j(i) - 1.0_wp)
+      tau(i, XX:ZZ) = s(XX:ZZ) + jp(i)
+      tau(i, XY:ZX) = s(XY:ZX)
+    end do
+    do i = 1, n                                ! Newton steps of the shift where needed
+      if (shifted(i)) then
+        be_new(i, :) = be_shifted(i, :)
+      else if (ok(i)) then
+        call unimodular_shift(be_new(i, :), i_bar(i))
+      end if
+    end do
+    ! 6: the new history (elastic points: dgamma = 0, alpha_n + 0 = alpha_n); a block with a
+    ! failed point takes the (rare) loop that leaves that point's history as it was
+    if (all(ok(1:n))) then
+      do i = 1, n
+        do k = 1, 9
+          hist(i, HIST_F + k - 1) = f(i, k)
+        end do
+        do k = 0, 5
+          hist(i, HIST_BE + k) = be_new(i, 1 + k)
+        end do
+        hist(i, HIST_ALPHA) = hist(i, HIST_ALPHA) + SQRT_TWO_THIRDS*dgamma(i)
+      end do
+    else
+      do i = 1, n
+        if (.not. ok(i)) cycle
+        hist(i, HIST_F:HIST_F + 8) = f(i, :)
+        hist(i, HIST_BE:HIST_BE + 5) = be_new(i, :)
+        hist(i, HIST_ALPHA) = hist(i, HIST_ALPHA) + SQRT_TWO_THIRDS*dgamma(i)
+      end do
+    end if
+  end subroutine mat_j2_update_block
+
   !> Plastic multiplier dgamma of the return map: root of
   !> r = |s_tr| - 2 mu_bar dgamma - sqrt(2/3) K(alpha_n + sqrt(2/3) dgamma) in
   !> (0, |s_tr|/(2 mu_bar)) by Newton steps, replaced by bisection when they leave the bracket.
@@ -272,7 +440,6 @@ contains
   !> the value to a few ulp, about a tenth of the cost of **; other x use **.
   pure real(wp) function inverse_cube_root(x) result(y)
     real(wp), intent(in) :: x           !< positive argument
-    real(wp), parameter :: C1 = -1.0_wp/3.0_wp, C2 = 2.0_wp/9.0_wp, C3 = -14.0_wp/81.0_wp
     real(wp) :: d
     d = x - 1.0_wp
     if (abs(d) <= CUBE_ROOT_SERIES_RANGE) then

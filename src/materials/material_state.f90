@@ -20,6 +20,11 @@ module mefem_material_state
   integer, parameter, public :: HIST_BE = 10      !< first of 6 entries: be_bar_n (Voigt)
   integer, parameter, public :: HIST_ALPHA = 16   !< equivalent plastic strain alpha_n
   integer, parameter, public :: NHIST = 16        !< length of a point's history
+  !> Points (cells) per block of the block kernels of the explicit cell loop: the leading
+  !> dimension of their structure-of-arrays arguments (entry i of every array is point i);
+  !> long enough for the vectorised stages, short enough for a block's temporaries (about
+  !> 20 KiB) to stay in the L1 cache
+  integer, parameter, public :: BLOCK_POINTS = 32
 
   public :: material_state_init
   public :: state_get_deformation, state_set_deformation

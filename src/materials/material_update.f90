@@ -29,15 +29,15 @@ module mefem_material_update
                          MAT_RIGID, MAT_MOONEY_RIVLIN
   use mefem_errors, only: status_t
   use mefem_strings, only: itoa
-  use mefem_material_state, only: NHIST
+  use mefem_material_state, only: NHIST, BLOCK_POINTS
   use mefem_hardening, only: HARDENING_POWER_LAW, piecewise_linear_law
   use mefem_mat_elastic, only: mat_elastic_update, lame_constants
-  use mefem_mat_j2_plasticity, only: mat_j2_update
+  use mefem_mat_j2_plasticity, only: mat_j2_update, mat_j2_update_block
   use mefem_mat_mooney_rivlin, only: mat_mooney_rivlin_update
   implicit none
   private
 
-  public :: material_update, material_elastic_moduli
+  public :: material_update, material_update_block, material_elastic_moduli
 
 contains
 
@@ -79,6 +79,42 @@ contains
       end if
     end select
   end subroutine material_update
+
+  !> Explicit update of a block of n points of one material (structure of arrays, entry i of
+  !> every array is point i; no tangent, no wave speed): the J2 laws by their block kernel,
+  !> the other laws point by point through material_update (same results as material_update
+  !> point by point). A point whose update fails gets ok(i) = .false. and keeps its history;
+  !> material_update on it gives the reason.
+  subroutine material_update_block(mat, curves, n, f, j, hist, tau, ok)
+    type(material_t), intent(in) :: mat                !< the material card
+    type(curve_t), intent(in) :: curves(:)              !< the model's curves (LCSS)
+    integer, intent(in) :: n                            !< points in the block (<= BLOCK_POINTS)
+    integer, parameter :: ld = BLOCK_POINTS             !< leading dimension
+    real(wp), intent(in) :: f(ld, 9)                    !< F_{n+1}, column by column
+    real(wp), intent(in) :: j(ld)                       !< det F_{n+1}
+    real(wp), intent(inout) :: hist(ld, NHIST)          !< histories t_n -> t_{n+1}
+    real(wp), intent(out) :: tau(ld, 6)                 !< Kirchhoff stress XX YY ZZ XY YZ ZX
+    logical, intent(out) :: ok(ld)                      !< point updated
+    real(wp) :: f_point(3, 3), tau_point(3, 3), hist_new(NHIST), sound
+    type(status_t) :: status
+    integer :: i
+    select case (mat%kind)
+    case (MAT_PIECEWISE_LINEAR)
+      call mat_j2_update_block(mat, curves, piecewise_linear_law(mat), n, f, j, hist, tau, ok)
+    case (MAT_POWER_LAW)
+      call mat_j2_update_block(mat, curves, HARDENING_POWER_LAW, n, f, j, hist, tau, ok)
+    case default
+      do i = 1, n
+        f_point = reshape(f(i, :), [3, 3])
+        call material_update(mat, curves, f_point, hist(i, :), hist_new, tau_point, &
+                             sound_speed=sound, status=status)
+        ok(i) = status%ok
+        tau(i, :) = [tau_point(1, 1), tau_point(2, 2), tau_point(3, 3), tau_point(1, 2), &
+                     tau_point(2, 3), tau_point(3, 1)]
+        if (ok(i)) hist(i, :) = hist_new
+      end do
+    end select
+  end subroutine material_update_block
 
   !> Small-strain Lame constants of a material (for the explicit stable time step):
   !> *MAT_ELASTIC and the J2 laws from E and PR; *MAT_MOONEY-RIVLIN_RUBBER mu = 2 (A + B) and

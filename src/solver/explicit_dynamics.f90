@@ -7,7 +7,10 @@
 !>     (VAD 0 velocity, 1 acceleration, 2 displacement);
 !>   u^{n+1} = u^n + dt^{n+1/2} v^{n+1/2}
 !>   f_int^{n+1}: per cell the smoothed F, the material update and f = w P grad, assembled
-!>     in ascending global cell order (bit-identical for any number of ranks);
+!>     in ascending global cell order (bit-identical for any number of ranks); in 3D the
+!>     cells are computed in blocks of one material and node count (build_blocks,
+!>     block_forces: structure-of-arrays kernels, each cell's arithmetic that of the point
+!>     kernels);
 !>   a^{n+1} = (f_ext^{n+1} - f_int^{n+1}) / m
 !>   dt^{n+3/2} = TSSFAC min over cells of 2/omega_cell (global minimum), optionally with
 !>     mass scaling (DT2MS < 0: mass added only to cells whose step is below TSSFAC |DT2MS|).
@@ -38,12 +41,15 @@ module mefem_explicit_dynamics
                         halo_assemble
   use mefem_cells, only: cells_t, cells_build, cells_summary, CELL_MAX_NODES
   use mefem_cell_finite_strain, only: cell_deformation_gradient, cell_internal_force, &
-                                      inverse_3x3
+                                      inverse_3x3, block_deformation_gradient, &
+                                      block_adjugate, block_internal_force
   use mefem_lumped_mass, only: lumped_mass
   use mefem_stable_time_step, only: cell_mass_shares, cell_inverse_mass_metric, &
-                                    cell_critical_omega_squared
-  use mefem_material_state, only: NHIST, HIST_ALPHA, material_state_init
-  use mefem_material_update, only: material_update, material_elastic_moduli
+                                    cell_critical_omega_squared, block_critical_omega_squared
+  use mefem_material_state, only: NHIST, HIST_ALPHA, material_state_init, &
+                                  BLOCK_CELLS => BLOCK_POINTS
+  use mefem_material_update, only: material_update, material_update_block, &
+                                   material_elastic_moduli
   use mefem_curves, only: curve_value
   use mefem_boundary_conditions, only: fixed_dofs, external_forces, target_nodes, &
                                        initial_velocities
@@ -113,6 +119,21 @@ module mefem_explicit_dynamics
     ! cells
     integer, allocatable :: outer(:)           !< local cells touching a shared node
     integer, allocatable :: inner(:)           !< the other local cells
+    ! blocks of the 3D cell loop: the outer cells, then the inner ones, each grouped by
+    ! (material, number of nodes) in ascending cell order and cut into at most BLOCK_CELLS
+    integer :: nblock = 0                      !< blocks (3D; 0 in 2D)
+    integer :: nblock_outer = 0                !< the first nblock_outer blocks are outer cells
+    integer, allocatable :: block_start(:)     !< (nblock+1) offsets into block_cell
+    integer, allocatable :: block_cell(:)      !< local cells, block by block
+    ! 3D: the cells' gradients, metric, volume and history live in the blocks, in the block
+    ! kernels' structure-of-arrays layout (entry i of block b is cell block_cell(block_start(b)
+    ! + i - 1)); grad, w0 and hist above are then not allocated
+    integer, allocatable :: cell_block(:)      !< (ncell) block of each local cell
+    integer, allocatable :: cell_slot(:)       !< (ncell) its entry in the block
+    real(wp), allocatable :: block_grad(:,:,:,:)  !< (BLOCK_CELLS, 3, CELL_MAX_NODES, nblock)
+    real(wp), allocatable :: block_w0(:,:,:)   !< (BLOCK_CELLS, 9, nblock) W0 by column
+    real(wp), allocatable :: block_weight(:,:) !< (BLOCK_CELLS, nblock) reference volumes
+    real(wp), allocatable :: block_hist(:,:,:) !< (BLOCK_CELLS, NHIST, nblock) histories
     integer, allocatable :: cell_global(:)     !< (ncell) global cell index
     integer, allocatable :: cell_element(:)    !< (ncell) first model element of the cell
     integer, allocatable :: nnodes(:)          !< (ncell) nodes of the cell
@@ -168,7 +189,9 @@ module mefem_explicit_dynamics
   !> Wall time spent in the phases of the cycle (for the run summary).
   type :: timing_t
     real(wp) :: forces = 0.0_wp                !< cells: F, material, forces, time step
-    real(wp) :: exchange = 0.0_wp              !< waiting for the halo and the reductions
+    real(wp) :: exchange = 0.0_wp              !< halo assembly (waiting and summing)
+    real(wp) :: reduction = 0.0_wp             !< the time-step reduction (waits for the
+                                               !< slowest rank)
     real(wp) :: update = 0.0_wp                !< nodal update, conditions, energies
     real(wp) :: output = 0.0_wp                !< states and histories
     real(wp) :: contact = 0.0_wp               !< contact: gather, search, mortar, forces
@@ -233,7 +256,7 @@ contains
       clock = comm_wtime()
       call update_velocities(model, s, t, dt_old, dt)
       if (s%nwall > 0) s%u_old = s%u
-      s%u = s%u + dt*s%v
+      call advance_displacements(s%dim*s%nnode, dt, s%v, s%u)
       if (s%bodies%n > 0) call move_rigid_bodies(model, s, t, dt_old, dt)
       if (s%nwall > 0) call apply_rigid_walls(model, s, t + dt, dt_old, dt)
       timing%update = timing%update + (comm_wtime() - clock)
@@ -245,7 +268,9 @@ contains
       if (s%bodies%n > 0) call rigid_body_resultants(s)
       timing%update = timing%update + (comm_wtime() - clock)
       dt_old = dt
+      clock = comm_wtime()
       dt = next_time_step(s)
+      timing%reduction = timing%reduction + (comm_wtime() - clock)
       if (dt < 0.0_wp) call stop_on_failure(model, decomp, cells, layout, s, schedule, cycle, &
                                             t, dt_old, timing)
       call write_outputs(model, decomp, cells, layout, s, schedule, cycle, t, dt_old, .false., &
@@ -263,7 +288,7 @@ contains
     call write_outputs(model, decomp, cells, layout, s, schedule, cycle, t, dt_old, .true., timing)
     call close_histories()
     call progress_finish()
-    call report_timing(model, s, cycle, timing, comm_wtime() - t_start)
+    call report_timing(model, s, cycle, timing, halo%assembly_wait, comm_wtime() - t_start)
   end subroutine explicit_dynamics_run
 
   !> What the explicit solver takes (anything else is reported before the run starts).
@@ -346,10 +371,11 @@ contains
     s%active = s%mass > 0.0_wp
 
     ! cells: local copies in the layout's order
-    allocate(s%cell_global(s%ncell), s%nnodes(s%ncell), s%grad(dim, CELL_MAX_NODES, s%ncell), &
-             s%weight(s%ncell), s%material(s%ncell), s%lame(2, s%ncell), &
-             s%w0(dim, dim, s%ncell), s%share(CELL_MAX_NODES, s%ncell), &
-             s%hist(NHIST, s%ncell), s%cell_force(dim, CELL_MAX_NODES, s%ncell))
+    allocate(s%cell_global(s%ncell), s%nnodes(s%ncell), s%weight(s%ncell), &
+             s%material(s%ncell), s%lame(2, s%ncell), s%share(CELL_MAX_NODES, s%ncell), &
+             s%cell_force(dim, CELL_MAX_NODES, s%ncell))
+    if (dim == 2) allocate(s%grad(dim, CELL_MAX_NODES, s%ncell), s%w0(dim, dim, s%ncell), &
+                           s%hist(NHIST, s%ncell))      ! 3D: in the blocks (build_blocks)
     s%cell_global = layout%cell_global(1:s%ncell)
     s%cell_element = cells%elements(1, s%cell_global)
     s%node_global = layout%node_global
@@ -361,16 +387,19 @@ contains
     do l = 1, s%ncell
       c = s%cell_global(l)
       s%nnodes(l) = cells%nnodes(c)
-      s%grad(:, :, l) = cells%grad(:, :, c)
       s%weight(l) = cells%weight(c)
       s%material(l) = cells%material(c)
       call material_elastic_moduli(model%materials(s%material(l)), lambda, mu)
       s%lame(:, l) = [lambda, mu]
-      s%w0(:, :, l) = w0_global(:, :, c)
       s%share(:, l) = share_global(:, c)
-      call material_state_init(s%hist(:, l))
+      if (dim == 2) then
+        s%grad(:, :, l) = cells%grad(:, :, c)
+        s%w0(:, :, l) = w0_global(:, :, c)
+        call material_state_init(s%hist(:, l))
+      end if
     end do
     s%cell_force = 0.0_wp
+    if (dim == 3) call build_blocks(s, cells, w0_global)
     s%mass_scaling = model%controls%dt2ms < 0.0_wp
     if (s%mass_scaling) allocate(s%added(1, CELL_MAX_NODES, s%ncell))
 
@@ -605,12 +634,8 @@ contains
     real(wp) :: dt_avg, amount, work
     integer :: k, n, i, m
     dt_avg = 0.5_wp*(dt_old + dt)
-    s%v_old = s%v
-    s%driven = .false.
-    do n = 1, s%nnode
-      if (s%active(n)) s%v(:, n) = s%v(:, n) + dt_avg*s%a(:, n)
-    end do
-    where (s%fixed) s%v = 0.0_wp
+    call advance_velocities(s%dim, s%nnode, dt_avg, s%active, s%fixed, s%a, s%v, s%v_old, &
+                            s%driven)
     work = 0.0_wp
     do k = 1, s%nprescribed
       n = s%prescribed_node(k)
@@ -656,13 +681,23 @@ contains
     s%dt_stable = huge(1.0_wp)
     s%dt_cell = 0
     s%failed = .false.
-    do k = 1, size(s%outer)
-      call cell_forces(model, s, s%outer(k))
-    end do
-    call halo_assemble_start(halo, s%cell_force)
-    do k = 1, size(s%inner)
-      call cell_forces(model, s, s%inner(k))
-    end do
+    if (s%nblock > 0 .or. s%ncell == 0) then
+      do k = 1, s%nblock_outer
+        call block_forces(model, s, k)
+      end do
+      call halo_assemble_start(halo, s%cell_force)
+      do k = s%nblock_outer + 1, s%nblock
+        call block_forces(model, s, k)
+      end do
+    else
+      do k = 1, size(s%outer)
+        call cell_forces(model, s, s%outer(k))
+      end do
+      call halo_assemble_start(halo, s%cell_force)
+      do k = 1, size(s%inner)
+        call cell_forces(model, s, s%inner(k))
+      end do
+    end if
     timing%forces = timing%forces + (comm_wtime() - clock)
     clock = comm_wtime()
     call halo_assemble_finish(halo, s%cell_force, s%f_int_new)
@@ -675,7 +710,7 @@ contains
     end if
     timing%exchange = timing%exchange + (comm_wtime() - clock)
     call external_nodal_forces(model, s, t)
-    s%f_con_new = 0.0_wp
+    call set_to_zero(size(s%f_con_new), s%f_con_new)
     if (s%contact%n > 0 .and. dt > 0.0_wp) then
       clock = comm_wtime()
       call contact_forces(s, dt)
@@ -708,20 +743,56 @@ contains
   end subroutine contact_forces
 
   !> One cell: smoothed F, material update (history committed at once: explicit), the
-  !> nodal force contributions and the cell's stable step (with added mass if scaling).
+  !> nodal force contributions and the cell's stable step (with added mass if scaling). The
+  !> cell's data come from the blocks (3D) or the per-cell arrays (2D).
   subroutine cell_forces(model, s, l)
     type(model_t), intent(in) :: model                !< resolved model
     type(explicit_state_t), intent(inout) :: s        !< local state
     integer, intent(in) :: l                          !< local cell
+    real(wp) :: grad(3, CELL_MAX_NODES), w0(3, 3), hist_old(NHIST)
+    if (s%nblock > 0) then
+      call block_cell_data(s, l, grad, w0, hist_old)
+      call cell_evaluate(model, s, l, grad, w0, hist_old)
+    else
+      hist_old = s%hist(:, l)
+      call cell_evaluate(model, s, l, s%grad(:, :, l), s%w0(:, :, l), hist_old)
+    end if
+  end subroutine cell_forces
+
+  !> Gradients, metric and history of local cell l from the block storage (3D).
+  subroutine block_cell_data(s, l, grad, w0, hist)
+    type(explicit_state_t), intent(in) :: s           !< local state (3D, blocks built)
+    integer, intent(in) :: l                          !< local cell
+    real(wp), intent(out) :: grad(3, CELL_MAX_NODES)  !< reference gradients
+    real(wp), intent(out) :: w0(3, 3)                 !< inverse-mass metric
+    real(wp), intent(out) :: hist(NHIST)              !< history
+    integer :: b, i
+    b = s%cell_block(l)
+    i = s%cell_slot(l)
+    grad = s%block_grad(i, :, :, b)
+    w0 = reshape(s%block_w0(i, :, b), [3, 3])
+    hist = s%block_hist(i, :, b)
+  end subroutine block_cell_data
+
+  !> The work of cell_forces on the cell's data; the new history is stored (blocks or
+  !> per-cell array) once the material update succeeded.
+  subroutine cell_evaluate(model, s, l, grad, w0, hist_old)
+    type(model_t), intent(in) :: model                !< resolved model
+    type(explicit_state_t), intent(inout) :: s        !< local state
+    integer, intent(in) :: l                          !< local cell
+    real(wp), intent(in), contiguous :: grad(:,:)     !< (dim, CELL_MAX_NODES) gradients
+    real(wp), intent(in), contiguous :: w0(:,:)       !< (dim, dim) inverse-mass metric
+    real(wp), intent(in) :: hist_old(NHIST)           !< history at t_n
     real(wp) :: ue(3, CELL_MAX_NODES), f(3, 3), tau(3, 3), hist_new(NHIST), sound, omega2
-    real(wp) :: dt_cell, target, factor
     type(status_t) :: status
-    integer :: nn, dim
+    integer :: nn, dim, k
     dim = s%dim
     nn = s%nnodes(l)
-    ue(1:dim, 1:nn) = s%u(:, s%nodes(1:nn, l))
-    call cell_deformation_gradient(dim, nn, s%grad(:, :, l), ue(1:dim, 1:nn), f)
-    call material_update(model%materials(s%material(l)), model%curves, f, s%hist(:, l), &
+    do k = 1, nn                 ! gather by a loop (a vector subscript allocates a temporary)
+      ue(1:dim, k) = s%u(1:dim, s%nodes(k, l))
+    end do
+    call cell_deformation_gradient(dim, nn, grad, ue(1:dim, 1:nn), f)
+    call material_update(model%materials(s%material(l)), model%curves, f, hist_old, &
                          hist_new, tau, sound_speed=sound, status=status)
     if (.not. status%ok) then
       s%cell_force(:, :, l) = 0.0_wp
@@ -730,11 +801,27 @@ contains
       s%failed = .true.
       return
     end if
-    s%hist(:, l) = hist_new
-    call cell_internal_force(dim, nn, s%grad(:, :, l), s%weight(l), f, tau, &
-                             s%cell_force(:, 1:nn, l))
-    omega2 = cell_critical_omega_squared(dim, s%weight(l), s%w0(:, :, l), f, s%lame(1, l), &
-                                         s%lame(2, l))
+    if (s%nblock > 0) then
+      s%block_hist(s%cell_slot(l), :, s%cell_block(l)) = hist_new
+    else
+      s%hist(:, l) = hist_new
+    end if
+    call cell_internal_force(dim, nn, grad, s%weight(l), f, tau, s%cell_force(:, 1:nn, l))
+    omega2 = cell_critical_omega_squared(dim, s%weight(l), w0, f, s%lame(1, l), s%lame(2, l))
+    call take_cell_step(model, s, l, omega2)
+  end subroutine cell_evaluate
+
+  !> A cell's stable step 2/omega from its bound omega^2 (a NaN or overflow fails the cell),
+  !> with the mass added if scaling, times TSSFAC; the smallest is kept with its cell, among
+  !> equal steps the cell of the lowest element id (independent of the order in which cells
+  !> are computed).
+  subroutine take_cell_step(model, s, l, omega2)
+    type(model_t), intent(in) :: model                !< resolved model
+    type(explicit_state_t), intent(inout) :: s        !< local state
+    integer, intent(in) :: l                          !< local cell
+    real(wp), intent(in) :: omega2                    !< its bound of omega^2
+    real(wp) :: dt_cell, target, factor
+    integer :: nn
     if (.not. (omega2 >= 0.0_wp .and. omega2 < huge(1.0_wp))) then     ! NaN or overflow
       if (.not. s%failed) s%failure = 'element '// &
           itoa(model%elements%id(first_element(s, l)))//': the stable time step is not a '// &
@@ -744,6 +831,7 @@ contains
     end if
     dt_cell = 2.0_wp/sqrt(max(omega2, tiny(1.0_wp)))
     if (s%mass_scaling) then
+      nn = s%nnodes(l)
       target = abs(model%controls%dt2ms)
       factor = 0.0_wp
       if (dt_cell < target) then
@@ -756,8 +844,141 @@ contains
     if (dt_cell < s%dt_stable) then
       s%dt_stable = dt_cell
       s%dt_cell = l
+    else if (dt_cell == s%dt_stable .and. s%dt_cell > 0) then
+      if (model%elements%id(s%cell_element(l)) < model%elements%id(s%cell_element(s%dt_cell))) &
+        s%dt_cell = l
     end if
-  end subroutine cell_forces
+  end subroutine take_cell_step
+
+  !> Group the local cells into blocks for block_forces: outer cells first (they must be done
+  !> before the halo exchange starts), then inner ones; within each, cells of equal (material,
+  !> node count) together in ascending cell order, cut into blocks of at most BLOCK_CELLS.
+  !> The order of computation does not change any result: every cell writes its own
+  !> contributions and the assembly order is fixed by the layout's plan.
+  subroutine build_blocks(s, cells, w0_global)
+    type(explicit_state_t), intent(inout) :: s        !< local state (cells set up)
+    type(cells_t), intent(in) :: cells                !< all cells (gradients)
+    real(wp), intent(in) :: w0_global(:,:,:)          !< (3, 3, cells%n) inverse-mass metrics
+    integer, allocatable :: starts(:)
+    integer :: b, k, l, i, c
+    allocate(s%block_cell(s%ncell), starts(s%ncell + 2))
+    s%nblock = 0
+    starts(1) = 1
+    call group(s%outer, 0)
+    s%nblock_outer = s%nblock
+    call group(s%inner, size(s%outer))
+    s%block_start = starts(1:s%nblock + 1)
+    ! the cells' data in the blocks (unused entries zero), virgin histories
+    allocate(s%cell_block(s%ncell), s%cell_slot(s%ncell))
+    allocate(s%block_grad(BLOCK_CELLS, 3, CELL_MAX_NODES, s%nblock), &
+             s%block_w0(BLOCK_CELLS, 9, s%nblock), s%block_weight(BLOCK_CELLS, s%nblock), &
+             s%block_hist(BLOCK_CELLS, NHIST, s%nblock))
+    s%block_grad = 0.0_wp
+    s%block_w0 = 0.0_wp
+    s%block_weight = 0.0_wp
+    s%block_hist = 0.0_wp
+    do b = 1, s%nblock
+      do k = s%block_start(b), s%block_start(b + 1) - 1
+        l = s%block_cell(k)
+        i = k - s%block_start(b) + 1
+        c = s%cell_global(l)
+        s%cell_block(l) = b
+        s%cell_slot(l) = i
+        s%block_grad(i, :, :, b) = cells%grad(:, :, c)
+        s%block_w0(i, :, b) = reshape(w0_global(:, :, c), [9])
+        s%block_weight(i, b) = s%weight(l)
+        call material_state_init(s%block_hist(i, :, b))
+      end do
+    end do
+  contains
+
+    !> Append the blocks of one list of cells (placed after `offset` cells of block_cell).
+    subroutine group(list, offset)
+      integer, intent(in) :: list(:)                  !< local cells, ascending
+      integer, intent(in) :: offset                   !< cells already placed
+      logical :: placed(size(list))
+      integer :: k, m, placed_count, key_material, key_nodes, in_block
+      placed = .false.
+      placed_count = offset
+      do k = 1, size(list)
+        if (placed(k)) cycle
+        key_material = s%material(list(k))
+        key_nodes = s%nnodes(list(k))
+        in_block = 0
+        do m = k, size(list)
+          if (placed(m)) cycle
+          if (s%material(list(m)) /= key_material .or. s%nnodes(list(m)) /= key_nodes) cycle
+          if (in_block == BLOCK_CELLS) then
+            s%nblock = s%nblock + 1
+            starts(s%nblock + 1) = placed_count + 1
+            in_block = 0
+          end if
+          placed(m) = .true.
+          placed_count = placed_count + 1
+          s%block_cell(placed_count) = list(m)
+          in_block = in_block + 1
+        end do
+        s%nblock = s%nblock + 1
+        starts(s%nblock + 1) = placed_count + 1
+      end do
+    end subroutine group
+
+  end subroutine build_blocks
+
+  !> One block of 3D cells of one material and node count (build_blocks): the steps of
+  !> cell_forces with the cells in the inner loops. The block's data are gathered into
+  !> structure-of-arrays temporaries (entry i is the block's i-th cell), the kernels run over
+  !> the block (vectorised across cells; each cell's arithmetic is cell_forces', so the
+  !> results are the same bits), and the forces, histories and step are scattered back. A
+  !> cell whose material update fails is redone by cell_forces, which reports it.
+  subroutine block_forces(model, s, b)
+    type(model_t), intent(in) :: model                !< resolved model
+    type(explicit_state_t), intent(inout) :: s        !< local state
+    integer, intent(in) :: b                          !< block
+    integer, parameter :: LD = BLOCK_CELLS
+    real(wp) :: u(LD, 3, CELL_MAX_NODES), force(LD, 3, CELL_MAX_NODES)
+    real(wp) :: f(LD, 9), adj(LD, 9), det(LD), tau(LD, 6), omega2(LD)
+    logical :: ok(LD)
+    integer :: n, nn, i, a, l, node, first
+    first = s%block_start(b)
+    n = s%block_start(b + 1) - first
+    if (n == 0) return
+    nn = s%nnodes(s%block_cell(first))
+    ! gather the displacements (the rest is stored in the blocks)
+    do i = 1, n
+      l = s%block_cell(first + i - 1)
+      do a = 1, nn
+        node = s%nodes(a, l)
+        u(i, 1, a) = s%u(1, node)
+        u(i, 2, a) = s%u(2, node)
+        u(i, 3, a) = s%u(3, node)
+      end do
+    end do
+    ! F, J and adj(F) once per cell; material update (history in place); forces; stable step
+    call block_deformation_gradient(n, nn, u, s%block_grad(:, :, :, b), f)
+    call block_adjugate(n, f, adj, det)
+    l = s%block_cell(first)
+    call material_update_block(model%materials(s%material(l)), model%curves, n, f, det, &
+                               s%block_hist(:, :, b), tau, ok)
+    call block_internal_force(n, nn, s%block_grad(:, :, :, b), s%block_weight(:, b), adj, det, &
+                              tau, force)
+    call block_critical_omega_squared(n, s%block_weight(:, b), s%block_w0(:, :, b), adj, det, &
+                                      s%lame(1, l), s%lame(2, l), omega2)
+    ! scatter the forces; the step
+    do i = 1, n
+      l = s%block_cell(first + i - 1)
+      if (.not. ok(i)) then
+        call cell_forces(model, s, l)                ! reports the failure
+        cycle
+      end if
+      do a = 1, nn
+        s%cell_force(1, a, l) = force(i, 1, a)
+        s%cell_force(2, a, l) = force(i, 2, a)
+        s%cell_force(3, a, l) = force(i, 3, a)
+      end do
+      call take_cell_step(model, s, l, omega2(i))
+    end do
+  end subroutine block_forces
 
   !> The model element a local cell belongs to (the first of its one or two elements).
   integer function first_element(s, l)
@@ -773,7 +994,7 @@ contains
     real(wp), intent(in) :: t                         !< time
     real(wp), allocatable :: force(:,:)
     integer :: l, g
-    s%f_ext_new = 0.0_wp
+    call set_to_zero(size(s%f_ext_new), s%f_ext_new)
     if (model%n_nodal_loads + model%n_pressure_loads == 0) return
     allocate(force(s%dim, model%nodes%n))
     force = 0.0_wp
@@ -807,16 +1028,76 @@ contains
   !> motion outside its BIRTH..DEATH window leaves its dof free).
   subroutine accelerations(s)
     type(explicit_state_t), intent(inout) :: s        !< local state
-    integer :: n
-    do n = 1, s%nnode
-      if (s%active(n)) then
-        s%a(:, n) = (s%f_ext(:, n) + s%f_con(:, n) - s%f_int(:, n))/s%mass(n)
-      else
-        s%a(:, n) = 0.0_wp
-      end if
-    end do
-    where (s%fixed .or. s%driven) s%a = 0.0_wp
+    call nodal_accelerations(s%dim, s%nnode, s%active, s%fixed, s%driven, s%f_ext, s%f_con, &
+                             s%f_int, s%mass, s%a)
   end subroutine accelerations
+
+  !> The loop of accelerations on plain arrays (the compiler then keeps the array addresses
+  !> in registers instead of reloading them from the state after every store).
+  pure subroutine nodal_accelerations(dim, nnode, active, fixed, driven, f_ext, f_con, f_int, &
+                                      mass, a)
+    integer, intent(in) :: dim, nnode                 !< dimension, local nodes
+    logical, intent(in) :: active(nnode)              !< integrated nodes
+    logical, intent(in) :: fixed(dim, nnode), driven(dim, nnode) !< dofs with a = 0
+    real(wp), intent(in) :: f_ext(dim, nnode), f_con(dim, nnode), f_int(dim, nnode) !< forces
+    real(wp), intent(in) :: mass(nnode)               !< lumped masses
+    real(wp), intent(out) :: a(dim, nnode)            !< accelerations
+    integer :: n, d
+    do n = 1, nnode
+      do d = 1, dim
+        if (active(n) .and. .not. (fixed(d, n) .or. driven(d, n))) then
+          a(d, n) = (f_ext(d, n) + f_con(d, n) - f_int(d, n))/mass(n)
+        else
+          a(d, n) = 0.0_wp
+        end if
+      end do
+    end do
+  end subroutine nodal_accelerations
+
+  !> v^{n+1/2} = v^{n-1/2} + dt_avg a^n at the integrated nodes, 0 at fixed dofs; keeps
+  !> v^{n-1/2} and clears the driven flags (first part of update_velocities, on plain arrays).
+  pure subroutine advance_velocities(dim, nnode, dt_avg, active, fixed, a, v, v_old, driven)
+    integer, intent(in) :: dim, nnode                 !< dimension, local nodes
+    real(wp), intent(in) :: dt_avg                    !< (dt^{n-1/2} + dt^{n+1/2})/2
+    logical, intent(in) :: active(nnode)              !< integrated nodes
+    logical, intent(in) :: fixed(dim, nnode)          !< SPC / TC fixed dofs
+    real(wp), intent(in) :: a(dim, nnode)             !< a^n
+    real(wp), intent(inout) :: v(dim, nnode)          !< v^{n-1/2} -> v^{n+1/2}
+    real(wp), intent(out) :: v_old(dim, nnode)        !< v^{n-1/2}
+    logical, intent(out) :: driven(dim, nnode)        !< cleared
+    integer :: n, d
+    do n = 1, nnode
+      do d = 1, dim
+        v_old(d, n) = v(d, n)
+        if (active(n)) v(d, n) = v(d, n) + dt_avg*a(d, n)
+        if (fixed(d, n)) v(d, n) = 0.0_wp
+        driven(d, n) = .false.
+      end do
+    end do
+  end subroutine advance_velocities
+
+  !> Zero a nodal array as one flat array (an array assignment on the (dim, nnode) component
+  !> became one memset call per node).
+  pure subroutine set_to_zero(n, a)
+    integer, intent(in) :: n                          !< number of entries
+    real(wp), intent(out) :: a(n)                     !< the array
+    integer :: k
+    do k = 1, n
+      a(k) = 0.0_wp
+    end do
+  end subroutine set_to_zero
+
+  !> u^{n+1} = u^n + dt v^{n+1/2} over all dofs (plain arrays).
+  pure subroutine advance_displacements(ndof, dt, v, u)
+    integer, intent(in) :: ndof                       !< dim x local nodes
+    real(wp), intent(in) :: dt                        !< dt^{n+1/2}
+    real(wp), intent(in) :: v(ndof)                   !< v^{n+1/2}
+    real(wp), intent(inout) :: u(ndof)                !< u^n -> u^{n+1}
+    integer :: k
+    do k = 1, ndof
+      u(k) = u(k) + dt*v(k)
+    end do
+  end subroutine advance_displacements
 
   !> Trapezoidal internal energy and external work of the step just made (owned nodes), then
   !> the new forces become the current ones (array swap, no copy).
@@ -824,16 +1105,24 @@ contains
     type(explicit_state_t), intent(inout) :: s        !< local state
     real(wp), intent(in) :: dt                        !< dt^{n+1/2}
     real(wp), allocatable :: scratch(:,:)
-    real(wp) :: internal, external, sliding
-    integer :: n
+    real(wp) :: internal, external, sliding, dot_int, dot_ext, dot_con
+    integer :: n, d
     internal = 0.0_wp
     external = 0.0_wp
     sliding = 0.0_wp
     do n = 1, s%nnode
       if (.not. s%owned(n)) cycle
-      internal = internal + 0.5_wp*dt*dot_product(s%f_int(:, n) + s%f_int_new(:, n), s%v(:, n))
-      external = external + 0.5_wp*dt*dot_product(s%f_ext(:, n) + s%f_ext_new(:, n), s%v(:, n))
-      sliding = sliding - 0.5_wp*dt*dot_product(s%f_con(:, n) + s%f_con_new(:, n), s%v(:, n))
+      dot_int = 0.0_wp                       ! the dot products summed as dot_product does
+      dot_ext = 0.0_wp
+      dot_con = 0.0_wp
+      do d = 1, s%dim
+        dot_int = dot_int + (s%f_int(d, n) + s%f_int_new(d, n))*s%v(d, n)
+        dot_ext = dot_ext + (s%f_ext(d, n) + s%f_ext_new(d, n))*s%v(d, n)
+        dot_con = dot_con + (s%f_con(d, n) + s%f_con_new(d, n))*s%v(d, n)
+      end do
+      internal = internal + 0.5_wp*dt*dot_int
+      external = external + 0.5_wp*dt*dot_ext
+      sliding = sliding - 0.5_wp*dt*dot_con
     end do
     s%internal_energy = s%internal_energy + internal
     s%external_work = s%external_work + external
@@ -931,6 +1220,7 @@ contains
     type(output_field_t) :: cell_fields(4)
     real(wp), allocatable :: stress(:,:), alpha(:)
     real(wp) :: ue(3, CELL_MAX_NODES), f(3, 3), tau(3, 3), scratch(NHIST), sound, finv(3, 3), det
+    real(wp) :: grad(3, CELL_MAX_NODES), w0(3, 3), hist(NHIST)
     type(status_t) :: status
     integer :: l, c, nn, k, local
     allocate(stress(6, cells%n), alpha(cells%n))
@@ -940,14 +1230,20 @@ contains
       c = s%cell_global(l)
       nn = s%nnodes(l)
       ue(1:s%dim, 1:nn) = s%u(:, s%nodes(1:nn, l))
-      call cell_deformation_gradient(s%dim, nn, s%grad(:, :, l), ue(1:s%dim, 1:nn), f)
+      if (s%nblock > 0) then
+        call block_cell_data(s, l, grad, w0, hist)
+        call cell_deformation_gradient(s%dim, nn, grad, ue(1:s%dim, 1:nn), f)
+      else
+        hist = s%hist(:, l)
+        call cell_deformation_gradient(s%dim, nn, s%grad(:, :, l), ue(1:s%dim, 1:nn), f)
+      end if
       ! the history holds this F already: re-evaluating returns the committed stress
-      call material_update(model%materials(s%material(l)), model%curves, f, s%hist(:, l), &
+      call material_update(model%materials(s%material(l)), model%curves, f, hist, &
                            scratch, tau, sound_speed=sound, status=status)
       if (.not. status%ok) cycle
       call inverse_3x3(f, finv, det)
       stress(:, c) = [tau(1, 1), tau(2, 2), tau(3, 3), tau(1, 2), tau(2, 3), tau(3, 1)]/det
-      alpha(c) = s%hist(HIST_ALPHA, l)
+      alpha(c) = hist(HIST_ALPHA)
     end do
     call comm_sum(stress)
     call comm_sum(alpha)
@@ -1218,18 +1514,30 @@ contains
     call rcforc_close()
   end subroutine close_histories
 
-  !> Run summary: cycles, and where the time went per element and cell cycle.
-  subroutine report_timing(model, s, cycle, timing, wall)
+  !> Run summary: cycles, and where the time went per element and cell cycle; with several
+  !> ranks, the spread over ranks (min / max) of the cells and of the phase times, which
+  !> tells load imbalance (forces) from communication (halo wait, time-step reduction).
+  subroutine report_timing(model, s, cycle, timing, halo_wait, wall)
     type(model_t), intent(in) :: model                !< resolved model
     type(explicit_state_t), intent(in) :: s           !< local state
     integer, intent(in) :: cycle                      !< cycles run
     type(timing_t), intent(in) :: timing              !< phase times (this rank)
+    real(wp), intent(in) :: halo_wait                 !< time waiting in the halo assembly
     real(wp), intent(in) :: wall                      !< wall time of the whole analysis
-    real(wp) :: loop, counts(2), ranks
+    real(wp) :: loop, counts(2), ranks, spread(2, 5)
+    integer :: k
     counts = [real(count(deformable_element(model)), wp), real(s%ncell, wp)]
     counts(2) = real(s%ncell, wp)
     call comm_sum(counts(2))
-    loop = timing%forces + timing%exchange + timing%update + timing%output + timing%contact
+    loop = timing%forces + timing%exchange + timing%reduction + timing%update + timing%output + &
+           timing%contact
+    spread(1, :) = [real(s%ncell, wp), timing%forces, halo_wait, timing%reduction, &
+                    timing%update]
+    spread(2, :) = spread(1, :)
+    do k = 1, size(spread, 2)
+      call comm_min(spread(1, k))
+      call comm_max(spread(2, k))
+    end do
     call comm_max(loop)
     ranks = real(comm_size(), wp)
     call say('explicit: '//itoa(cycle)//' cycles, '//rtoa(wall)//' s')
@@ -1238,10 +1546,17 @@ contains
                ' ns per element-cycle, '//rtoa(1.0e9_wp*loop*ranks/(counts(2)*cycle))// &
                ' ns per cell-cycle (core time = wall x '//itoa(comm_size())//' ranks)')
       call say('explicit: rank 0 time in forces '//rtoa(100.0_wp*timing%forces/loop)// &
-               ' %, halo exchange and reductions '//rtoa(100.0_wp*timing%exchange/loop)// &
+               ' %, halo exchange and reductions '// &
+               rtoa(100.0_wp*(timing%exchange + timing%reduction)/loop)// &
                ' %, nodal update '//rtoa(100.0_wp*timing%update/loop)//' %, output '// &
                rtoa(100.0_wp*timing%output/loop)//' %, contact '// &
                rtoa(100.0_wp*timing%contact/loop)//' %')
+      if (comm_size() > 1) call say('explicit: min / max over ranks: cells '// &
+          itoa(nint(spread(1, 1)))//' / '//itoa(nint(spread(2, 1)))//', forces '// &
+          rtoa(spread(1, 2))//' / '//rtoa(spread(2, 2))//' s, halo wait '// &
+          rtoa(spread(1, 3))//' / '//rtoa(spread(2, 3))//' s, time-step reduction '// &
+          rtoa(spread(1, 4))//' / '//rtoa(spread(2, 4))//' s, nodal update '// &
+          rtoa(spread(1, 5))//' / '//rtoa(spread(2, 5))//' s')
       if (timing%contact > 0.0_wp) call say('explicit: contact '// &
           rtoa(timing%contact/cycle)//' s per cycle on rank 0')
     end if

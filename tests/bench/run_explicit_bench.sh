@@ -6,7 +6,8 @@
 # with ME-FEM tets (ELFORM 43) and standard linear tets (ELFORM 10) on 1 and 2 ranks; the table
 # gives ns per element-cycle and per cell-cycle (core time = loop wall time x ranks, as the
 # driver's summary line "explicit: ... ns per element-cycle" says), the driver's phase shares of
-# rank 0, peak memory and the speed-up from 1 to 2 ranks.
+# rank 0, peak memory, the speed-up from 1 to 2 ranks and the spread of the force time over
+# the ranks (driver's line "explicit: min / max over ranks: ...").
 #
 # usage: tests/bench/run_explicit_bench.sh [--small]
 #   default: 34 x 34 x 35 cubes = 202 300 tets, 300 cycles (about 5 minutes on 2 cores)
@@ -115,6 +116,10 @@ g['halo'] = grab(r'halo exchange and reductions (\S+) %')
 g['update'] = grab(r'nodal update (\S+) %')
 g['output'] = grab(r'output (\S+) %')
 g['mem_max'] = grab(r'(\S+) MiB max over ranks')
+# several ranks: the spread of the force time over ranks (load imbalance) and the halo wait
+g['forces_min'] = grab(r'min / max over ranks: .* forces (\S+) /')
+g['forces_max'] = grab(r'min / max over ranks: .* forces \S+ / (\S+) s')
+g['wait_max'] = grab(r'halo wait \S+ / (\S+) s')
 # share of the ranks' time they were on a core (user + system of mpirun and the ranks over
 # wall x ranks): well below 1 means other processes competed for the cores
 g['cpu_share'] = (user + system) / (wall * np_)
@@ -149,8 +154,8 @@ name = {'43': 'ME-FEM tet (43)', '10': 'standard tet (10)'}
 print()
 print('| element | ranks | elements | cells | cycles | analysis wall | ns/element-cycle | '
       'ns/cell-cycle | forces | halo+reductions | nodal update | output | '
-      'peak memory per rank | memory per element | speed-up | CPU share |')
-print('|' + '---|' * 16)
+      'peak memory per rank | memory per element | speed-up | force time max/min | CPU share |')
+print('|' + '---|' * 17)
 base = {}
 for d in rows:
     if d['np'] == '1':
@@ -164,16 +169,20 @@ for d in rows:
     if d['elform'] in base and np_ > 1:
         # core time per element-cycle = wall x ranks: speed-up = ranks x ns(1)/ns(np)
         speedup = f'{np_ * base[d["elform"]] / f(d, "ns_elem"):.2f}'
+    spread = ''
+    if np_ > 1 and f(d, 'forces_min') > 0:
+        spread = f'{f(d, "forces_max") / f(d, "forces_min"):.3f}'
     print(f'| {name.get(d["elform"], d["elform"])} | {np_} | {elements} | {d["cells"]} | '
           f'{d["cycles"]} | {f(d, "analysis"):.2f} s | {f(d, "ns_elem"):.0f} | '
           f'{f(d, "ns_cell"):.0f} | {f(d, "forces"):.1f} % | {f(d, "halo"):.1f} % | '
           f'{f(d, "update"):.1f} % | {f(d, "output"):.1f} % | {mem:.0f} MiB | '
-          f'{per_elem:.2f} KiB | {speedup} | {f(d, "cpu_share"):.2f} |')
+          f'{per_elem:.2f} KiB | {speedup} | {spread} | {f(d, "cpu_share"):.2f} |')
 ns = {d['elform']: f(d, 'ns_elem') for d in rows if d['np'] == '1'}
 if '43' in ns and '10' in ns:
     print(f'\nME-FEM / standard cost per element-cycle on 1 rank: {ns["43"] / ns["10"]:.2f}')
 print('(ns per element-cycle: wall time of the cycle loop x ranks / (elements x cycles); '
       'shares: rank 0; memory: peak resident (VmHWM), max over ranks; per element: that x '
-      'ranks / elements; CPU share: CPU time / (wall x ranks) of the whole process, well below '
+      'ranks / elements; force time max/min: the slowest rank\'s cell loop over the fastest\'s '
+      '(load imbalance); CPU share: CPU time / (wall x ranks) of the whole process, well below '
       '1 when other jobs shared the cores, which inflates the wall-time figures)')
 PY

@@ -1,0 +1,329 @@
+!> Block kernels of the explicit cell loop (structure of arrays, BLOCK_POINTS cells at a time)
+!> against the point kernels they restate, on random cells:
+!> - block_deformation_gradient, block_adjugate, block_internal_force: the same bits as
+!>   cell_deformation_gradient, the determinant of mat_j2_update's det3 and
+!>   cell_internal_force (7- and 5-node cells);
+!> - mat_j2_update_block (through material_update_block): the same bits as mat_j2_update for
+!>   elastic and plastic steps of the three hardening laws of *MAT_024/*MAT_018 from a
+!>   plastically deformed history; an inverted cell is reported (ok = .false.) with its
+!>   history untouched while its neighbours in the block are updated;
+!> - block_critical_omega_squared: within 1e-13 of cell_critical_omega_squared (the
+!>   trigonometric step of the eigenvalue is a Chebyshev series there), equal for an isotropic
+!>   metric (double eigenvalue: the series' end point), huge for det F <= 0;
+!> - placement: a cell gives the same bits whatever its place in a block and the block's
+!>   length (odd lengths exercise the vector loops' scalar remainders): what keeps results
+!>   bit-identical across rank counts.
+program test_block_kernels
+  use mefem_kinds, only: wp
+  use mefem_testing, only: test_start, test_finish, check, check_close
+  use mefem_errors, only: status_t
+  use mefem_model, only: material_t, curve_t, MAT_PIECEWISE_LINEAR, MAT_POWER_LAW
+  use mefem_cells, only: CELL_MAX_NODES
+  use mefem_material_state, only: NHIST, HIST_ALPHA, BLOCK_POINTS, material_state_init
+  use mefem_material_update, only: material_update, material_update_block
+  use mefem_cell_finite_strain, only: cell_deformation_gradient, cell_internal_force, &
+                                      block_deformation_gradient, block_adjugate, &
+                                      block_internal_force
+  use mefem_stable_time_step, only: cell_critical_omega_squared, block_critical_omega_squared
+  implicit none
+
+  integer, parameter :: LD = BLOCK_POINTS
+  integer, parameter :: NCELL = 29                  !< odd: vector loops end with a remainder
+  real(wp), parameter :: LAMBDA = 1.1e5_wp, MU = 8.0e4_wp   !< Lame constants (MPa)
+  !> scale of the random displacement gradients: elastic steps (1e-4) and plastic ones (1e-2)
+  real(wp), parameter :: ELASTIC_STRAIN = 1.0e-4_wp, PLASTIC_STRAIN = 1.0e-2_wp
+  type(curve_t), allocatable :: curves(:)
+
+  call test_start('block_kernels')
+  allocate(curves(0))
+  call check_element_kernels(7)
+  call check_element_kernels(5)
+  call check_material(linear_steel(), 'linear hardening')
+  call check_material(table_steel(), 'EPS/ES table')
+  call check_material(power_law_steel(), 'power law')
+  call check_failed_point()
+  call check_stable_step()
+  call check_placement()
+  call test_finish()
+
+contains
+
+  !> *MAT_024 with SIGY and ETAN (MPa, mm, t).
+  type(material_t) function linear_steel() result(mat)
+    mat%id = 1
+    mat%kind = MAT_PIECEWISE_LINEAR
+    mat%density = 7.85e-9_wp
+    mat%young = 210000.0_wp
+    mat%poisson = 0.3_wp
+    mat%yield_stress = 250.0_wp
+    mat%tangent_modulus = 2000.0_wp
+  end function linear_steel
+
+  !> *MAT_024 with an EPS/ES table.
+  type(material_t) function table_steel() result(mat)
+    mat = linear_steel()
+    mat%id = 2
+    mat%n_points = 4
+    mat%eps(1:4) = [0.0_wp, 0.05_wp, 0.2_wp, 0.5_wp]
+    mat%es(1:4) = [250.0_wp, 300.0_wp, 350.0_wp, 380.0_wp]
+  end function table_steel
+
+  !> *MAT_018 with K, N and SIGY.
+  type(material_t) function power_law_steel() result(mat)
+    mat%id = 3
+    mat%kind = MAT_POWER_LAW
+    mat%density = 7.85e-9_wp
+    mat%young = 210000.0_wp
+    mat%poisson = 0.3_wp
+    mat%k_strength = 530.0_wp
+    mat%n_exponent = 0.26_wp
+    mat%yield_stress = 250.0_wp
+  end function power_law_steel
+
+  !> A random deformation gradient I + scale (R - 1/2), R uniform in [0, 1)^(3x3).
+  subroutine random_f(scale, f)
+    real(wp), intent(in) :: scale          !< size of the displacement gradient
+    real(wp), intent(out) :: f(3, 3)       !< deformation gradient
+    integer :: k
+    call random_number(f)
+    f = scale*(f - 0.5_wp)
+    do k = 1, 3
+      f(k, k) = f(k, k) + 1.0_wp
+    end do
+  end subroutine random_f
+
+  !> F, J and the forces of NCELL random cells of nn nodes: block kernels vs point kernels.
+  subroutine check_element_kernels(nn)
+    integer, intent(in) :: nn              !< nodes per cell
+    real(wp) :: u(LD, 3, CELL_MAX_NODES), grad(LD, 3, CELL_MAX_NODES), f(LD, 9), adj(LD, 9)
+    real(wp) :: det(LD), tau(LD, 6), weight(LD), force(LD, 3, CELL_MAX_NODES)
+    real(wp) :: f_point(3, 3), tau_point(3, 3), force_point(3, CELL_MAX_NODES), det3
+    logical :: same_f, same_det, same_force
+    integer :: i
+    call random_number(u)
+    u = 0.05_wp*(u - 0.5_wp)
+    call random_number(grad)
+    grad = grad - 0.5_wp
+    call random_number(weight)
+    call random_number(tau)
+    tau = 100.0_wp*(tau - 0.5_wp)
+    call block_deformation_gradient(NCELL, nn, u, grad, f)
+    call block_adjugate(NCELL, f, adj, det)
+    call block_internal_force(NCELL, nn, grad, weight, adj, det, tau, force)
+    same_f = .true.
+    same_det = .true.
+    same_force = .true.
+    do i = 1, NCELL
+      call cell_deformation_gradient(3, nn, grad(i, :, 1:nn), u(i, :, 1:nn), f_point)
+      same_f = same_f .and. all(reshape(f_point, [9]) == f(i, :))
+      det3 = f_point(1, 1)*(f_point(2, 2)*f_point(3, 3) - f_point(2, 3)*f_point(3, 2)) &
+           - f_point(1, 2)*(f_point(2, 1)*f_point(3, 3) - f_point(2, 3)*f_point(3, 1)) &
+           + f_point(1, 3)*(f_point(2, 1)*f_point(3, 2) - f_point(2, 2)*f_point(3, 1))
+      same_det = same_det .and. det3 == det(i)
+      tau_point = reshape([tau(i, 1), tau(i, 4), tau(i, 6), tau(i, 4), tau(i, 2), tau(i, 5), &
+                           tau(i, 6), tau(i, 5), tau(i, 3)], [3, 3])
+      call cell_internal_force(3, nn, grad(i, :, 1:nn), weight(i), f_point, tau_point, &
+                               force_point(:, 1:nn))
+      same_force = same_force .and. all(force_point(:, 1:nn) == force(i, :, 1:nn))
+    end do
+    call check(same_f, 'F of '//trim(str(nn))//'-node cells: same bits as the point kernel')
+    call check(same_det, 'J of '//trim(str(nn))//'-node cells: same bits as det3')
+    call check(same_force, 'forces of '//trim(str(nn))//'-node cells: same bits as the point '// &
+               'kernel')
+  end subroutine check_element_kernels
+
+  !> Histories of NCELL points after a few plastic steps (point kernel), then one block step
+  !> with small (elastic) and large (plastic) increments: the same bits as the point kernel.
+  subroutine check_material(mat, label)
+    type(material_t), intent(in) :: mat    !< the J2 material
+    character(len=*), intent(in) :: label  !< its name in the messages
+    real(wp) :: hist(LD, NHIST), hist_point(NHIST, NCELL), hist_new(NHIST), f_point(3, 3)
+    real(wp) :: f(LD, 9), det(LD), tau(LD, 6), adj(LD, 9), tau_point(3, 3), sound
+    logical :: ok(LD), same_hist, same_tau, all_ok
+    type(status_t) :: status
+    integer :: i, step, nplastic
+    real(wp) :: scale
+    do i = 1, NCELL                        ! a plastic history, point by point
+      call material_state_init(hist_point(:, i))
+      do step = 1, 3
+        call random_f(PLASTIC_STRAIN, f_point)
+        f_point = matmul(f_point, reshape(hist_point(1:9, i), [3, 3]))
+        call material_update(mat, curves, f_point, hist_point(:, i), hist_new, tau_point, &
+                             sound_speed=sound, status=status)
+        hist_point(:, i) = hist_new
+      end do
+    end do
+    do step = 1, 2
+      scale = merge(ELASTIC_STRAIN, PLASTIC_STRAIN, step == 1)
+      do i = 1, NCELL
+        call random_f(scale, f_point)
+        f_point = matmul(f_point, reshape(hist_point(1:9, i), [3, 3]))
+        f(i, :) = reshape(f_point, [9])
+        hist(i, :) = hist_point(:, i)
+      end do
+      call block_adjugate(NCELL, f, adj, det)
+      call material_update_block(mat, curves, NCELL, f, det, hist, tau, ok)
+      same_hist = .true.
+      same_tau = .true.
+      all_ok = all(ok(1:NCELL))
+      nplastic = 0
+      do i = 1, NCELL
+        f_point = reshape(f(i, :), [3, 3])
+        call material_update(mat, curves, f_point, hist_point(:, i), hist_new, tau_point, &
+                             sound_speed=sound, status=status)
+        all_ok = all_ok .and. status%ok
+        if (hist_new(HIST_ALPHA) > hist_point(HIST_ALPHA, i)) nplastic = nplastic + 1
+        same_hist = same_hist .and. all(hist_new == hist(i, :))
+        same_tau = same_tau .and. all([tau_point(1, 1), tau_point(2, 2), tau_point(3, 3), &
+                                       tau_point(1, 2), tau_point(2, 3), tau_point(3, 1)] == &
+                                      tau(i, :))
+        hist_point(:, i) = hist_new
+      end do
+      call check(all_ok, label//', '//trim(merge('elastic', 'plastic', step == 1))// &
+                 ' step: every point updated')
+      call check((step == 1 .and. nplastic < NCELL) .or. (step == 2 .and. nplastic > 0), &
+                 label//', '//trim(merge('elastic', 'plastic', step == 1))//' step: '// &
+                 trim(str(nplastic))//' of '//trim(str(NCELL))//' points yield (both kinds '// &
+                 'of step are exercised)')
+      call check(same_hist, label//', '//trim(merge('elastic', 'plastic', step == 1))// &
+                 ' step: histories bit-identical to mat_j2_update')
+      call check(same_tau, label//', '//trim(merge('elastic', 'plastic', step == 1))// &
+                 ' step: stresses bit-identical to mat_j2_update')
+    end do
+  end subroutine check_material
+
+  !> An inverted point in a block: reported, its history untouched; the others updated.
+  subroutine check_failed_point()
+    integer, parameter :: BAD = 4
+    type(material_t) :: mat
+    real(wp) :: hist(LD, NHIST), hist_before(LD, NHIST), f(LD, 9), det(LD), adj(LD, 9)
+    real(wp) :: tau(LD, 6), f_point(3, 3)
+    logical :: ok(LD)
+    integer :: i
+    mat = linear_steel()
+    do i = 1, NCELL
+      call material_state_init(hist(i, :))
+      call random_f(ELASTIC_STRAIN, f_point)
+      if (i == BAD) f_point(:, 3) = -f_point(:, 3)          ! det < 0
+      f(i, :) = reshape(f_point, [9])
+    end do
+    hist_before = hist
+    call block_adjugate(NCELL, f, adj, det)
+    call material_update_block(mat, curves, NCELL, f, det, hist, tau, ok)
+    call check(.not. ok(BAD) .and. count(ok(1:NCELL)) == NCELL - 1, &
+               'inverted point: reported, the others updated')
+    call check(all(hist(BAD, :) == hist_before(BAD, :)), 'inverted point: history untouched')
+    call check(all(hist(BAD + 1, 1:9) == f(BAD + 1, :)), 'its neighbour: F_n+1 stored')
+  end subroutine check_failed_point
+
+  !> block_critical_omega_squared vs cell_critical_omega_squared.
+  subroutine check_stable_step()
+    real(wp) :: f(LD, 9), adj(LD, 9), det(LD), w0(LD, 9), weight(LD), omega2(LD), m(3, 3)
+    real(wp) :: f_point(3, 3), w0_point(3, 3), worst, want
+    integer :: i
+    call random_number(weight)
+    do i = 1, NCELL
+      call random_f(0.3_wp, f_point)
+      if (i == 1) f_point = reshape([1.0_wp, 0.0_wp, 0.0_wp, 0.0_wp, 1.0_wp, 0.0_wp, 0.0_wp, &
+                                     0.0_wp, 1.0_wp], [3, 3])
+      if (i == 2) f_point(:, 1) = -f_point(:, 1)             ! det < 0
+      f(i, :) = reshape(f_point, [9])
+      call random_number(m)
+      w0_point = matmul(m, transpose(m))                     ! symmetric positive
+      if (i == 1) w0_point = reshape([2.0_wp, 0.0_wp, 0.0_wp, 0.0_wp, 2.0_wp, 0.0_wp, 0.0_wp, &
+                                      0.0_wp, 2.0_wp], [3, 3])   ! isotropic: triple root
+      w0(i, :) = reshape(w0_point, [9])
+    end do
+    call block_adjugate(NCELL, f, adj, det)
+    call block_critical_omega_squared(NCELL, weight, w0, adj, det, LAMBDA, MU, omega2)
+    worst = 0.0_wp
+    do i = 3, NCELL
+      want = cell_critical_omega_squared(3, weight(i), reshape(w0(i, :), [3, 3]), &
+                                         reshape(f(i, :), [3, 3]), LAMBDA, MU)
+      worst = max(worst, abs(omega2(i) - want)/want)
+    end do
+    call check(worst <= 1.0e-13_wp, 'stable step: random cells within 1e-13 of the point '// &
+               'kernel (worst '//trim(rstr(worst))//')')
+    want = cell_critical_omega_squared(3, weight(1), reshape(w0(1, :), [3, 3]), &
+                                       reshape(f(1, :), [3, 3]), LAMBDA, MU)
+    call check_close(omega2(1), want, 1.0e-15_wp, 'stable step: isotropic metric at F = I')
+    call check_close(omega2(1), weight(1)*2.0_wp*(3.0_wp*LAMBDA + 2.0_wp*MU), 1.0e-15_wp, &
+                     'stable step: isotropic metric, closed form w (3 lambda + 2 mu) tr/3')
+    call check(omega2(2) == huge(1.0_wp), 'stable step: det F < 0 gives huge')
+  end subroutine check_stable_step
+
+  !> The same cell in blocks of other lengths and at other places gives the same bits.
+  subroutine check_placement()
+    integer, parameter :: NN = 7
+    real(wp) :: u(LD, 3, CELL_MAX_NODES), grad(LD, 3, CELL_MAX_NODES), w0(LD, 9), weight(LD)
+    real(wp) :: hist(LD, NHIST), omega2(LD), force(LD, 3, CELL_MAX_NODES), m(3, 3)
+    real(wp) :: ref_force(3, NN), ref_hist(NHIST), ref_omega2
+    logical :: same
+    integer :: n, place, i
+    call random_number(u)
+    u = PLASTIC_STRAIN*(u - 0.5_wp)
+    call random_number(grad)
+    grad = grad - 0.5_wp
+    call random_number(weight)
+    do i = 1, LD
+      call random_number(m)
+      w0(i, :) = reshape(matmul(m, transpose(m)), [9])
+    end do
+    call run_block(1, 1, NN, u, grad, w0, weight, hist, force, omega2)   ! cell 1 alone
+    ref_force = force(1, :, 1:NN)
+    ref_hist = hist(1, :)
+    ref_omega2 = omega2(1)
+    same = .true.
+    do n = 2, LD
+      place = 1 + mod(7*n + 3, n)          ! places 1 .. n
+      call run_block(n, place, NN, u, grad, w0, weight, hist, force, omega2)
+      same = same .and. all(force(place, :, 1:NN) == ref_force) .and. &
+             all(hist(place, :) == ref_hist) .and. omega2(place) == ref_omega2
+    end do
+    call check(same, 'a cell gives the same bits at any place in blocks of 1 to '// &
+               trim(str(LD))//' cells')
+  end subroutine check_placement
+
+  !> The kernels on a block of n cells of a table-hardening material from the virgin state,
+  !> cell 1's data copied to `place` and new random displacements elsewhere.
+  subroutine run_block(n, place, nn, u, grad, w0, weight, hist, force, omega2)
+    integer, intent(in) :: n, place, nn        !< block length, reference place, nodes
+    real(wp), intent(inout) :: u(LD, 3, CELL_MAX_NODES), grad(LD, 3, CELL_MAX_NODES) !< data
+    real(wp), intent(inout) :: w0(LD, 9), weight(LD)                                  !< data
+    real(wp), intent(out) :: hist(LD, NHIST)                     !< histories after the step
+    real(wp), intent(out) :: force(LD, 3, CELL_MAX_NODES)        !< forces
+    real(wp), intent(out) :: omega2(LD)                          !< stable-step bounds
+    real(wp) :: f(LD, 9), adj(LD, 9), det(LD), tau(LD, 6)
+    logical :: ok(LD)
+    integer :: i
+    call random_number(u(2:LD, :, :))
+    u(2:LD, :, :) = PLASTIC_STRAIN*(u(2:LD, :, :) - 0.5_wp)
+    u(place, :, 1:nn) = u(1, :, 1:nn)
+    grad(place, :, 1:nn) = grad(1, :, 1:nn)
+    w0(place, :) = w0(1, :)
+    weight(place) = weight(1)
+    do i = 1, n
+      call material_state_init(hist(i, :))
+    end do
+    call block_deformation_gradient(n, nn, u, grad, f)
+    call block_adjugate(n, f, adj, det)
+    call material_update_block(table_steel(), curves, n, f, det, hist, tau, ok)
+    call block_internal_force(n, nn, grad, weight, adj, det, tau, force)
+    call block_critical_omega_squared(n, weight, w0, adj, det, LAMBDA, MU, omega2)
+  end subroutine run_block
+
+  !> Integer as text.
+  function str(k) result(text)
+    integer, intent(in) :: k                 !< the number
+    character(len=12) :: text
+    write(text, '(i0)') k
+  end function str
+
+  !> Real as text.
+  function rstr(x) result(text)
+    real(wp), intent(in) :: x                !< the number
+    character(len=16) :: text
+    write(text, '(es10.3)') x
+  end function rstr
+
+end program test_block_kernels
