@@ -35,7 +35,7 @@ module mefem_halo
   private
 
   public :: halo_build, halo_sum, halo_sum_start, halo_sum_finish
-  public :: halo_assemble, halo_assemble_start, halo_assemble_finish
+  public :: halo_assemble, halo_assemble_start, halo_assemble_finish, halo_assembly_push_nodes
 
   integer, parameter :: DEFAULT_TAG = 7100     !< message tag when none is given
 
@@ -81,6 +81,12 @@ module mefem_halo
     integer :: assembly_ncomp = 0                !< components of the assembly in flight
     real(wp) :: assembly_wait = 0.0_wp           !< wall time spent waiting for neighbours'
                                                  !< contributions (s, summed over calls)
+    ! pushed assembly (halo_assembly_push_nodes): the caller adds the contributions to the
+    ! pushed nodes itself; the rest is summed from the kept lists
+    logical :: has_push = .false.                !< halo_assembly_push_nodes was called
+    integer, allocatable :: kept_source(:)       !< own contributions to nodes neither pushed
+    integer, allocatable :: kept_node(:)         !< nor mixed, ascending source, and their node
+    integer, allocatable :: kept_zero(:)         !< nodes not pushed (zeroed before summing)
   end type halo_t
 
   !> Build a halo from a decomposition_t or an explicit_layout_t (the latter with the
@@ -338,12 +344,17 @@ contains
   end subroutine halo_assemble_start
 
   !> Wait for the neighbours' contributions and sum every local node in ascending cell order.
-  subroutine halo_assemble_finish(halo, cell_values, f)
+  !> With pushed = .true. (after halo_assembly_push_nodes) f already holds the sums at the
+  !> pushed nodes, which are left as they are, and cell_values needs only the contributions
+  !> to the other nodes.
+  subroutine halo_assemble_finish(halo, cell_values, f, pushed)
     type(halo_t), intent(inout), asynchronous :: halo !< halo built from an explicit layout
     real(wp), intent(in) :: cell_values(:,:,:)     !< (ncomp, slots, ncell_local), all final
-    real(wp), intent(out) :: f(:,:)                !< (ncomp, nnode_local) nodal sums
+    real(wp), intent(inout) :: f(:,:)              !< (ncomp, nnode_local) nodal sums
+    logical, intent(in), optional :: pushed        !< the pushed nodes are summed in f already
     real(wp) :: clock
     integer :: ncomp
+    logical :: use_push
 
     ncomp = size(cell_values, 1)
     if (halo%assembly_ncomp /= ncomp) &
@@ -354,24 +365,79 @@ contains
     call comm_waitall(halo%assembly_requests)
     halo%assembly_wait = halo%assembly_wait + (comm_wtime() - clock)
     halo%assembly_ncomp = 0
-    call sum_in_plan_order(halo, ncomp, size(cell_values, 2)*size(cell_values, 3), &
-                           cell_values, f)
+    use_push = .false.
+    if (present(pushed)) use_push = pushed
+    if (use_push) then
+      if (.not. halo%has_push) call fatal_local('halo_assemble_finish: pushed = .true. '// &
+                                                'without halo_assembly_push_nodes')
+      call sum_kept_in_plan_order(halo, ncomp, size(cell_values, 2)*size(cell_values, 3), &
+                                  cell_values, f)
+    else
+      call sum_in_plan_order(halo, ncomp, size(cell_values, 2)*size(cell_values, 3), &
+                             cell_values, f)
+    end if
+    call sum_mixed_in_plan_order(halo, ncomp, size(cell_values, 2)*size(cell_values, 3), &
+                                 cell_values, f)
   end subroutine halo_assemble_finish
+
+  !> Let the caller assemble the nodes marked in `pushed` itself: it adds each contribution to
+  !> such a node straight into the nodal array, in ascending global cell order, starting from
+  !> zero (the same bits as the plan), and halo_assemble_finish(..., pushed=.true.) sums only
+  !> the other nodes. A pushed node must not be shared with another rank (its contributions
+  !> are all this rank's and nobody else needs them).
+  subroutine halo_assembly_push_nodes(halo, pushed)
+    type(halo_t), intent(inout) :: halo            !< halo built from an explicit layout
+    logical, intent(in) :: pushed(:)               !< (nnode_local) nodes the caller assembles
+    logical, allocatable :: shared(:)
+    integer :: source, i, nkept
+    if (.not. halo%has_assembly) call fatal_local('halo_assembly_push_nodes: the halo was '// &
+                                                  'not built from an explicit layout')
+    if (size(pushed) /= halo%nnode_local) call fatal_local('halo_assembly_push_nodes: '// &
+                                                           'pushed does not fit the halo')
+    allocate(shared(halo%nnode_local))
+    shared = .false.
+    shared(halo%shared_nodes) = .true.
+    shared(halo%mixed_nodes) = .true.
+    if (any(pushed .and. shared)) call fatal_local('halo_assembly_push_nodes: a shared node '// &
+                                                   'cannot be pushed')
+    nkept = 0
+    do source = 1, size(halo%source_node)
+      i = halo%source_node(source)
+      if (i > 0) then
+        if (.not. pushed(i)) nkept = nkept + 1
+      end if
+    end do
+    allocate(halo%kept_source(nkept), halo%kept_node(nkept))
+    nkept = 0
+    do source = 1, size(halo%source_node)
+      i = halo%source_node(source)
+      if (i > 0) then
+        if (.not. pushed(i)) then
+          nkept = nkept + 1
+          halo%kept_source(nkept) = source
+          halo%kept_node(nkept) = i
+        end if
+      end if
+    end do
+    halo%kept_zero = pack([(i, i = 1, halo%nnode_local)], .not. pushed)
+    halo%has_push = .true.
+  end subroutine halo_assembly_push_nodes
 
   !> The nodal sums of halo_assemble_finish, each in its plan order (ascending global cell
   !> order; the order fixes the bits; zero without contributions): the nodes fed by this
   !> rank's cells only by one pass over the cell array in ascending order (values(:, source),
   !> source = j + slots*(l-1) the column of slot j of cell l: streamed, the nodal array is
-  !> the one accessed at random), the others (shared nodes with received contributions) by
-  !> their plan. 0 + x = x, so starting from zero gives the same bits as starting from the
-  !> first contribution (up to the sign of a zero sum).
+  !> the one accessed at random); the others (shared nodes with received contributions) are
+  !> summed by their plan afterwards (sum_mixed_in_plan_order). 0 + x = x, so starting from
+  !> zero gives the same bits as starting from the first contribution (up to the sign of a
+  !> zero sum).
   subroutine sum_in_plan_order(halo, ncomp, nsource, values, f)
     type(halo_t), intent(in) :: halo               !< halo with its assembly plan
     integer, intent(in) :: ncomp                   !< components per contribution
     integer, intent(in) :: nsource                 !< slots x local cells
     real(wp), intent(in) :: values(ncomp, nsource) !< cell contributions, one per column
     real(wp), intent(inout) :: f(:,:)              !< (ncomp, nnode_local) nodal sums
-    integer :: i, m, p, source, offset
+    integer :: i, source
     if (ncomp == 3) then
       do i = 1, size(f, 2)                        ! (not f = 0: one memset call per node)
         f(1, i) = 0.0_wp
@@ -393,6 +459,35 @@ contains
         f(1:ncomp, i) = f(1:ncomp, i) + values(:, source)
       end do
     end if
+  end subroutine sum_in_plan_order
+
+  !> sum_in_plan_order for the pushed assembly: only the kept nodes are zeroed and summed
+  !> (the pushed ones hold their sums already).
+  subroutine sum_kept_in_plan_order(halo, ncomp, nsource, values, f)
+    type(halo_t), intent(in) :: halo               !< halo with its assembly plan
+    integer, intent(in) :: ncomp                   !< components per contribution
+    integer, intent(in) :: nsource                 !< slots x local cells
+    real(wp), intent(in) :: values(ncomp, nsource) !< cell contributions, one per column
+    real(wp), intent(inout) :: f(:,:)              !< (ncomp, nnode_local) nodal sums
+    integer :: k, i
+    do k = 1, size(halo%kept_zero)
+      f(1:ncomp, halo%kept_zero(k)) = 0.0_wp
+    end do
+    do k = 1, size(halo%kept_source)
+      i = halo%kept_node(k)
+      f(1:ncomp, i) = f(1:ncomp, i) + values(:, halo%kept_source(k))
+    end do
+  end subroutine sum_kept_in_plan_order
+
+  !> The nodes with received contributions (shared nodes), each summed by its plan (ascending
+  !> global cell order, own and received contributions interleaved), after the own-only nodes.
+  subroutine sum_mixed_in_plan_order(halo, ncomp, nsource, values, f)
+    type(halo_t), intent(in) :: halo               !< halo with its assembly plan
+    integer, intent(in) :: ncomp                   !< components per contribution
+    integer, intent(in) :: nsource                 !< slots x local cells
+    real(wp), intent(in) :: values(ncomp, nsource) !< cell contributions, one per column
+    real(wp), intent(inout) :: f(:,:)              !< (ncomp, nnode_local) nodal sums
+    integer :: i, m, p, source, offset
     do m = 1, size(halo%mixed_nodes)
       i = halo%mixed_nodes(m)
       do p = halo%mixed_start(m), halo%mixed_start(m + 1) - 1
@@ -405,7 +500,7 @@ contains
         end if
       end do
     end do
-  end subroutine sum_in_plan_order
+  end subroutine sum_mixed_in_plan_order
 
   !> The contributions neighbour k needs, packed into assembly_send (columns as above).
   subroutine pack_contributions(halo, k, ncomp, nsource, values)

@@ -144,7 +144,8 @@ contains
     alpha_new = alpha_old
     s = s_trial
     if (plastic) then
-      call return_map(law, mat, curves, alpha_old, norm_trial, mu_bar, dgamma, slope, converged)
+      call return_map(law, mat, curves, alpha_old, yield_old, norm_trial, mu_bar, dgamma, &
+                      slope, converged)
       if (.not. converged) then
         call fail(status, mat, 'J2 return map did not converge (trial von Mises stress '// &
                   rtoa(sqrt(1.5_wp)*norm_trial)//', yield stress '//rtoa(yield_old)//')')
@@ -305,8 +306,8 @@ contains
       ok(i) = yield_old(i) > 0.0_wp
       plastic(i) = ok(i) .and. norm_trial(i) - SQRT_TWO_THIRDS*yield_old(i) > 0.0_wp
       if (plastic(i)) then
-        call return_map(law, mat, curves, hist(i, HIST_ALPHA), norm_trial(i), mu_bar(i), &
-                        dgamma(i), slope(i), converged)
+        call return_map(law, mat, curves, hist(i, HIST_ALPHA), yield_old(i), norm_trial(i), &
+                        mu_bar(i), dgamma(i), slope(i), converged)
         ok(i) = converged
         denominator(i) = norm_trial(i)
       end if
@@ -363,16 +364,18 @@ contains
   !> Plastic multiplier dgamma of the return map: root of
   !> r = |s_tr| - 2 mu_bar dgamma - sqrt(2/3) K(alpha_n + sqrt(2/3) dgamma) in
   !> (0, |s_tr|/(2 mu_bar)) by Newton steps, replaced by bisection when they leave the bracket.
-  pure subroutine return_map(law, mat, curves, alpha_old, norm_trial, mu_bar, dgamma, slope, &
-                             converged)
+  pure subroutine return_map(law, mat, curves, alpha_old, yield_old, norm_trial, mu_bar, &
+                             dgamma, slope, converged)
     integer, intent(in) :: law                 !< HARDENING_*
     type(material_t), intent(in) :: mat        !< material parameters
     type(curve_t), intent(in) :: curves(:)     !< the model's curves
     real(wp), intent(in) :: alpha_old          !< alpha_n
+    real(wp), intent(in) :: yield_old          !< K(alpha_n) (the yield check's)
     real(wp), intent(in) :: norm_trial         !< |s_tr| (> sqrt(2/3) K(alpha_n))
     real(wp), intent(in) :: mu_bar             !< mu I_bar
     real(wp), intent(out) :: dgamma            !< plastic multiplier
-    real(wp), intent(out) :: slope             !< K' at alpha_n + sqrt(2/3) dgamma
+    real(wp), intent(inout) :: slope           !< in: K'(alpha_n) (the yield check's);
+                                               !< out: K' at alpha_n + sqrt(2/3) dgamma
     logical, intent(out) :: converged          !< |r| <= RETURN_TOLERANCE |s_tr|
     real(wp) :: low, high, residual, derivative, next, yield_stress
     integer :: iteration
@@ -380,9 +383,11 @@ contains
     high = norm_trial/(2.0_wp*mu_bar)
     dgamma = 0.0_wp
     converged = .false.
+    yield_stress = yield_old                   ! the first iterate, dgamma = 0, is alpha_n
     do iteration = 1, MAX_RETURN_ITERATIONS
-      call hardening_yield(law, mat, curves, alpha_old + SQRT_TWO_THIRDS*dgamma, &
-                           yield_stress, slope)
+      if (iteration > 1) call hardening_yield(law, mat, curves, &
+                                              alpha_old + SQRT_TWO_THIRDS*dgamma, &
+                                              yield_stress, slope)
       residual = norm_trial - 2.0_wp*mu_bar*dgamma - SQRT_TWO_THIRDS*yield_stress
       if (abs(residual) <= RETURN_TOLERANCE*norm_trial) then
         converged = .true.

@@ -38,7 +38,7 @@ module mefem_explicit_dynamics
   use mefem_explicit_layout, only: explicit_layout_t, explicit_layout_build, &
                                    explicit_layout_local_node
   use mefem_halo, only: halo_t, halo_build, halo_assemble_start, halo_assemble_finish, &
-                        halo_assemble
+                        halo_assemble, halo_assembly_push_nodes
   use mefem_cells, only: cells_t, cells_build, cells_summary, CELL_MAX_NODES
   use mefem_cell_finite_strain, only: cell_deformation_gradient, cell_internal_force, &
                                       inverse_3x3, block_deformation_gradient, &
@@ -146,6 +146,10 @@ module mefem_explicit_dynamics
     real(wp), allocatable :: share(:,:)        !< (CELL_MAX_NODES, ncell) mass shares
     real(wp), allocatable :: hist(:,:)         !< (NHIST, ncell) material history
     real(wp), allocatable :: cell_force(:,:,:) !< (dim, CELL_MAX_NODES, ncell) contributions
+                                               !< (3D: only those to nodes not pushed)
+    integer, allocatable :: push_node(:,:)     !< (CELL_MAX_NODES, ncell) 3D: the local node
+                                               !< a contribution is added to at once
+                                               !< (pushed assembly), 0: kept in cell_force
     real(wp), allocatable :: added(:,:,:)      !< (1, CELL_MAX_NODES, ncell) added masses
     logical :: mass_scaling = .false.          !< DT2MS < 0 given
     ! time step of the last force evaluation
@@ -399,7 +403,10 @@ contains
       end if
     end do
     s%cell_force = 0.0_wp
-    if (dim == 3) call build_blocks(s, cells, w0_global)
+    if (dim == 3) then
+      call build_blocks(s, cells, w0_global)
+      call plan_pushed_assembly(s, layout, halo)
+    end if
     s%mass_scaling = model%controls%dt2ms < 0.0_wp
     if (s%mass_scaling) allocate(s%added(1, CELL_MAX_NODES, s%ncell))
 
@@ -682,6 +689,7 @@ contains
     s%dt_cell = 0
     s%failed = .false.
     if (s%nblock > 0 .or. s%ncell == 0) then
+      if (allocated(s%push_node)) call set_to_zero(size(s%f_int_new), s%f_int_new)
       do k = 1, s%nblock_outer
         call block_forces(model, s, k)
       end do
@@ -700,7 +708,8 @@ contains
     end if
     timing%forces = timing%forces + (comm_wtime() - clock)
     clock = comm_wtime()
-    call halo_assemble_finish(halo, s%cell_force, s%f_int_new)
+    call halo_assemble_finish(halo, s%cell_force, s%f_int_new, &
+                              pushed=allocated(s%push_node))
     if (s%mass_scaling) then
       block
         real(wp) :: added(1, s%nnode)
@@ -841,6 +850,16 @@ contains
       s%added(1, 1:nn, l) = factor*s%share(1:nn, l)
     end if
     dt_cell = model%controls%tssfac*dt_cell
+    call keep_smallest_step(model, s, l, dt_cell)
+  end subroutine take_cell_step
+
+  !> Keep dt_cell of local cell l if it is the smallest step so far (among equal steps, the
+  !> cell of the lowest element id).
+  subroutine keep_smallest_step(model, s, l, dt_cell)
+    type(model_t), intent(in) :: model                !< resolved model
+    type(explicit_state_t), intent(inout) :: s        !< local state
+    integer, intent(in) :: l                          !< local cell
+    real(wp), intent(in) :: dt_cell                   !< its step (TSSFAC applied)
     if (dt_cell < s%dt_stable) then
       s%dt_stable = dt_cell
       s%dt_cell = l
@@ -848,7 +867,7 @@ contains
       if (model%elements%id(s%cell_element(l)) < model%elements%id(s%cell_element(s%dt_cell))) &
         s%dt_cell = l
     end if
-  end subroutine take_cell_step
+  end subroutine keep_smallest_step
 
   !> Group the local cells into blocks for block_forces: outer cells first (they must be done
   !> before the halo exchange starts), then inner ones; within each, cells of equal (material,
@@ -937,8 +956,8 @@ contains
     integer, intent(in) :: b                          !< block
     integer, parameter :: LD = BLOCK_CELLS
     real(wp) :: u(LD, 3, CELL_MAX_NODES), force(LD, 3, CELL_MAX_NODES)
-    real(wp) :: f(LD, 9), adj(LD, 9), det(LD), tau(LD, 6), omega2(LD)
-    logical :: ok(LD)
+    real(wp) :: f(LD, 9), adj(LD, 9), det(LD), tau(LD, 6), omega2(LD), dt_block(LD)
+    logical :: ok(LD), finite(LD), steps_at_once
     integer :: n, nn, i, a, l, node, first
     first = s%block_start(b)
     n = s%block_start(b + 1) - first
@@ -964,21 +983,84 @@ contains
                               tau, force)
     call block_critical_omega_squared(n, s%block_weight(:, b), s%block_w0(:, :, b), adj, det, &
                                       s%lame(1, l), s%lame(2, l), omega2)
-    ! scatter the forces; the step
+    ! the cells' steps as take_cell_step computes them, for the whole block at once when no
+    ! mass is added and every bound is a finite number (else cell by cell, which reports)
+    steps_at_once = .not. s%mass_scaling
+    if (steps_at_once) then
+      do i = 1, n
+        finite(i) = omega2(i) >= 0.0_wp .and. omega2(i) < huge(1.0_wp)
+        dt_block(i) = 2.0_wp/sqrt(max(omega2(i), tiny(1.0_wp)))
+        dt_block(i) = model%controls%tssfac*dt_block(i)
+      end do
+      steps_at_once = all(finite(1:n))
+    end if
+    ! the forces: added to the pushed nodes at once (the blocks run in ascending cell order
+    ! for them: plan_pushed_assembly), kept for the halo's assembly otherwise; the step
     do i = 1, n
       l = s%block_cell(first + i - 1)
       if (.not. ok(i)) then
         call cell_forces(model, s, l)                ! reports the failure
-        cycle
+        do a = 1, nn
+          force(i, :, a) = s%cell_force(:, a, l)
+        end do
       end if
       do a = 1, nn
-        s%cell_force(1, a, l) = force(i, 1, a)
-        s%cell_force(2, a, l) = force(i, 2, a)
-        s%cell_force(3, a, l) = force(i, 3, a)
+        node = s%push_node(a, l)
+        if (node > 0) then
+          s%f_int_new(1, node) = s%f_int_new(1, node) + force(i, 1, a)
+          s%f_int_new(2, node) = s%f_int_new(2, node) + force(i, 2, a)
+          s%f_int_new(3, node) = s%f_int_new(3, node) + force(i, 3, a)
+        else
+          s%cell_force(1, a, l) = force(i, 1, a)
+          s%cell_force(2, a, l) = force(i, 2, a)
+          s%cell_force(3, a, l) = force(i, 3, a)
+        end if
       end do
-      call take_cell_step(model, s, l, omega2(i))
+      if (.not. ok(i)) cycle
+      if (.not. steps_at_once) then
+        call take_cell_step(model, s, l, omega2(i))
+      else if (dt_block(i) <= s%dt_stable) then
+        call keep_smallest_step(model, s, l, dt_block(i))
+      end if
     end do
   end subroutine block_forces
+
+  !> Pushed assembly of the 3D cell loop: block_forces adds a cell's contribution to a node
+  !> straight into f_int_new when the blocks reach the node's cells in ascending global cell
+  !> order (the order of the halo's plan, so the sums have the same bits on any number of
+  !> ranks) and no other rank needs or adds to it (not shared). That is every node inside a
+  !> rank's part away from its boundary and from changes of material or cell kind (the blocks
+  !> group cells by those); the other nodes keep the halo's order-fixed assembly.
+  subroutine plan_pushed_assembly(s, layout, halo)
+    type(explicit_state_t), intent(inout) :: s        !< local state (blocks built)
+    type(explicit_layout_t), intent(in) :: layout     !< this rank's layout
+    type(halo_t), intent(inout) :: halo               !< force exchange: told the pushed nodes
+    integer, allocatable :: position(:), last_position(:)
+    logical, allocatable :: pushed(:)
+    integer :: k, l, a, node
+    allocate(position(s%ncell), last_position(s%nnode), pushed(s%nnode))
+    do k = 1, s%ncell
+      position(s%block_cell(k)) = k
+    end do
+    pushed = .true.
+    pushed(layout%shared_nodes) = .false.
+    last_position = 0
+    do l = 1, s%ncell                                 ! ascending local = global cell order
+      do a = 1, s%nnodes(l)
+        node = s%nodes(a, l)
+        if (position(l) < last_position(node)) pushed(node) = .false.
+        last_position(node) = position(l)
+      end do
+    end do
+    call halo_assembly_push_nodes(halo, pushed)
+    allocate(s%push_node(CELL_MAX_NODES, s%ncell))
+    s%push_node = 0
+    do l = 1, s%ncell
+      do a = 1, s%nnodes(l)
+        if (pushed(s%nodes(a, l))) s%push_node(a, l) = s%nodes(a, l)
+      end do
+    end do
+  end subroutine plan_pushed_assembly
 
   !> The model element a local cell belongs to (the first of its one or two elements).
   integer function first_element(s, l)
