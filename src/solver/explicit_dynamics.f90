@@ -124,6 +124,8 @@ module mefem_explicit_dynamics
     integer :: nblock = 0                      !< blocks (3D; 0 in 2D)
     integer :: nblock_outer = 0                !< the first nblock_outer blocks are outer cells
     integer, allocatable :: block_start(:)     !< (nblock+1) offsets into block_cell
+    integer, allocatable :: block_nodes(:)     !< (nblock) nodes its cells are computed with
+                                               !< (block_node_count)
     integer, allocatable :: block_cell(:)      !< local cells, block by block
     ! 3D: the cells' gradients, metric, volume and history live in the blocks, in the block
     ! kernels' structure-of-arrays layout (entry i of block b is cell block_cell(block_start(b)
@@ -878,15 +880,16 @@ contains
     type(explicit_state_t), intent(inout) :: s        !< local state (cells set up)
     type(cells_t), intent(in) :: cells                !< all cells (gradients)
     real(wp), intent(in) :: w0_global(:,:,:)          !< (3, 3, cells%n) inverse-mass metrics
-    integer, allocatable :: starts(:)
+    integer, allocatable :: starts(:), nodes_of(:)
     integer :: b, k, l, i, c
-    allocate(s%block_cell(s%ncell), starts(s%ncell + 2))
+    allocate(s%block_cell(s%ncell), starts(s%ncell + 2), nodes_of(s%ncell + 1))
     s%nblock = 0
     starts(1) = 1
     call group(s%outer, 0)
     s%nblock_outer = s%nblock
     call group(s%inner, size(s%outer))
     s%block_start = starts(1:s%nblock + 1)
+    s%block_nodes = nodes_of(1:s%nblock)
     ! the cells' data in the blocks (unused entries zero), virgin histories
     allocate(s%cell_block(s%ncell), s%cell_slot(s%ncell))
     allocate(s%block_grad(BLOCK_CELLS, 3, CELL_MAX_NODES, s%nblock), &
@@ -922,14 +925,16 @@ contains
       do k = 1, size(list)
         if (placed(k)) cycle
         key_material = s%material(list(k))
-        key_nodes = s%nnodes(list(k))
+        key_nodes = block_node_count(s%nnodes(list(k)))
         in_block = 0
         do m = k, size(list)
           if (placed(m)) cycle
-          if (s%material(list(m)) /= key_material .or. s%nnodes(list(m)) /= key_nodes) cycle
+          if (s%material(list(m)) /= key_material .or. &
+              block_node_count(s%nnodes(list(m))) /= key_nodes) cycle
           if (in_block == BLOCK_CELLS) then
             s%nblock = s%nblock + 1
             starts(s%nblock + 1) = placed_count + 1
+            nodes_of(s%nblock) = key_nodes
             in_block = 0
           end if
           placed(m) = .true.
@@ -939,10 +944,25 @@ contains
         end do
         s%nblock = s%nblock + 1
         starts(s%nblock + 1) = placed_count + 1
+        nodes_of(s%nblock) = key_nodes
       end do
     end subroutine group
 
   end subroutine build_blocks
+
+  !> Number of nodes a 3D cell is computed with in the blocks: an ME-FEM face cell (more than
+  !> the 4 corners of a tet: 5 on the boundary, 7 inside) as a CELL_MAX_NODES-node cell, its
+  !> missing nodes with zero gradients (they add exact zeros to F and get no force), so that
+  !> the cells of a part form one sequence of blocks in ascending cell order and the pushed
+  !> assembly reaches the nodes of the boundary too; a standard tet cell with its 4 nodes.
+  pure integer function block_node_count(nnodes)
+    integer, intent(in) :: nnodes                     !< the cell's nodes
+    if (nnodes > 4) then
+      block_node_count = CELL_MAX_NODES
+    else
+      block_node_count = nnodes
+    end if
+  end function block_node_count
 
   !> One block of 3D cells of one material and node count (build_blocks): the steps of
   !> cell_forces with the cells in the inner loops. The block's data are gathered into
@@ -962,12 +982,14 @@ contains
     first = s%block_start(b)
     n = s%block_start(b + 1) - first
     if (n == 0) return
-    nn = s%nnodes(s%block_cell(first))
-    ! gather the displacements (the rest is stored in the blocks)
+    nn = s%block_nodes(b)
+    ! gather the displacements (the rest is stored in the blocks; a padded slot, node 0, takes
+    ! the first node's: its gradient is zero)
     do i = 1, n
       l = s%block_cell(first + i - 1)
       do a = 1, nn
         node = s%nodes(a, l)
+        if (node == 0) node = s%nodes(1, l)
         u(i, 1, a) = s%u(1, node)
         u(i, 2, a) = s%u(2, node)
         u(i, 3, a) = s%u(3, node)
@@ -1000,11 +1022,11 @@ contains
       l = s%block_cell(first + i - 1)
       if (.not. ok(i)) then
         call cell_forces(model, s, l)                ! reports the failure
-        do a = 1, nn
+        do a = 1, s%nnodes(l)
           force(i, :, a) = s%cell_force(:, a, l)
         end do
       end if
-      do a = 1, nn
+      do a = 1, s%nnodes(l)
         node = s%push_node(a, l)
         if (node > 0) then
           s%f_int_new(1, node) = s%f_int_new(1, node) + force(i, 1, a)
