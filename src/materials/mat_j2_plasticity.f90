@@ -48,6 +48,8 @@ module mefem_mat_j2_plasticity
   real(wp), parameter :: ONE_THIRD = 1.0_wp/3.0_wp       !< (products instead of divisions)
   real(wp), parameter :: RETURN_TOLERANCE = 1.0e-13_wp   !< |r| relative to |s_tr|
   integer, parameter :: MAX_RETURN_ITERATIONS = 100       !< Newton/bisection steps
+  !> |det - 1| of the unimodular shift's cubic taken as round-off
+  real(wp), parameter :: SHIFT_TOLERANCE = 4.0_wp*epsilon(1.0_wp)
   !> |J_{n+1}/J_n - 1| up to which inverse_cube_root uses its series and Newton step
   real(wp), parameter :: CUBE_ROOT_SERIES_RANGE = 0.01_wp
   !> Taylor coefficients of (1 + d)^(-1/3) (inverse_cube_root)
@@ -222,7 +224,8 @@ contains
     real(wp), dimension(ld) :: j_old, x, y, d, scale, i_bar, mu_bar, norm_trial, yield_old
     real(wp), dimension(ld) :: slope, dgamma, i2, i3, g, jp, denominator
     real(wp) :: a(9), adj(9), rel(9), tt(9), be_old(SYM), be_trial(SYM), s(SYM), dv(SYM)
-    real(wp) :: s_trial(ld, SYM), be_new(ld, SYM), be_shifted(ld, SYM), return_factor
+    real(wp) :: s_trial(ld, SYM), be_new(ld, SYM), dev(ld, SYM), return_factor, x_shift(ld)
+    real(wp) :: x0, x1, x2, dg0, dg1, g1, g2
     logical :: plastic(ld), converged, shifted(ld)
     integer :: i, k
     mu = mat%young/(2.0_wp*(1.0_wp + mat%poisson))
@@ -325,16 +328,38 @@ contains
       i3(i) = dv(XX)*(dv(YY)*dv(ZZ) - dv(YZ)*dv(YZ)) - dv(XY)*(dv(XY)*dv(ZZ) - dv(YZ)*dv(ZX)) &
             + dv(ZX)*(dv(XY)*dv(YZ) - dv(YY)*dv(ZX))
       g(i) = (i_bar(i)*i_bar(i) + i2(i))*i_bar(i) + i3(i) - 1.0_wp
-      shifted(i) = abs(g(i)) <= 4.0_wp*epsilon(1.0_wp)
-      be_shifted(i, :) = dv
-      be_shifted(i, XX:ZZ) = dv(XX:ZZ) + i_bar(i)
+      dev(i, :) = dv
       jp(i) = 0.5_wp*kappa*(j(i)*j(i) - 1.0_wp)
       tau(i, XX:ZZ) = s(XX:ZZ) + jp(i)
       tau(i, XY:ZX) = s(XY:ZX)
     end do
-    do i = 1, n                                ! Newton steps of the shift where needed
+    ! unimodular_shift's test at x0 = I_bar and its first two Newton steps for the whole block
+    ! (branch-free, the same arithmetic, so the same bits; a step with dg <= 0 is not taken);
+    ! the points these do not settle take unimodular_shift itself
+    do i = 1, n
+      x0 = i_bar(i)
+      dg0 = 3.0_wp*x0*x0 + i2(i)
+      x1 = x0 - g(i)/merge(dg0, 1.0_wp, dg0 > 0.0_wp)
+      g1 = (x1*x1 + i2(i))*x1 + i3(i) - 1.0_wp
+      dg1 = 3.0_wp*x1*x1 + i2(i)
+      x2 = x1 - g1/merge(dg1, 1.0_wp, dg1 > 0.0_wp)
+      g2 = (x2*x2 + i2(i))*x2 + i3(i) - 1.0_wp
+      shifted(i) = .true.
+      if (abs(g(i)) <= SHIFT_TOLERANCE) then
+        x_shift(i) = x0
+      else if (dg0 > 0.0_wp .and. abs(g1) <= SHIFT_TOLERANCE) then
+        x_shift(i) = x1
+      else if (dg0 > 0.0_wp .and. dg1 > 0.0_wp .and. abs(g2) <= SHIFT_TOLERANCE) then
+        x_shift(i) = x2
+      else
+        shifted(i) = .false.
+        x_shift(i) = x0
+      end if
+    end do
+    do i = 1, n
       if (shifted(i)) then
-        be_new(i, :) = be_shifted(i, :)
+        be_new(i, :) = dev(i, :)
+        be_new(i, XX:ZZ) = dev(i, XX:ZZ) + x_shift(i)
       else if (ok(i)) then
         call unimodular_shift(be_new(i, :), i_bar(i))
       end if
@@ -425,7 +450,7 @@ contains
     x = x0
     do iteration = 1, 30
       g = (x*x + i2)*x + i3 - 1.0_wp
-      if (abs(g) <= 4.0_wp*epsilon(1.0_wp)) then   ! det = 1 to round-off (elastic steps:
+      if (abs(g) <= SHIFT_TOLERANCE) then          ! det = 1 to round-off (elastic steps:
         a = d                                       ! at once, x0 = I_bar)
         a(XX:ZZ) = a(XX:ZZ) + x
         return

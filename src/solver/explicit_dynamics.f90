@@ -99,6 +99,7 @@ module mefem_explicit_dynamics
     real(wp), allocatable :: f_ext_new(:,:)    !< (dim, nnode) external forces at t^{n+1}
     real(wp), allocatable :: f_con(:,:)        !< (dim, nnode) contact forces at t^n
     real(wp), allocatable :: f_con_new(:,:)    !< (dim, nnode) contact forces at t^{n+1}
+    logical :: with_external = .false.         !< nodal or pressure loads (else f_ext = 0)
     ! mortar contact (replicated surfaces) and this rank's view of its nodes
     type(mortar_contact_t) :: contact
     integer, allocatable :: contact_local(:)   !< (contact nodes) local node, 0 if none
@@ -269,8 +270,7 @@ contains
       t = t + dt
       call compute_forces(model, s, halo, t, dt_full, timing)
       clock = comm_wtime()
-      call accumulate_energies(s, dt)
-      call accelerations(s)
+      call energies_and_accelerations(s, dt)
       if (s%bodies%n > 0) call rigid_body_resultants(s)
       timing%update = timing%update + (comm_wtime() - clock)
       dt_old = dt
@@ -455,8 +455,11 @@ contains
     allocate(s%u(dim, s%nnode), s%v(dim, s%nnode), s%v_old(dim, s%nnode), s%a(dim, s%nnode), &
              s%f_int(dim, s%nnode), s%f_int_new(dim, s%nnode), s%f_ext(dim, s%nnode), &
              s%f_ext_new(dim, s%nnode), s%f_con(dim, s%nnode), s%f_con_new(dim, s%nnode))
-    s%f_con = 0.0_wp
-    s%f_con_new = 0.0_wp
+    s%f_con = 0.0_wp                   ! without loads or contact these stay zero: they are
+    s%f_con_new = 0.0_wp               ! neither written nor read in the cycle
+    s%f_ext = 0.0_wp
+    s%f_ext_new = 0.0_wp
+    s%with_external = model%n_nodal_loads + model%n_pressure_loads > 0
     s%u = 0.0_wp
     s%a = 0.0_wp
     do l = 1, s%nnode
@@ -721,7 +724,7 @@ contains
     end if
     timing%exchange = timing%exchange + (comm_wtime() - clock)
     call external_nodal_forces(model, s, t)
-    call set_to_zero(size(s%f_con_new), s%f_con_new)
+    if (s%contact%n > 0) call set_to_zero(size(s%f_con_new), s%f_con_new)
     if (s%contact%n > 0 .and. dt > 0.0_wp) then
       clock = comm_wtime()
       call contact_forces(s, dt)
@@ -1098,8 +1101,8 @@ contains
     real(wp), intent(in) :: t                         !< time
     real(wp), allocatable :: force(:,:)
     integer :: l, g
+    if (.not. s%with_external) return                 ! f_ext_new stays zero
     call set_to_zero(size(s%f_ext_new), s%f_ext_new)
-    if (model%n_nodal_loads + model%n_pressure_loads == 0) return
     allocate(force(s%dim, model%nodes%n))
     force = 0.0_wp
     call external_forces(model, t, force)
@@ -1127,36 +1130,97 @@ contains
                ' (element named above); the state at that time was written')
   end subroutine stop_on_failure
 
-  !> a = (f_ext - f_int)/m at the integrated nodes; zero at fixed dofs and at dofs a motion
-  !> drives in this cycle (a is then used only for the full-step velocity of the output; a
-  !> motion outside its BIRTH..DEATH window leaves its dof free).
+  !> a = (f_ext + f_con - f_int)/m at the integrated nodes (the forces of t^0, before the
+  !> first step); zero at fixed dofs and at dofs a motion drives in this cycle (a is then used
+  !> only for the full-step velocity of the output; a motion outside its BIRTH..DEATH window
+  !> leaves its dof free).
   subroutine accelerations(s)
     type(explicit_state_t), intent(inout) :: s        !< local state
-    call nodal_accelerations(s%dim, s%nnode, s%active, s%fixed, s%driven, s%f_ext, s%f_con, &
-                             s%f_int, s%mass, s%a)
+    real(wp) :: internal, external, sliding
+    call nodal_balance(s%dim, s%nnode, .false., 0.0_wp, s%with_external, s%contact%n > 0, &
+                       s%owned, s%active, s%fixed, s%driven, s%mass, s%v, s%f_int, s%f_int, &
+                       s%f_ext, s%f_ext, s%f_con, s%f_con, s%a, internal, external, sliding)
   end subroutine accelerations
 
-  !> The loop of accelerations on plain arrays (the compiler then keeps the array addresses
-  !> in registers instead of reloading them from the state after every store).
-  pure subroutine nodal_accelerations(dim, nnode, active, fixed, driven, f_ext, f_con, f_int, &
-                                      mass, a)
+  !> After a step: the trapezoidal internal energy, external work and contact energy of the
+  !> step (owned nodes) and the accelerations a^{n+1} (as accelerations does) in one pass
+  !> over the nodes; then the new forces become the current ones (array swap, no copy).
+  subroutine energies_and_accelerations(s, dt)
+    type(explicit_state_t), intent(inout) :: s        !< local state
+    real(wp), intent(in) :: dt                        !< dt^{n+1/2}
+    real(wp), allocatable :: scratch(:,:)
+    real(wp) :: internal, external, sliding
+    call nodal_balance(s%dim, s%nnode, .true., dt, s%with_external, s%contact%n > 0, s%owned, &
+                       s%active, s%fixed, s%driven, s%mass, s%v, s%f_int, s%f_int_new, s%f_ext, &
+                       s%f_ext_new, s%f_con, s%f_con_new, s%a, internal, external, sliding)
+    s%internal_energy = s%internal_energy + internal
+    s%external_work = s%external_work + external
+    s%contact_energy = s%contact_energy + sliding
+    call move_alloc(s%f_con, scratch)
+    call move_alloc(s%f_con_new, s%f_con)
+    call move_alloc(scratch, s%f_con_new)
+    call move_alloc(s%f_int, scratch)
+    call move_alloc(s%f_int_new, s%f_int)
+    call move_alloc(scratch, s%f_int_new)
+    call move_alloc(s%f_ext, scratch)
+    call move_alloc(s%f_ext_new, s%f_ext)
+    call move_alloc(scratch, s%f_ext_new)
+  end subroutine energies_and_accelerations
+
+  !> The loop of accelerations and energies_and_accelerations on plain arrays (the compiler
+  !> keeps the addresses in registers and takes the flags' tests out of the loop): with
+  !> energies, the work of the forces over the step, 0.5 dt (f^n + f^{n+1}) . v^{n+1/2}, summed
+  !> over owned nodes (internal, external, minus contact); a = (f_ext + f_con - f_int)/m from
+  !> the new forces. Zero external or contact forces are not read (no loads, no contact):
+  !> the same bits, as 0 + x = x.
+  pure subroutine nodal_balance(dim, nnode, energies, dt, with_external, with_contact, owned, &
+                                active, fixed, driven, mass, v, f_int, f_int_new, f_ext, &
+                                f_ext_new, f_con, f_con_new, a, internal, external, sliding)
     integer, intent(in) :: dim, nnode                 !< dimension, local nodes
+    logical, intent(in) :: energies                   !< accumulate the energies of the step
+    real(wp), intent(in) :: dt                        !< dt^{n+1/2} (energies)
+    logical, intent(in) :: with_external, with_contact !< f_ext, f_con may be nonzero
+    logical, intent(in) :: owned(nnode)               !< owned nodes (energies)
     logical, intent(in) :: active(nnode)              !< integrated nodes
     logical, intent(in) :: fixed(dim, nnode), driven(dim, nnode) !< dofs with a = 0
-    real(wp), intent(in) :: f_ext(dim, nnode), f_con(dim, nnode), f_int(dim, nnode) !< forces
     real(wp), intent(in) :: mass(nnode)               !< lumped masses
-    real(wp), intent(out) :: a(dim, nnode)            !< accelerations
+    real(wp), intent(in) :: v(dim, nnode)             !< v^{n+1/2} (energies)
+    real(wp), intent(in) :: f_int(dim, nnode), f_int_new(dim, nnode) !< internal f^n, f^{n+1}
+    real(wp), intent(in) :: f_ext(dim, nnode), f_ext_new(dim, nnode) !< external
+    real(wp), intent(in) :: f_con(dim, nnode), f_con_new(dim, nnode) !< contact
+    real(wp), intent(out) :: a(dim, nnode)            !< a^{n+1}
+    real(wp), intent(out) :: internal, external, sliding !< the step's energies (owned)
+    real(wp) :: dot_int, dot_ext, dot_con, net
     integer :: n, d
+    internal = 0.0_wp
+    external = 0.0_wp
+    sliding = 0.0_wp
     do n = 1, nnode
+      if (energies .and. owned(n)) then
+        dot_int = 0.0_wp                     ! the dot products summed as dot_product does
+        dot_ext = 0.0_wp
+        dot_con = 0.0_wp
+        do d = 1, dim
+          dot_int = dot_int + (f_int(d, n) + f_int_new(d, n))*v(d, n)
+          if (with_external) dot_ext = dot_ext + (f_ext(d, n) + f_ext_new(d, n))*v(d, n)
+          if (with_contact) dot_con = dot_con + (f_con(d, n) + f_con_new(d, n))*v(d, n)
+        end do
+        internal = internal + 0.5_wp*dt*dot_int
+        if (with_external) external = external + 0.5_wp*dt*dot_ext
+        if (with_contact) sliding = sliding - 0.5_wp*dt*dot_con
+      end if
       do d = 1, dim
         if (active(n) .and. .not. (fixed(d, n) .or. driven(d, n))) then
-          a(d, n) = (f_ext(d, n) + f_con(d, n) - f_int(d, n))/mass(n)
+          net = 0.0_wp
+          if (with_external) net = f_ext_new(d, n)
+          if (with_contact) net = net + f_con_new(d, n)
+          a(d, n) = (net - f_int_new(d, n))/mass(n)
         else
           a(d, n) = 0.0_wp
         end if
       end do
     end do
-  end subroutine nodal_accelerations
+  end subroutine nodal_balance
 
   !> v^{n+1/2} = v^{n-1/2} + dt_avg a^n at the integrated nodes, 0 at fixed dofs; keeps
   !> v^{n-1/2} and clears the driven flags (first part of update_velocities, on plain arrays).
@@ -1203,44 +1267,6 @@ contains
     end do
   end subroutine advance_displacements
 
-  !> Trapezoidal internal energy and external work of the step just made (owned nodes), then
-  !> the new forces become the current ones (array swap, no copy).
-  subroutine accumulate_energies(s, dt)
-    type(explicit_state_t), intent(inout) :: s        !< local state
-    real(wp), intent(in) :: dt                        !< dt^{n+1/2}
-    real(wp), allocatable :: scratch(:,:)
-    real(wp) :: internal, external, sliding, dot_int, dot_ext, dot_con
-    integer :: n, d
-    internal = 0.0_wp
-    external = 0.0_wp
-    sliding = 0.0_wp
-    do n = 1, s%nnode
-      if (.not. s%owned(n)) cycle
-      dot_int = 0.0_wp                       ! the dot products summed as dot_product does
-      dot_ext = 0.0_wp
-      dot_con = 0.0_wp
-      do d = 1, s%dim
-        dot_int = dot_int + (s%f_int(d, n) + s%f_int_new(d, n))*s%v(d, n)
-        dot_ext = dot_ext + (s%f_ext(d, n) + s%f_ext_new(d, n))*s%v(d, n)
-        dot_con = dot_con + (s%f_con(d, n) + s%f_con_new(d, n))*s%v(d, n)
-      end do
-      internal = internal + 0.5_wp*dt*dot_int
-      external = external + 0.5_wp*dt*dot_ext
-      sliding = sliding - 0.5_wp*dt*dot_con
-    end do
-    s%internal_energy = s%internal_energy + internal
-    s%external_work = s%external_work + external
-    s%contact_energy = s%contact_energy + sliding
-    call move_alloc(s%f_con, scratch)
-    call move_alloc(s%f_con_new, s%f_con)
-    call move_alloc(scratch, s%f_con_new)
-    call move_alloc(s%f_int, scratch)
-    call move_alloc(s%f_int_new, s%f_int)
-    call move_alloc(scratch, s%f_int_new)
-    call move_alloc(s%f_ext, scratch)
-    call move_alloc(s%f_ext_new, s%f_ext)
-    call move_alloc(scratch, s%f_ext_new)
-  end subroutine accumulate_energies
 
   !> The next time step: the global minimum of the cells' stable steps (one reduction per
   !> cycle). A failed cell anywhere gives -1; the rank that found it prints what happened.
