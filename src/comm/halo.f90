@@ -28,7 +28,7 @@ module mefem_halo
   use mefem_kinds, only: wp
   use mefem_errors, only: fatal_local
   use mefem_comm, only: comm_requests_t, comm_isend_real, comm_irecv_real, comm_waitall, &
-                        comm_wtime
+                        comm_wtime, comm_progress
   use mefem_decomposition, only: decomposition_t
   use mefem_explicit_layout, only: explicit_layout_t
   implicit none
@@ -36,6 +36,7 @@ module mefem_halo
 
   public :: halo_build, halo_sum, halo_sum_start, halo_sum_finish
   public :: halo_assemble, halo_assemble_start, halo_assemble_finish, halo_assembly_push_nodes
+  public :: halo_assemble_progress
 
   integer, parameter :: DEFAULT_TAG = 7100     !< message tag when none is given
 
@@ -380,26 +381,29 @@ contains
                                  cell_values, f)
   end subroutine halo_assemble_finish
 
+  !> Between halo_assemble_start and _finish: let the transfers advance (call it every few
+  !> thousand cells of interior work; without it a large message may move only at _finish).
+  subroutine halo_assemble_progress(halo)
+    type(halo_t), intent(inout), asynchronous :: halo !< halo with an assembly in flight
+    if (halo%assembly_ncomp /= 0) call comm_progress(halo%assembly_requests)
+  end subroutine halo_assemble_progress
+
   !> Let the caller assemble the nodes marked in `pushed` itself: it adds each contribution to
   !> such a node straight into the nodal array, in ascending global cell order, starting from
   !> zero (the same bits as the plan), and halo_assemble_finish(..., pushed=.true.) sums only
-  !> the other nodes. A pushed node must not be shared with another rank (its contributions
-  !> are all this rank's and nobody else needs them).
+  !> the other nodes. A pushed node must not receive contributions from other ranks (not one
+  !> of mixed_nodes); contributions other ranks need must still be in cell_values at
+  !> halo_assemble_start.
   subroutine halo_assembly_push_nodes(halo, pushed)
     type(halo_t), intent(inout) :: halo            !< halo built from an explicit layout
     logical, intent(in) :: pushed(:)               !< (nnode_local) nodes the caller assembles
-    logical, allocatable :: shared(:)
     integer :: source, i, nkept
     if (.not. halo%has_assembly) call fatal_local('halo_assembly_push_nodes: the halo was '// &
                                                   'not built from an explicit layout')
     if (size(pushed) /= halo%nnode_local) call fatal_local('halo_assembly_push_nodes: '// &
                                                            'pushed does not fit the halo')
-    allocate(shared(halo%nnode_local))
-    shared = .false.
-    shared(halo%shared_nodes) = .true.
-    shared(halo%mixed_nodes) = .true.
-    if (any(pushed .and. shared)) call fatal_local('halo_assembly_push_nodes: a shared node '// &
-                                                   'cannot be pushed')
+    if (any(pushed(halo%mixed_nodes))) call fatal_local('halo_assembly_push_nodes: a node '// &
+        'with contributions from other ranks cannot be pushed')
     nkept = 0
     do source = 1, size(halo%source_node)
       i = halo%source_node(source)

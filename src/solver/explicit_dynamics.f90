@@ -38,7 +38,7 @@ module mefem_explicit_dynamics
   use mefem_explicit_layout, only: explicit_layout_t, explicit_layout_build, &
                                    explicit_layout_local_node
   use mefem_halo, only: halo_t, halo_build, halo_assemble_start, halo_assemble_finish, &
-                        halo_assemble, halo_assembly_push_nodes
+                        halo_assemble, halo_assembly_push_nodes, halo_assemble_progress
   use mefem_cells, only: cells_t, cells_build, cells_summary, CELL_MAX_NODES
   use mefem_cell_finite_strain, only: cell_deformation_gradient, cell_internal_force, &
                                       inverse_3x3, block_deformation_gradient, &
@@ -75,6 +75,8 @@ module mefem_explicit_dynamics
 
   integer, parameter :: VAD_VELOCITY = 0, VAD_ACCELERATION = 1, VAD_DISPLACEMENT = 2
   real(wp), parameter :: SPC_FOREVER = 1.0e20_wp   !< DEATH default of *BOUNDARY_SPC
+  !> inner blocks between two calls that let the halo's transfers advance (about 2 000 cells)
+  integer, parameter :: PROGRESS_BLOCKS = 64
 
   !> Local nodes one rigid wall tests.
   type :: node_list_t
@@ -153,6 +155,10 @@ module mefem_explicit_dynamics
     integer, allocatable :: push_node(:,:)     !< (CELL_MAX_NODES, ncell) 3D: the local node
                                                !< a contribution is added to at once
                                                !< (pushed assembly), 0: kept in cell_force
+    integer, allocatable :: replay_start(:)    !< (inner blocks + 2) outer cells whose stored
+                                               !< forces are pushed before inner block j:
+                                               !< outer(replay_start(j):replay_start(j+1)-1)
+                                               !< (the last range: after the last block)
     real(wp), allocatable :: added(:,:,:)      !< (1, CELL_MAX_NODES, ncell) added masses
     logical :: mass_scaling = .false.          !< DT2MS < 0 given
     ! time step of the last force evaluation
@@ -407,7 +413,7 @@ contains
     s%cell_force = 0.0_wp
     if (dim == 3) then
       call build_blocks(s, cells, w0_global)
-      call plan_pushed_assembly(s, layout, halo)
+      call plan_pushed_assembly(s, halo)
     end if
     s%mass_scaling = model%controls%dt2ms < 0.0_wp
     if (s%mass_scaling) allocate(s%added(1, CELL_MAX_NODES, s%ncell))
@@ -700,8 +706,11 @@ contains
       end do
       call halo_assemble_start(halo, s%cell_force)
       do k = s%nblock_outer + 1, s%nblock
+        if (allocated(s%replay_start)) call replay_outer_forces(s, k - s%nblock_outer)
         call block_forces(model, s, k)
+        if (mod(k - s%nblock_outer, PROGRESS_BLOCKS) == 0) call halo_assemble_progress(halo)
       end do
+      if (allocated(s%replay_start)) call replay_outer_forces(s, s%nblock - s%nblock_outer + 1)
     else
       do k = 1, size(s%outer)
         call cell_forces(model, s, s%outer(k))
@@ -1030,7 +1039,8 @@ contains
         end do
       end if
       do a = 1, s%nnodes(l)
-        node = s%push_node(a, l)
+        node = 0
+        if (b > s%nblock_outer) node = s%push_node(a, l)   ! outer cells: replayed later
         if (node > 0) then
           s%f_int_new(1, node) = s%f_int_new(1, node) + force(i, 1, a)
           s%f_int_new(2, node) = s%f_int_new(2, node) + force(i, 2, a)
@@ -1053,22 +1063,47 @@ contains
   !> Pushed assembly of the 3D cell loop: block_forces adds a cell's contribution to a node
   !> straight into f_int_new when the blocks reach the node's cells in ascending global cell
   !> order (the order of the halo's plan, so the sums have the same bits on any number of
-  !> ranks) and no other rank needs or adds to it (not shared). That is every node inside a
-  !> rank's part away from its boundary and from changes of material or cell kind (the blocks
-  !> group cells by those); the other nodes keep the halo's order-fixed assembly.
-  subroutine plan_pushed_assembly(s, layout, halo)
+  !> ranks) and no other rank adds to it. The outer cells (those touching a shared node),
+  !> computed before the halo exchange starts, store their forces, which the exchange sends;
+  !> each is pushed ("replayed") just before the first inner block that starts above it, so
+  !> it takes its place in the order. That pushes every node without contributions from
+  !> other ranks, except where materials or cell kinds change (the blocks group cells by
+  !> those) or an outer cell falls inside the id range of an inner block that also touches the
+  !> node; those nodes and the ones other ranks add to keep the halo's order-fixed assembly.
+  subroutine plan_pushed_assembly(s, halo)
     type(explicit_state_t), intent(inout) :: s        !< local state (blocks built)
-    type(explicit_layout_t), intent(in) :: layout     !< this rank's layout
     type(halo_t), intent(inout) :: halo               !< force exchange: told the pushed nodes
     integer, allocatable :: position(:), last_position(:)
     logical, allocatable :: pushed(:)
-    integer :: k, l, a, node
+    integer :: k, l, a, node, j, ninner, p, sequence, m
+    ! the order in which contributions reach the nodal array: the inner blocks, and before
+    ! each the outer cells (computed first, before the halo exchange, and stored) whose ids
+    ! are below the block's first cell, their stored forces "replayed"; the rest at the end
     allocate(position(s%ncell), last_position(s%nnode), pushed(s%nnode))
-    do k = 1, s%ncell
-      position(s%block_cell(k)) = k
+    ninner = s%nblock - s%nblock_outer
+    allocate(s%replay_start(ninner + 2))
+    p = 1
+    sequence = 0
+    do j = 1, ninner + 1
+      s%replay_start(j) = p
+      do while (p <= size(s%outer))
+        if (j <= ninner) then
+          if (s%outer(p) >= s%block_cell(s%block_start(s%nblock_outer + j))) exit
+        end if
+        sequence = sequence + 1
+        position(s%outer(p)) = sequence
+        p = p + 1
+      end do
+      if (j > ninner) cycle
+      k = s%nblock_outer + j
+      do m = s%block_start(k), s%block_start(k + 1) - 1
+        sequence = sequence + 1
+        position(s%block_cell(m)) = sequence
+      end do
     end do
+    s%replay_start(ninner + 2) = p
     pushed = .true.
-    pushed(layout%shared_nodes) = .false.
+    pushed(halo%mixed_nodes) = .false.                ! they get other ranks' contributions
     last_position = 0
     do l = 1, s%ncell                                 ! ascending local = global cell order
       do a = 1, s%nnodes(l)
@@ -1086,6 +1121,21 @@ contains
       end do
     end do
   end subroutine plan_pushed_assembly
+
+  !> Push the stored forces of the outer cells due before inner block j (plan_pushed_assembly;
+  !> j = inner blocks + 1: those after the last block) to their pushed nodes.
+  subroutine replay_outer_forces(s, j)
+    type(explicit_state_t), intent(inout) :: s        !< local state
+    integer, intent(in) :: j                          !< inner block (1-based among them)
+    integer :: p, l, a, node
+    do p = s%replay_start(j), s%replay_start(j + 1) - 1
+      l = s%outer(p)
+      do a = 1, s%nnodes(l)
+        node = s%push_node(a, l)
+        if (node > 0) s%f_int_new(:, node) = s%f_int_new(:, node) + s%cell_force(:, a, l)
+      end do
+    end do
+  end subroutine replay_outer_forces
 
   !> The model element a local cell belongs to (the first of its one or two elements).
   integer function first_element(s, l)

@@ -24,7 +24,7 @@ program test_halo
   use mefem_explicit_layout, only: explicit_layout_t, explicit_layout_build, &
                                    explicit_layout_local_node
   use mefem_halo, only: halo_t, halo_build, halo_sum, halo_sum_start, halo_sum_finish, &
-                        halo_assemble_start, halo_assemble_finish
+                        halo_assemble_start, halo_assemble_finish, halo_assembly_push_nodes
   use mefem_lumped_mass, only: lumped_mass
   use mefem_testing, only: test_start, test_finish, check, check_close
   implicit none
@@ -556,10 +556,11 @@ contains
     type(halo_t) :: halo
     type(status_t) :: status
     real(wp), allocatable :: cell_values(:,:,:), f(:,:), g(:,:), reference(:,:), partial(:,:,:)
-    real(wp), allocatable :: ordered(:,:)
-    logical, allocatable :: shared(:)
-    integer :: nparts, r, k, c, j, comp
-    logical :: ok_assembly, ok_bits, ok_close
+    real(wp), allocatable :: ordered(:,:), h(:,:)
+    logical, allocatable :: shared(:), pushed(:)
+    type(halo_t) :: pushed_halo
+    integer :: nparts, r, k, c, j, comp, l
+    logical :: ok_assembly, ok_bits, ok_close, ok_pushed
 
     nparts = comm_size()
     call build_decomposition(comm_rank(), nparts, model%elements%n, model%nodes%n, elem_start, &
@@ -581,6 +582,30 @@ contains
     ok_assembly = all(f == reference(:, layout%node_global))
     call check(.not. comm_any(.not. ok_assembly), tag//': halo_assemble = serial sum in '// &
         'ascending cell order, bit for bit (independent of the number of ranks)')
+
+    ! pushed assembly: the caller adds the contributions to two thirds of the nodes without
+    ! other ranks' contributions itself (ascending cell order); the halo sums the rest
+    call halo_build(pushed_halo, layout, NCOMP, tag=300)
+    allocate(pushed(layout%nnode_local))
+    pushed = [(mod(k, 3) /= 0, k = 1, layout%nnode_local)]
+    pushed(pushed_halo%mixed_nodes) = .false.
+    call halo_assembly_push_nodes(pushed_halo, pushed)
+    call halo_assemble_start(pushed_halo, cell_values)
+    allocate(h(NCOMP, layout%nnode_local))
+    h = -1.0_wp                                  ! kept nodes: zeroed by the halo
+    do k = 1, layout%nnode_local
+      if (pushed(k)) h(:, k) = 0.0_wp
+    end do
+    do l = 1, layout%ncell_local                 ! ascending local = global cell order
+      do j = 1, cells%nnodes(layout%cell_global(l))
+        k = layout%cell_nodes(j, l)
+        if (pushed(k)) h(:, k) = h(:, k) + cell_values(:, j, l)
+      end do
+    end do
+    call halo_assemble_finish(pushed_halo, cell_values, h, pushed=.true.)
+    ok_pushed = all(h == reference(:, layout%node_global))
+    call check(.not. comm_any(.not. ok_pushed), tag//': pushed assembly (caller adds two '// &
+        'thirds of the nodes) = serial sum, bit for bit')
 
     ! halo_sum over the layout: scatter outer cells, start, scatter inner cells, finish
     allocate(g(NCOMP, layout%nnode_local))
