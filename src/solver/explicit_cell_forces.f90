@@ -1,0 +1,463 @@
+!> The cell loop of the explicit solver: per cell the smoothed F, the material update, the
+!> nodal force contributions and the cell's stable step, and their assembly into f_int_new.
+!>
+!> 3D cells are computed in blocks of up to BLOCK_CELLS cells of one material and node count
+!> (build_blocks, block_forces: structure-of-arrays kernels vectorised across the cells); 2D
+!> cells one by one (cell_forces). The outer cells (touching a shared node) come first, then
+!> the halo exchange of their contributions starts and the inner cells overlap it.
+!>
+!> Assembly in ascending global cell order at every node, so that forces have the same bits
+!> on any number of ranks: in 3D, a contribution is added at once to its node when the blocks
+!> reach that node's cells in that order (pushed assembly: plan_pushed_assembly); the others
+!> are stored per cell and summed by mefem_halo's order-fixed plan, with other ranks' ones.
+module mefem_explicit_cell_forces
+  use mefem_kinds, only: wp
+  use mefem_errors, only: status_t
+  use mefem_strings, only: itoa
+  use mefem_model, only: model_t
+  use mefem_halo, only: halo_t, halo_assemble_start, halo_assembly_push_nodes, &
+                        halo_assemble_progress
+  use mefem_cells, only: cells_t, CELL_MAX_NODES
+  use mefem_cell_finite_strain, only: cell_deformation_gradient, cell_internal_force, &
+                                      block_deformation_gradient, block_adjugate, &
+                                      block_internal_force
+  use mefem_stable_time_step, only: cell_critical_omega_squared, block_critical_omega_squared
+  use mefem_material_state, only: NHIST, material_state_init, BLOCK_CELLS => BLOCK_POINTS
+  use mefem_material_update, only: material_update, material_update_block
+  use mefem_explicit_state, only: explicit_state_t, set_to_zero
+  implicit none
+  private
+
+  public :: explicit_cells_set_up, explicit_cell_loop, block_cell_data
+
+  !> inner blocks between two calls that let the halo's transfers advance (about 2 000 cells)
+  integer, parameter :: PROGRESS_BLOCKS = 64
+
+contains
+
+  !> 3D: group the local cells into blocks (with their gradients, metrics, volumes and
+  !> virgin histories) and plan the pushed assembly (telling the halo which nodes it is).
+  subroutine explicit_cells_set_up(s, cells, w0_global, halo)
+    type(explicit_state_t), intent(inout) :: s        !< local state (cells set up)
+    type(cells_t), intent(in) :: cells                !< all cells (gradients)
+    real(wp), intent(in) :: w0_global(:,:,:)          !< (3, 3, cells%n) inverse-mass metrics
+    type(halo_t), intent(inout) :: halo               !< force exchange
+    call build_blocks(s, cells, w0_global)
+    call plan_pushed_assembly(s, halo)
+  end subroutine explicit_cells_set_up
+
+  !> All local cells at the current displacements: internal forces into f_int_new (pushed
+  !> nodes) and cell_force (the others; the halo exchange of the outer cells' is started
+  !> here and finished by the caller), the smallest stable step (dt_stable, dt_cell) and
+  !> the first failure (failed, failure).
+  subroutine explicit_cell_loop(model, s, halo)
+    type(model_t), intent(in) :: model                !< resolved model
+    type(explicit_state_t), intent(inout) :: s        !< local state
+    type(halo_t), intent(inout) :: halo               !< force exchange (started here)
+    integer :: k
+    s%dt_stable = huge(1.0_wp)
+    s%dt_cell = 0
+    s%failed = .false.
+    if (s%nblock > 0 .or. s%ncell == 0) then
+      if (allocated(s%push_node)) call set_to_zero(size(s%f_int_new), s%f_int_new)
+      do k = 1, s%nblock_outer
+        call block_forces(model, s, k)
+      end do
+      call halo_assemble_start(halo, s%cell_force)
+      do k = s%nblock_outer + 1, s%nblock
+        if (allocated(s%replay_start)) call replay_outer_forces(s, k - s%nblock_outer)
+        call block_forces(model, s, k)
+        if (mod(k - s%nblock_outer, PROGRESS_BLOCKS) == 0) call halo_assemble_progress(halo)
+      end do
+      if (allocated(s%replay_start)) call replay_outer_forces(s, s%nblock - s%nblock_outer + 1)
+    else
+      do k = 1, size(s%outer)
+        call cell_forces(model, s, s%outer(k))
+      end do
+      call halo_assemble_start(halo, s%cell_force)
+      do k = 1, size(s%inner)
+        call cell_forces(model, s, s%inner(k))
+      end do
+    end if
+  end subroutine explicit_cell_loop
+
+  !> One cell: smoothed F, material update (history committed at once: explicit), the
+  !> nodal force contributions and the cell's stable step (with added mass if scaling). The
+  !> cell's data come from the blocks (3D) or the per-cell arrays (2D).
+  subroutine cell_forces(model, s, l)
+    type(model_t), intent(in) :: model                !< resolved model
+    type(explicit_state_t), intent(inout) :: s        !< local state
+    integer, intent(in) :: l                          !< local cell
+    real(wp) :: grad(3, CELL_MAX_NODES), w0(3, 3), hist_old(NHIST)
+    if (s%nblock > 0) then
+      call block_cell_data(s, l, grad, w0, hist_old)
+      call cell_evaluate(model, s, l, grad, w0, hist_old)
+    else
+      hist_old = s%hist(:, l)
+      call cell_evaluate(model, s, l, s%grad(:, :, l), s%w0(:, :, l), hist_old)
+    end if
+  end subroutine cell_forces
+
+  !> Gradients, metric and history of local cell l from the block storage (3D).
+  subroutine block_cell_data(s, l, grad, w0, hist)
+    type(explicit_state_t), intent(in) :: s           !< local state (3D, blocks built)
+    integer, intent(in) :: l                          !< local cell
+    real(wp), intent(out) :: grad(3, CELL_MAX_NODES)  !< reference gradients
+    real(wp), intent(out) :: w0(3, 3)                 !< inverse-mass metric
+    real(wp), intent(out) :: hist(NHIST)              !< history
+    integer :: b, i
+    b = s%cell_block(l)
+    i = s%cell_slot(l)
+    grad = s%block_grad(i, :, :, b)
+    w0 = reshape(s%block_w0(i, :, b), [3, 3])
+    hist = s%block_hist(i, :, b)
+  end subroutine block_cell_data
+
+  !> The work of cell_forces on the cell's data; the new history is stored (blocks or
+  !> per-cell array) once the material update succeeded.
+  subroutine cell_evaluate(model, s, l, grad, w0, hist_old)
+    type(model_t), intent(in) :: model                !< resolved model
+    type(explicit_state_t), intent(inout) :: s        !< local state
+    integer, intent(in) :: l                          !< local cell
+    real(wp), intent(in), contiguous :: grad(:,:)     !< (dim, CELL_MAX_NODES) gradients
+    real(wp), intent(in), contiguous :: w0(:,:)       !< (dim, dim) inverse-mass metric
+    real(wp), intent(in) :: hist_old(NHIST)           !< history at t_n
+    real(wp) :: ue(3, CELL_MAX_NODES), f(3, 3), tau(3, 3), hist_new(NHIST), sound, omega2
+    type(status_t) :: status
+    integer :: nn, dim, k
+    dim = s%dim
+    nn = s%nnodes(l)
+    do k = 1, nn                 ! gather by a loop (a vector subscript allocates a temporary)
+      ue(1:dim, k) = s%u(1:dim, s%nodes(k, l))
+    end do
+    call cell_deformation_gradient(dim, nn, grad, ue(1:dim, 1:nn), f)
+    call material_update(model%materials(s%material(l)), model%curves, f, hist_old, &
+                         hist_new, tau, sound_speed=sound, status=status)
+    if (.not. status%ok) then
+      s%cell_force(:, :, l) = 0.0_wp
+      if (.not. s%failed) s%failure = 'element '// &
+          itoa(model%elements%id(first_element(s, l)))//': '//trim(status%message)
+      s%failed = .true.
+      return
+    end if
+    if (s%nblock > 0) then
+      s%block_hist(s%cell_slot(l), :, s%cell_block(l)) = hist_new
+    else
+      s%hist(:, l) = hist_new
+    end if
+    call cell_internal_force(dim, nn, grad, s%weight(l), f, tau, s%cell_force(:, 1:nn, l))
+    omega2 = cell_critical_omega_squared(dim, s%weight(l), w0, f, s%lame(1, l), s%lame(2, l))
+    call take_cell_step(model, s, l, omega2)
+  end subroutine cell_evaluate
+
+  !> A cell's stable step 2/omega from its bound omega^2 (a NaN or overflow fails the cell),
+  !> with the mass added if scaling, times TSSFAC; the smallest is kept with its cell, among
+  !> equal steps the cell of the lowest element id (independent of the order in which cells
+  !> are computed).
+  subroutine take_cell_step(model, s, l, omega2)
+    type(model_t), intent(in) :: model                !< resolved model
+    type(explicit_state_t), intent(inout) :: s        !< local state
+    integer, intent(in) :: l                          !< local cell
+    real(wp), intent(in) :: omega2                    !< its bound of omega^2
+    real(wp) :: dt_cell, target, factor
+    integer :: nn
+    if (.not. (omega2 >= 0.0_wp .and. omega2 < huge(1.0_wp))) then     ! NaN or overflow
+      if (.not. s%failed) s%failure = 'element '// &
+          itoa(model%elements%id(first_element(s, l)))//': the stable time step is not a '// &
+          'number (NaN or infinite deformation)'
+      s%failed = .true.
+      return
+    end if
+    dt_cell = 2.0_wp/sqrt(max(omega2, tiny(1.0_wp)))
+    if (s%mass_scaling) then
+      nn = s%nnodes(l)
+      target = abs(model%controls%dt2ms)
+      factor = 0.0_wp
+      if (dt_cell < target) then
+        factor = (target/dt_cell)**2 - 1.0_wp
+        dt_cell = target
+      end if
+      s%added(1, 1:nn, l) = factor*s%share(1:nn, l)
+    end if
+    dt_cell = model%controls%tssfac*dt_cell
+    call keep_smallest_step(model, s, l, dt_cell)
+  end subroutine take_cell_step
+
+  !> Keep dt_cell of local cell l if it is the smallest step so far (among equal steps, the
+  !> cell of the lowest element id).
+  subroutine keep_smallest_step(model, s, l, dt_cell)
+    type(model_t), intent(in) :: model                !< resolved model
+    type(explicit_state_t), intent(inout) :: s        !< local state
+    integer, intent(in) :: l                          !< local cell
+    real(wp), intent(in) :: dt_cell                   !< its step (TSSFAC applied)
+    if (dt_cell < s%dt_stable) then
+      s%dt_stable = dt_cell
+      s%dt_cell = l
+    else if (dt_cell == s%dt_stable .and. s%dt_cell > 0) then
+      if (model%elements%id(s%cell_element(l)) < model%elements%id(s%cell_element(s%dt_cell))) &
+        s%dt_cell = l
+    end if
+  end subroutine keep_smallest_step
+
+  !> Group the local cells into blocks for block_forces: outer cells first (they must be done
+  !> before the halo exchange starts), then inner ones; within each, cells of equal (material,
+  !> node count) together in ascending cell order, cut into blocks of at most BLOCK_CELLS.
+  !> The order of computation does not change any result: every cell writes its own
+  !> contributions and the assembly order is fixed by the layout's plan.
+  subroutine build_blocks(s, cells, w0_global)
+    type(explicit_state_t), intent(inout) :: s        !< local state (cells set up)
+    type(cells_t), intent(in) :: cells                !< all cells (gradients)
+    real(wp), intent(in) :: w0_global(:,:,:)          !< (3, 3, cells%n) inverse-mass metrics
+    integer, allocatable :: starts(:), nodes_of(:)
+    integer :: b, k, l, i, c
+    allocate(s%block_cell(s%ncell), starts(s%ncell + 2), nodes_of(s%ncell + 1))
+    s%nblock = 0
+    starts(1) = 1
+    call group(s%outer, 0)
+    s%nblock_outer = s%nblock
+    call group(s%inner, size(s%outer))
+    s%block_start = starts(1:s%nblock + 1)
+    s%block_nodes = nodes_of(1:s%nblock)
+    ! the cells' data in the blocks (unused entries zero), virgin histories
+    allocate(s%cell_block(s%ncell), s%cell_slot(s%ncell))
+    allocate(s%block_grad(BLOCK_CELLS, 3, CELL_MAX_NODES, s%nblock), &
+             s%block_w0(BLOCK_CELLS, 9, s%nblock), s%block_weight(BLOCK_CELLS, s%nblock), &
+             s%block_hist(BLOCK_CELLS, NHIST, s%nblock))
+    s%block_grad = 0.0_wp
+    s%block_w0 = 0.0_wp
+    s%block_weight = 0.0_wp
+    s%block_hist = 0.0_wp
+    do b = 1, s%nblock
+      do k = s%block_start(b), s%block_start(b + 1) - 1
+        l = s%block_cell(k)
+        i = k - s%block_start(b) + 1
+        c = s%cell_global(l)
+        s%cell_block(l) = b
+        s%cell_slot(l) = i
+        s%block_grad(i, :, :, b) = cells%grad(:, :, c)
+        s%block_w0(i, :, b) = reshape(w0_global(:, :, c), [9])
+        s%block_weight(i, b) = s%weight(l)
+        call material_state_init(s%block_hist(i, :, b))
+      end do
+    end do
+  contains
+
+    !> Append the blocks of one list of cells (placed after `offset` cells of block_cell).
+    subroutine group(list, offset)
+      integer, intent(in) :: list(:)                  !< local cells, ascending
+      integer, intent(in) :: offset                   !< cells already placed
+      logical :: placed(size(list))
+      integer :: k, m, placed_count, key_material, key_nodes, in_block
+      placed = .false.
+      placed_count = offset
+      do k = 1, size(list)
+        if (placed(k)) cycle
+        key_material = s%material(list(k))
+        key_nodes = block_node_count(s%nnodes(list(k)))
+        in_block = 0
+        do m = k, size(list)
+          if (placed(m)) cycle
+          if (s%material(list(m)) /= key_material .or. &
+              block_node_count(s%nnodes(list(m))) /= key_nodes) cycle
+          if (in_block == BLOCK_CELLS) then
+            s%nblock = s%nblock + 1
+            starts(s%nblock + 1) = placed_count + 1
+            nodes_of(s%nblock) = key_nodes
+            in_block = 0
+          end if
+          placed(m) = .true.
+          placed_count = placed_count + 1
+          s%block_cell(placed_count) = list(m)
+          in_block = in_block + 1
+        end do
+        s%nblock = s%nblock + 1
+        starts(s%nblock + 1) = placed_count + 1
+        nodes_of(s%nblock) = key_nodes
+      end do
+    end subroutine group
+
+  end subroutine build_blocks
+
+  !> Number of nodes a 3D cell is computed with in the blocks: an ME-FEM face cell (more than
+  !> the 4 corners of a tet: 5 on the boundary, 7 inside) as a CELL_MAX_NODES-node cell, its
+  !> missing nodes with zero gradients (they add exact zeros to F and get no force), so that
+  !> the cells of a part form one sequence of blocks in ascending cell order and the pushed
+  !> assembly reaches the nodes of the boundary too; a standard tet cell with its 4 nodes.
+  pure integer function block_node_count(nnodes)
+    integer, intent(in) :: nnodes                     !< the cell's nodes
+    if (nnodes > 4) then
+      block_node_count = CELL_MAX_NODES
+    else
+      block_node_count = nnodes
+    end if
+  end function block_node_count
+
+  !> One block of 3D cells of one material and node count (build_blocks): the steps of
+  !> cell_forces with the cells in the inner loops. The block's data are gathered into
+  !> structure-of-arrays temporaries (entry i is the block's i-th cell), the kernels run over
+  !> the block (vectorised across cells; each cell's arithmetic is cell_forces', so the
+  !> results are the same bits), and the forces, histories and step are scattered back. A
+  !> cell whose material update fails is redone by cell_forces, which reports it.
+  subroutine block_forces(model, s, b)
+    type(model_t), intent(in) :: model                !< resolved model
+    type(explicit_state_t), intent(inout) :: s        !< local state
+    integer, intent(in) :: b                          !< block
+    integer, parameter :: LD = BLOCK_CELLS
+    real(wp) :: u(LD, 3, CELL_MAX_NODES), force(LD, 3, CELL_MAX_NODES)
+    real(wp) :: f(LD, 9), adj(LD, 9), det(LD), tau(LD, 6), omega2(LD), dt_block(LD)
+    logical :: ok(LD), finite(LD), steps_at_once
+    integer :: n, nn, i, a, l, node, first
+    first = s%block_start(b)
+    n = s%block_start(b + 1) - first
+    if (n == 0) return
+    nn = s%block_nodes(b)
+    ! gather the displacements (the rest is stored in the blocks; a padded slot, node 0, takes
+    ! the first node's: its gradient is zero)
+    do i = 1, n
+      l = s%block_cell(first + i - 1)
+      do a = 1, nn
+        node = s%nodes(a, l)
+        if (node == 0) node = s%nodes(1, l)
+        u(i, 1, a) = s%u(1, node)
+        u(i, 2, a) = s%u(2, node)
+        u(i, 3, a) = s%u(3, node)
+      end do
+    end do
+    ! F, J and adj(F) once per cell; material update (history in place); forces; stable step
+    call block_deformation_gradient(n, nn, u, s%block_grad(:, :, :, b), f)
+    call block_adjugate(n, f, adj, det)
+    l = s%block_cell(first)
+    call material_update_block(model%materials(s%material(l)), model%curves, n, f, det, &
+                               s%block_hist(:, :, b), tau, ok)
+    call block_internal_force(n, nn, s%block_grad(:, :, :, b), s%block_weight(:, b), adj, det, &
+                              tau, force)
+    call block_critical_omega_squared(n, s%block_weight(:, b), s%block_w0(:, :, b), adj, det, &
+                                      s%lame(1, l), s%lame(2, l), omega2)
+    ! the cells' steps as take_cell_step computes them, for the whole block at once when no
+    ! mass is added and every bound is a finite number (else cell by cell, which reports)
+    steps_at_once = .not. s%mass_scaling
+    if (steps_at_once) then
+      do i = 1, n
+        finite(i) = omega2(i) >= 0.0_wp .and. omega2(i) < huge(1.0_wp)
+        dt_block(i) = 2.0_wp/sqrt(max(omega2(i), tiny(1.0_wp)))
+        dt_block(i) = model%controls%tssfac*dt_block(i)
+      end do
+      steps_at_once = all(finite(1:n))
+    end if
+    ! the forces: added to the pushed nodes at once (the blocks run in ascending cell order
+    ! for them: plan_pushed_assembly), kept for the halo's assembly otherwise; the step
+    do i = 1, n
+      l = s%block_cell(first + i - 1)
+      if (.not. ok(i)) then
+        call cell_forces(model, s, l)                ! reports the failure
+        do a = 1, s%nnodes(l)
+          force(i, :, a) = s%cell_force(:, a, l)
+        end do
+      end if
+      do a = 1, s%nnodes(l)
+        node = 0
+        if (b > s%nblock_outer) node = s%push_node(a, l)   ! outer cells: replayed later
+        if (node > 0) then
+          s%f_int_new(1, node) = s%f_int_new(1, node) + force(i, 1, a)
+          s%f_int_new(2, node) = s%f_int_new(2, node) + force(i, 2, a)
+          s%f_int_new(3, node) = s%f_int_new(3, node) + force(i, 3, a)
+        else
+          s%cell_force(1, a, l) = force(i, 1, a)
+          s%cell_force(2, a, l) = force(i, 2, a)
+          s%cell_force(3, a, l) = force(i, 3, a)
+        end if
+      end do
+      if (.not. ok(i)) cycle
+      if (.not. steps_at_once) then
+        call take_cell_step(model, s, l, omega2(i))
+      else if (dt_block(i) <= s%dt_stable) then
+        call keep_smallest_step(model, s, l, dt_block(i))
+      end if
+    end do
+  end subroutine block_forces
+
+  !> Pushed assembly of the 3D cell loop: block_forces adds a cell's contribution to a node
+  !> straight into f_int_new when the blocks reach the node's cells in ascending global cell
+  !> order (the order of the halo's plan, so the sums have the same bits on any number of
+  !> ranks) and no other rank adds to it. The outer cells (those touching a shared node),
+  !> computed before the halo exchange starts, store their forces, which the exchange sends;
+  !> each is pushed ("replayed") just before the first inner block that starts above it, so
+  !> it takes its place in the order. That pushes every node without contributions from
+  !> other ranks, except where materials or cell kinds change (the blocks group cells by
+  !> those) or an outer cell falls inside the id range of an inner block that also touches the
+  !> node; those nodes and the ones other ranks add to keep the halo's order-fixed assembly.
+  subroutine plan_pushed_assembly(s, halo)
+    type(explicit_state_t), intent(inout) :: s        !< local state (blocks built)
+    type(halo_t), intent(inout) :: halo               !< force exchange: told the pushed nodes
+    integer, allocatable :: position(:), last_position(:)
+    logical, allocatable :: pushed(:)
+    integer :: k, l, a, node, j, ninner, p, sequence, m
+    ! the order in which contributions reach the nodal array: the inner blocks, and before
+    ! each the outer cells (computed first, before the halo exchange, and stored) whose ids
+    ! are below the block's first cell, their stored forces "replayed"; the rest at the end
+    allocate(position(s%ncell), last_position(s%nnode), pushed(s%nnode))
+    ninner = s%nblock - s%nblock_outer
+    allocate(s%replay_start(ninner + 2))
+    p = 1
+    sequence = 0
+    do j = 1, ninner + 1
+      s%replay_start(j) = p
+      do while (p <= size(s%outer))
+        if (j <= ninner) then
+          if (s%outer(p) >= s%block_cell(s%block_start(s%nblock_outer + j))) exit
+        end if
+        sequence = sequence + 1
+        position(s%outer(p)) = sequence
+        p = p + 1
+      end do
+      if (j > ninner) cycle
+      k = s%nblock_outer + j
+      do m = s%block_start(k), s%block_start(k + 1) - 1
+        sequence = sequence + 1
+        position(s%block_cell(m)) = sequence
+      end do
+    end do
+    s%replay_start(ninner + 2) = p
+    pushed = .true.
+    pushed(halo%mixed_nodes) = .false.                ! they get other ranks' contributions
+    last_position = 0
+    do l = 1, s%ncell                                 ! ascending local = global cell order
+      do a = 1, s%nnodes(l)
+        node = s%nodes(a, l)
+        if (position(l) < last_position(node)) pushed(node) = .false.
+        last_position(node) = position(l)
+      end do
+    end do
+    call halo_assembly_push_nodes(halo, pushed)
+    allocate(s%push_node(CELL_MAX_NODES, s%ncell))
+    s%push_node = 0
+    do l = 1, s%ncell
+      do a = 1, s%nnodes(l)
+        if (pushed(s%nodes(a, l))) s%push_node(a, l) = s%nodes(a, l)
+      end do
+    end do
+  end subroutine plan_pushed_assembly
+
+  !> Push the stored forces of the outer cells due before inner block j (plan_pushed_assembly;
+  !> j = inner blocks + 1: those after the last block) to their pushed nodes.
+  subroutine replay_outer_forces(s, j)
+    type(explicit_state_t), intent(inout) :: s        !< local state
+    integer, intent(in) :: j                          !< inner block (1-based among them)
+    integer :: p, l, a, node
+    do p = s%replay_start(j), s%replay_start(j + 1) - 1
+      l = s%outer(p)
+      do a = 1, s%nnodes(l)
+        node = s%push_node(a, l)
+        if (node > 0) s%f_int_new(:, node) = s%f_int_new(:, node) + s%cell_force(:, a, l)
+      end do
+    end do
+  end subroutine replay_outer_forces
+
+  !> The model element a local cell belongs to (the first of its one or two elements).
+  integer function first_element(s, l)
+    type(explicit_state_t), intent(in) :: s     !< local state
+    integer, intent(in) :: l                    !< local cell
+    first_element = s%cell_element(l)
+  end function first_element
+
+end module mefem_explicit_cell_forces
