@@ -9,12 +9,18 @@
 # rank 0, peak memory, the speed-up from 1 to 2 ranks and the spread of the force time over
 # the ranks (driver's line "explicit: min / max over ranks: ...").
 #
+# Every case runs BENCH_EX_REPEAT times (default 3), the repetitions interleaved (all cases
+# once, then all again), because single runs on this VM vary by 10-30 % (the 2-rank ones
+# most): each row shows the run with the median ns per element-cycle and all runs' figures,
+# and the speed-up is given per repetition (1 and 2 ranks of the same round) as median and
+# range.
+#
 # usage: tests/bench/run_explicit_bench.sh [--small]
-#   default: 34 x 34 x 35 cubes = 202 300 tets, 300 cycles (about 5 minutes on 2 cores)
+#   default: 34 x 34 x 35 cubes = 202 300 tets, 300 cycles (about 4 minutes on 2 cores)
 #   --small: 12 x 12 x 12 cubes = 8 640 tets, 100 cycles (a few seconds)
 # Environment: BENCH_EX_CELLS="NX NY NZ", BENCH_EX_CYCLES, BENCH_EX_RANKS (default "1 2"),
 # BENCH_EX_ELFORMS (default "43 10"), BENCH_EX_SPEED (top speed, mm/s; default 20000),
-# MEFEM (binary, default bin/mefem).
+# BENCH_EX_REPEAT (default 3), MEFEM (binary, default bin/mefem).
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
@@ -34,6 +40,7 @@ cycles=${BENCH_EX_CYCLES:-$cycles}
 ranks=${BENCH_EX_RANKS:-1 2}
 elforms=${BENCH_EX_ELFORMS:-43 10}
 speed=${BENCH_EX_SPEED:-20000.0}
+repeat=${BENCH_EX_REPEAT:-3}
 mefem=${MEFEM:-bin/mefem}
 read -r nx ny nz <<< "$cells"
 
@@ -132,57 +139,76 @@ printf '== explicit dynamics benchmark: block %s cubes x 5 tets, %s cycles, top 
 results=$out/results_$tag.txt
 : > "$results"
 for elform in $elforms; do
-  deck=$out/block_${tag}_e$elform.k
-  write_deck "$elform" "$deck"
-  for np in $ranks; do
-    log=$out/run_${tag}_e${elform}_np$np.log
-    line=$(run_case "$elform" "$np" "$deck" "$log")
-    echo "elform=$elform np=$np $line" >> "$results"
-    echo "  ELFORM $elform, $np rank(s): done ($log)"
+  write_deck "$elform" "$out/block_${tag}_e$elform.k"
+done
+for rep in $(seq 1 "$repeat"); do
+  for elform in $elforms; do
+    deck=$out/block_${tag}_e$elform.k
+    for np in $ranks; do
+      log=$out/run_${tag}_e${elform}_np${np}_r$rep.log
+      line=$(run_case "$elform" "$np" "$deck" "$log")
+      echo "elform=$elform np=$np rep=$rep $line" >> "$results"
+      echo "  round $rep, ELFORM $elform, $np rank(s): done ($log)"
+    done
   done
 done
 
 /usr/bin/python3 - "$results" <<'PY'
 import sys
-rows = []
+from statistics import median
+runs = []
 for line in open(sys.argv[1]):
-    d = dict(w.split('=', 1) for w in line.split())
-    rows.append(d)
+    runs.append(dict(w.split('=', 1) for w in line.split()))
 def f(d, k):
     return float(d[k])
 name = {'43': 'ME-FEM tet (43)', '10': 'standard tet (10)'}
+cases = []                                   # (elform, np) in the order first run
+for d in runs:
+    if (d['elform'], d['np']) not in cases:
+        cases.append((d['elform'], d['np']))
+ns_of = {}                                   # (elform, np) -> {rep: ns per element-cycle}
+for d in runs:
+    ns_of.setdefault((d['elform'], d['np']), {})[d['rep']] = f(d, 'ns_elem')
 print()
 print('| element | ranks | elements | cells | cycles | analysis wall | ns/element-cycle | '
       'ns/cell-cycle | forces | halo+reductions | nodal update | output | '
-      'peak memory per rank | memory per element | speed-up | force time max/min | CPU share |')
-print('|' + '---|' * 17)
-base = {}
-for d in rows:
-    if d['np'] == '1':
-        base[d['elform']] = f(d, 'ns_elem')
-for d in rows:
-    np_ = int(d['np'])
+      'peak memory per rank | memory per element | speed-up | force time max/min | '
+      'CPU share | ns/element-cycle, all runs |')
+print('|' + '---|' * 18)
+for elform, np_text in cases:
+    group = [d for d in runs if d['elform'] == elform and d['np'] == np_text]
+    group.sort(key=lambda d: f(d, 'ns_elem'))
+    d = group[(len(group) - 1) // 2]         # the median run (lower middle of an even count)
+    np_ = int(np_text)
     elements = int(d['elements'])
     mem = f(d, 'mem_max')
     per_elem = mem * np_ * 1024.0 / elements          # KiB per element, all ranks
     speedup = ''
-    if d['elform'] in base and np_ > 1:
-        # core time per element-cycle = wall x ranks: speed-up = ranks x ns(1)/ns(np)
-        speedup = f'{np_ * base[d["elform"]] / f(d, "ns_elem"):.2f}'
+    one = ns_of.get((elform, '1'), {})
+    if np_ > 1 and one:
+        # core time per element-cycle = wall x ranks: speed-up = ranks x ns(1)/ns(np), per round
+        ups = [np_ * one[r] / ns for r, ns in ns_of[(elform, np_text)].items() if r in one]
+        if ups:
+            speedup = f'{median(ups):.2f} ({min(ups):.2f}-{max(ups):.2f})'
     spread = ''
     if np_ > 1 and f(d, 'forces_min') > 0:
         spread = f'{f(d, "forces_max") / f(d, "forces_min"):.3f}'
-    print(f'| {name.get(d["elform"], d["elform"])} | {np_} | {elements} | {d["cells"]} | '
+    every = ' / '.join(f'{f(g, "ns_elem"):.0f}' for g in
+                       sorted(group, key=lambda g: int(g['rep'])))
+    print(f'| {name.get(elform, elform)} | {np_} | {elements} | {d["cells"]} | '
           f'{d["cycles"]} | {f(d, "analysis"):.2f} s | {f(d, "ns_elem"):.0f} | '
           f'{f(d, "ns_cell"):.0f} | {f(d, "forces"):.1f} % | {f(d, "halo"):.1f} % | '
           f'{f(d, "update"):.1f} % | {f(d, "output"):.1f} % | {mem:.0f} MiB | '
-          f'{per_elem:.2f} KiB | {speedup} | {spread} | {f(d, "cpu_share"):.2f} |')
-ns = {d['elform']: f(d, 'ns_elem') for d in rows if d['np'] == '1'}
+          f'{per_elem:.2f} KiB | {speedup} | {spread} | {f(d, "cpu_share"):.2f} | {every} |')
+ns = {e: median(v.values()) for (e, n), v in ns_of.items() if n == '1'}
 if '43' in ns and '10' in ns:
-    print(f'\nME-FEM / standard cost per element-cycle on 1 rank: {ns["43"] / ns["10"]:.2f}')
-print('(ns per element-cycle: wall time of the cycle loop x ranks / (elements x cycles); '
-      'shares: rank 0; memory: peak resident (VmHWM), max over ranks; per element: that x '
-      'ranks / elements; force time max/min: the slowest rank\'s cell loop over the fastest\'s '
-      '(load imbalance); CPU share: CPU time / (wall x ranks) of the whole process, well below '
-      '1 when other jobs shared the cores, which inflates the wall-time figures)')
+    print(f'\nME-FEM / standard cost per element-cycle on 1 rank (medians): '
+          f'{ns["43"] / ns["10"]:.2f}')
+print('(rows: the run with the median ns per element-cycle of its case, runs listed in the '
+      'order made; ns per element-cycle: wall time of the cycle loop x ranks / (elements x '
+      'cycles); shares: rank 0; memory: peak resident (VmHWM), max over ranks; per element: '
+      'that x ranks / elements; speed-up: ranks x ns(1 rank)/ns(ranks) per round, median '
+      '(range); force time max/min: the slowest rank\'s cell loop over the fastest\'s (load '
+      'imbalance); CPU share: CPU time / (wall x ranks) of the whole process, well below 1 '
+      'when other jobs shared the cores, which inflates the wall-time figures)')
 PY
