@@ -64,12 +64,12 @@ contains
         call block_forces(model, s, k)
       end do
       call halo_assemble_start(halo, s%cell_force)
+      s%replay_next = 1
       do k = s%nblock_outer + 1, s%nblock
-        if (allocated(s%replay_start)) call replay_outer_forces(s, k - s%nblock_outer)
         call block_forces(model, s, k)
         if (mod(k - s%nblock_outer, PROGRESS_BLOCKS) == 0) call halo_assemble_progress(halo)
       end do
-      if (allocated(s%replay_start)) call replay_outer_forces(s, s%nblock - s%nblock_outer + 1)
+      if (allocated(s%push_node)) call replay_outer_forces(s, s%ncell + 1)
     else
       do k = 1, size(s%outer)
         call cell_forces(model, s, s%outer(k))
@@ -305,7 +305,7 @@ contains
     integer, parameter :: LD = BLOCK_CELLS
     real(wp) :: u(LD, 3, CELL_MAX_NODES), force(LD, 3, CELL_MAX_NODES)
     real(wp) :: f(LD, 9), adj(LD, 9), det(LD), tau(LD, 6), omega2(LD), dt_block(LD)
-    logical :: ok(LD), finite(LD), steps_at_once
+    logical :: ok(LD), finite(LD), steps_at_once, inner
     integer :: n, nn, i, a, l, node, first
     first = s%block_start(b)
     n = s%block_start(b + 1) - first
@@ -346,6 +346,7 @@ contains
     end if
     ! the forces: added to the pushed nodes at once (the blocks run in ascending cell order
     ! for them: plan_pushed_assembly), kept for the halo's assembly otherwise; the step
+    inner = b > s%nblock_outer
     do i = 1, n
       l = s%block_cell(first + i - 1)
       if (.not. ok(i)) then
@@ -354,9 +355,12 @@ contains
           force(i, :, a) = s%cell_force(:, a, l)
         end do
       end if
+      if (inner .and. s%replay_next <= size(s%outer)) then
+        if (s%outer(s%replay_next) < l) call replay_outer_forces(s, l)
+      end if
       do a = 1, s%nnodes(l)
         node = 0
-        if (b > s%nblock_outer) node = s%push_node(a, l)   ! outer cells: replayed later
+        if (inner) node = s%push_node(a, l)          ! outer cells: replayed in their place
         if (node > 0) then
           s%f_int_new(1, node) = s%f_int_new(1, node) + force(i, 1, a)
           s%f_int_new(2, node) = s%f_int_new(2, node) + force(i, 2, a)
@@ -381,43 +385,40 @@ contains
   !> order (the order of the halo's plan, so the sums have the same bits on any number of
   !> ranks) and no other rank adds to it. The outer cells (those touching a shared node),
   !> computed before the halo exchange starts, store their forces, which the exchange sends;
-  !> each is pushed ("replayed") just before the first inner block that starts above it, so
-  !> it takes its place in the order. That pushes every node without contributions from
-  !> other ranks, except where materials or cell kinds change (the blocks group cells by
-  !> those) or an outer cell falls inside the id range of an inner block that also touches the
-  !> node; those nodes and the ones other ranks add to keep the halo's order-fixed assembly.
+  !> each is pushed ("replayed") just before the first inner cell above it is pushed, so it
+  !> takes its place in the order. That pushes every node without contributions from other
+  !> ranks, except where materials or cell kinds change (the blocks group cells by those);
+  !> those nodes and the ones other ranks add to keep the halo's order-fixed assembly.
   subroutine plan_pushed_assembly(s, halo)
     type(explicit_state_t), intent(inout) :: s        !< local state (blocks built)
     type(halo_t), intent(inout) :: halo               !< force exchange: told the pushed nodes
     integer, allocatable :: position(:), last_position(:)
     logical, allocatable :: pushed(:)
-    integer :: k, l, a, node, j, ninner, p, sequence, m
-    ! the order in which contributions reach the nodal array: the inner blocks, and before
-    ! each the outer cells (computed first, before the halo exchange, and stored) whose ids
-    ! are below the block's first cell, their stored forces "replayed"; the rest at the end
+    integer :: k, l, a, node, p, sequence, m
+    ! the order in which contributions reach the nodal array: the inner blocks' cells, and
+    ! before each the outer cells (computed first and stored) below it, their stored forces
+    ! "replayed" (block_forces); the outer cells left at the end after the last block
     allocate(position(s%ncell), last_position(s%nnode), pushed(s%nnode))
-    ninner = s%nblock - s%nblock_outer
-    allocate(s%replay_start(ninner + 2))
     p = 1
     sequence = 0
-    do j = 1, ninner + 1
-      s%replay_start(j) = p
-      do while (p <= size(s%outer))
-        if (j <= ninner) then
-          if (s%outer(p) >= s%block_cell(s%block_start(s%nblock_outer + j))) exit
-        end if
-        sequence = sequence + 1
-        position(s%outer(p)) = sequence
-        p = p + 1
-      end do
-      if (j > ninner) cycle
-      k = s%nblock_outer + j
+    do k = s%nblock_outer + 1, s%nblock
       do m = s%block_start(k), s%block_start(k + 1) - 1
+        l = s%block_cell(m)
+        do while (p <= size(s%outer))
+          if (s%outer(p) >= l) exit
+          sequence = sequence + 1
+          position(s%outer(p)) = sequence
+          p = p + 1
+        end do
         sequence = sequence + 1
-        position(s%block_cell(m)) = sequence
+        position(l) = sequence
       end do
     end do
-    s%replay_start(ninner + 2) = p
+    do while (p <= size(s%outer))
+      sequence = sequence + 1
+      position(s%outer(p)) = sequence
+      p = p + 1
+    end do
     pushed = .true.
     pushed(halo%mixed_nodes) = .false.                ! they get other ranks' contributions
     last_position = 0
@@ -438,18 +439,20 @@ contains
     end do
   end subroutine plan_pushed_assembly
 
-  !> Push the stored forces of the outer cells due before inner block j (plan_pushed_assembly;
-  !> j = inner blocks + 1: those after the last block) to their pushed nodes.
-  subroutine replay_outer_forces(s, j)
+  !> Push the stored forces of the outer cells below local cell `below` that are not pushed
+  !> yet (from replay_next on, ascending) to their pushed nodes.
+  subroutine replay_outer_forces(s, below)
     type(explicit_state_t), intent(inout) :: s        !< local state
-    integer, intent(in) :: j                          !< inner block (1-based among them)
-    integer :: p, l, a, node
-    do p = s%replay_start(j), s%replay_start(j + 1) - 1
-      l = s%outer(p)
+    integer, intent(in) :: below                      !< local cell (ncell + 1: all the rest)
+    integer :: l, a, node
+    do while (s%replay_next <= size(s%outer))
+      l = s%outer(s%replay_next)
+      if (l >= below) exit
       do a = 1, s%nnodes(l)
         node = s%push_node(a, l)
         if (node > 0) s%f_int_new(:, node) = s%f_int_new(:, node) + s%cell_force(:, a, l)
       end do
+      s%replay_next = s%replay_next + 1
     end do
   end subroutine replay_outer_forces
 

@@ -90,10 +90,8 @@ module mefem_explicit_state
     integer, allocatable :: push_node(:,:)     !< (CELL_MAX_NODES, ncell) 3D: the local node
                                                !< a contribution is added to at once
                                                !< (pushed assembly), 0: kept in cell_force
-    integer, allocatable :: replay_start(:)    !< (inner blocks + 2) outer cells whose stored
-                                               !< forces are pushed before inner block j:
-                                               !< outer(replay_start(j):replay_start(j+1)-1)
-                                               !< (the last range: after the last block)
+    integer :: replay_next = 1                 !< 3D: the next outer cell (index into outer)
+                                               !< whose stored forces are to be pushed
     real(wp), allocatable :: added(:,:,:)      !< (1, CELL_MAX_NODES, ncell) added masses
     logical :: mass_scaling = .false.          !< DT2MS < 0 given
     ! time step of the last force evaluation
