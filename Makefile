@@ -62,7 +62,7 @@ LIB_OBJ  := $(patsubst src/%.f90,$(BUILD)/%.o,$(LIB_SRC))
 MAIN_OBJ := $(patsubst src/%.f90,$(BUILD)/%.o,$(MAIN_SRC))
 UNIT_SRC := $(sort $(wildcard tests/unit/test_*.f90))
 UNIT_EXE := $(patsubst tests/unit/%.f90,$(BUILD)/tests/%,$(UNIT_SRC))
-HARNESS  := $(BUILD)/tests/testing.o
+HARNESS  := $(BUILD)/tests/testing.o $(BUILD)/tests/fixtures.o
 
 .PHONY: all deps build run test bench punch sphere clean lint unit-tests
 .DEFAULT_GOAL := all
@@ -88,9 +88,11 @@ bin:
 	@mkdir -p bin
 
 # Module dependencies are derived from the sources (use/module statements).
-$(BUILD)/deps.mk: $(SRC) $(UNIT_SRC) tests/unit/testing.f90 src/fortran_deps.sh
+$(BUILD)/deps.mk: $(SRC) $(UNIT_SRC) tests/unit/testing.f90 tests/unit/fixtures.f90 \
+                  src/fortran_deps.sh
 	@mkdir -p $(BUILD)
-	@bash src/fortran_deps.sh $(BUILD) $(SRC) tests/unit/testing.f90 $(UNIT_SRC) > $@
+	@bash src/fortran_deps.sh $(BUILD) $(SRC) tests/unit/testing.f90 tests/unit/fixtures.f90 \
+	  $(UNIT_SRC) > $@
 
 -include $(BUILD)/deps.mk
 

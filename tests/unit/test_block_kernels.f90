@@ -17,7 +17,7 @@ program test_block_kernels
   use mefem_kinds, only: wp
   use mefem_testing, only: test_start, test_finish, check, check_close
   use mefem_errors, only: status_t
-  use mefem_model, only: material_t, curve_t, MAT_PIECEWISE_LINEAR, MAT_POWER_LAW
+  use mefem_model, only: material_t, curve_t
   use mefem_cells, only: CELL_MAX_NODES
   use mefem_material_state, only: NHIST, HIST_ALPHA, BLOCK_POINTS, material_state_init
   use mefem_material_update, only: material_update, material_update_block
@@ -25,6 +25,7 @@ program test_block_kernels
                                       block_deformation_gradient, block_adjugate, &
                                       block_internal_force
   use mefem_stable_time_step, only: cell_critical_omega_squared, block_critical_omega_squared
+  use mefem_test_fixtures, only: linear_steel, table_steel, power_law_steel
   implicit none
 
   integer, parameter :: LD = BLOCK_POINTS
@@ -47,38 +48,6 @@ program test_block_kernels
   call test_finish()
 
 contains
-
-  !> *MAT_024 with SIGY and ETAN (MPa, mm, t).
-  type(material_t) function linear_steel() result(mat)
-    mat%id = 1
-    mat%kind = MAT_PIECEWISE_LINEAR
-    mat%density = 7.85e-9_wp
-    mat%young = 210000.0_wp
-    mat%poisson = 0.3_wp
-    mat%yield_stress = 250.0_wp
-    mat%tangent_modulus = 2000.0_wp
-  end function linear_steel
-
-  !> *MAT_024 with an EPS/ES table.
-  type(material_t) function table_steel() result(mat)
-    mat = linear_steel()
-    mat%id = 2
-    mat%n_points = 4
-    mat%eps(1:4) = [0.0_wp, 0.05_wp, 0.2_wp, 0.5_wp]
-    mat%es(1:4) = [250.0_wp, 300.0_wp, 350.0_wp, 380.0_wp]
-  end function table_steel
-
-  !> *MAT_018 with K, N and SIGY.
-  type(material_t) function power_law_steel() result(mat)
-    mat%id = 3
-    mat%kind = MAT_POWER_LAW
-    mat%density = 7.85e-9_wp
-    mat%young = 210000.0_wp
-    mat%poisson = 0.3_wp
-    mat%k_strength = 530.0_wp
-    mat%n_exponent = 0.26_wp
-    mat%yield_stress = 250.0_wp
-  end function power_law_steel
 
   !> A random deformation gradient I + scale (R - 1/2), R uniform in [0, 1)^(3x3).
   subroutine random_f(scale, f)
