@@ -9,7 +9,7 @@ import numpy as np
 sys.path.insert(0, os.path.dirname(__file__))
 sys.path.insert(0, os.path.join(os.path.dirname(__file__), '..', '..', 'post'))
 from deck_writer import ROOT, f10, free, nodes_card, elements_card, write_deck, run
-from benchmarks import extrude_to_tets
+from benchmarks import extrude_to_tets, boundary_facets
 from lsdyna_ascii import read_glstat, read_nodout
 
 OUT = os.path.join(ROOT, 'tests', 'out', 'explicit')
@@ -76,3 +76,49 @@ def glstat(outdir):
 
 def nodout(outdir):
     return read_nodout(os.path.join(outdir, 'nodout'))
+
+
+def face_segments(x, conn, axis, value, sign, sid):
+    """*SET_SEGMENT sid of the boundary faces of the tets conn on the plane x[axis] = value,
+    oriented along sign (+1 or -1) of that axis."""
+    lines = ['*SET_SEGMENT', f10(sid)]
+    for f in boundary_facets(conn):
+        f = [int(v) for v in f]
+        if not all(abs(x[v, axis] - value) < 1e-9 for v in f):
+            continue
+        if np.cross(x[f[1]] - x[f[0]], x[f[2]] - x[f[0]])[axis] * sign < 0:
+            f = [f[0], f[2], f[1]]
+        lines.append(f10(f[0] + 1, f[1] + 1, f[2] + 1, f[2] + 1))
+    return lines
+
+
+def smooth_ramp(t_end, value, n=41):
+    """Curve points of a ramp from 0 to value over [0, t_end] with zero slope at both ends."""
+    s = np.linspace(0.0, 1.0, n)
+    return [(t_end * v, value * (v - np.sin(2 * np.pi * v) / (2 * np.pi))) for v in s]
+
+
+def block_on_plate(z_bottom):
+    """The contact tests' block on a plate: the block [1,2] x [1,2] x [z_bottom, z_bottom + 0.5]
+    (3 x 3 x 2 hexahedra x 6 tets) and a rigid plate [0,3] x [0,3] at z = 0 of 6 x 6 quads.
+    Returns (x, block tets, plate quads, nb): all nodes (block first), the block's tets and the
+    plate's quads (0-based rows of x), and the number of block nodes."""
+    xb, cb = box_tets(1.0, 1.0, 0.5, 3, 3, 2)
+    xb = xb + [1.0, 1.0, z_bottom]
+    plate = np.array([[i * 0.5, j * 0.5, 0.0] for j in range(7) for i in range(7)])
+    quads = np.array([[j * 7 + i, j * 7 + i + 1, (j + 1) * 7 + i + 1, (j + 1) * 7 + i]
+                      for j in range(6) for i in range(6)])
+    nb = len(xb)
+    return np.vstack([xb, plate]), cb, quads + nb, nb
+
+
+def block_on_plate_cards(x, cb, quads, rho, young, poisson):
+    """Nodes, elements and parts of block_on_plate: part 1 the elastic ME-FEM block, part 2 the
+    rigid shell plate (all its nodes fixed: CON1 = CON2 = 7)."""
+    return [nodes_card(x), elements_card('ELEMENT_SOLID', cb, pid=1),
+            elements_card('ELEMENT_SHELL', quads, pid=2, first_id=len(cb) + 1),
+            ['*PART', 'block', f10(1, 1, 1), '*SECTION_SOLID', f10(1, 43),
+             '*MAT_ELASTIC', free(1, rho, young, poisson),
+             '*PART', 'plate', f10(2, 2, 2), '*SECTION_SHELL', f10(2, 2),
+             f10(0.1, 0.1, 0.1, 0.1),
+             '*MAT_RIGID', free(2, 7.85e-9, 210000.0, 0.3), f10(1.0, 7, 7)]]

@@ -19,8 +19,8 @@ import numpy as np
 sys.path.insert(0, os.path.dirname(__file__))
 sys.path.insert(0, os.path.join(os.path.dirname(__file__), '..', '..', 'post'))
 from deck_writer import Checks, f10, free, nodes_card, elements_card
-from benchmarks import boundary_facets
-from explicit_cases import box_tets, node_set, curve, run_case
+from explicit_cases import (box_tets, node_set, curve, run_case, face_segments, smooth_ramp,
+                            block_on_plate, block_on_plate_cards)
 from lsdyna_ascii import read_glstat, read_nodout, read_rcforc
 
 E, NU, P, MU = 1000.0, 0.3, 10.0, 0.3
@@ -32,43 +32,14 @@ os.environ['MEFEM_CONTACT_DIVIDE_MIN'] = '0'
 checks = Checks('contact_friction')
 
 
-def face_segments(x, conn, axis, value, sign, sid):
-    """*SET_SEGMENT of the boundary faces on the plane x[axis] = value, oriented along sign."""
-    lines = ['*SET_SEGMENT', f10(sid)]
-    for f in boundary_facets(conn):
-        f = [int(v) for v in f]
-        if not all(abs(x[v, axis] - value) < 1e-9 for v in f):
-            continue
-        if np.cross(x[f[1]] - x[f[0]], x[f[2]] - x[f[0]])[axis] * sign < 0:
-            f = [f[0], f[2], f[1]]
-        lines.append(f10(f[0] + 1, f[1] + 1, f[2] + 1, f[2] + 1))
-    return lines
-
-
-def smooth_ramp(t_end, value, n=41):
-    s = np.linspace(0.0, 1.0, n)
-    return [(t_end * v, value * (v - np.sin(2 * np.pi * v) / (2 * np.pi))) for v in s]
-
-
 # ---- 1. sliding block -----------------------------------------------------------------------
 T1, T2 = 5.0e-5, 2.0e-4
-xb, cb = box_tets(1.0, 1.0, 0.5, 3, 3, 2)
-xb = xb + [1.0, 1.0, 0.0]                         # block on [1,2] x [1,2] x [0,0.5]
-plate = np.array([[i * 0.5, j * 0.5, 0.0] for j in range(7) for i in range(7)])
-quads = np.array([[j * 7 + i, j * 7 + i + 1, (j + 1) * 7 + i + 1, (j + 1) * 7 + i]
-                  for j in range(6) for i in range(6)])
-nb = len(xb)
-x = np.vstack([xb, plate])
+x, cb, quads, nb = block_on_plate(0.0)              # block on [1,2] x [1,2] x [0,0.5]
 top = np.nonzero(abs(x[:nb, 2] - 0.5) < 1e-9)[0]
 bottom_probe = int(np.argmin(np.linalg.norm(x[:nb] - [1.5, 1.5, 0.0], axis=1)))
 normal_force = P * 1.0
 pull_end = 2.0 * MU * normal_force                 # the pull grows to 2 mu N over T2
-blocks = [nodes_card(x), elements_card('ELEMENT_SOLID', cb, pid=1),
-          elements_card('ELEMENT_SHELL', quads + nb, pid=2, first_id=len(cb) + 1),
-          ['*PART', 'block', f10(1, 1, 1), '*SECTION_SOLID', f10(1, 43),
-           '*MAT_ELASTIC', free(1, RHO_BLOCK, E, NU),
-           '*PART', 'plate', f10(2, 2, 2), '*SECTION_SHELL', f10(2, 2), f10(0.1, 0.1, 0.1, 0.1),
-           '*MAT_RIGID', free(2, 7.85e-9, 210000.0, 0.3), f10(1.0, 7, 7)],
+blocks = block_on_plate_cards(x, cb, quads, RHO_BLOCK, E, NU) + [
           face_segments(x, cb, 2, 0.5, 1, 9), ['*LOAD_SEGMENT_SET', f10(9, 1, 1.0)],
           curve(1, smooth_ramp(T1, P) + [(1.0, P)]),
           node_set(5, top), ['*LOAD_NODE_SET', f10(5, 1, 2, 1.0 / len(top))],

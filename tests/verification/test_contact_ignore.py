@@ -22,9 +22,9 @@ import numpy as np
 
 sys.path.insert(0, os.path.dirname(__file__))
 sys.path.insert(0, os.path.join(os.path.dirname(__file__), '..', '..', 'post'))
-from deck_writer import Checks, f10, free, nodes_card, elements_card
-from benchmarks import boundary_facets
-from explicit_cases import box_tets, node_set, curve, run_case
+from deck_writer import Checks, f10
+from explicit_cases import (node_set, curve, run_case, face_segments, smooth_ramp,
+                            block_on_plate, block_on_plate_cards)
 from lsdyna_ascii import read_rcforc
 
 E, NU, RHO = 1000.0, 0.3, 1.0e-9   # light: the contact spring's period << the load ramps
@@ -37,43 +37,13 @@ os.environ['MEFEM_CONTACT_DIVIDE_MIN'] = '0'
 checks = Checks('contact_ignore')
 
 
-def top_segments(x, conn, z, sid):
-    """*SET_SEGMENT of the boundary faces on the plane z, oriented +z (outward)."""
-    lines = ['*SET_SEGMENT', f10(sid)]
-    for f in boundary_facets(conn):
-        f = [int(v) for v in f]
-        if not all(abs(x[v, 2] - z) < 1e-9 for v in f):
-            continue
-        if np.cross(x[f[1]] - x[f[0]], x[f[2]] - x[f[0]])[2] < 0:
-            f = [f[0], f[2], f[1]]
-        lines.append(f10(f[0] + 1, f[1] + 1, f[2] + 1, f[2] + 1))
-    return lines
-
-
-def smooth_ramp(t_end, value, n=41):
-    s = np.linspace(0.0, 1.0, n)
-    return [(t_end * v, value * (v - np.sin(2 * np.pi * v) / (2 * np.pi))) for v in s]
-
-
-xb, cb = box_tets(1.0, 1.0, 0.5, 3, 3, 2)
-xb = xb + [1.0, 1.0, -DEPTH]
-plate = np.array([[i * 0.5, j * 0.5, 0.0] for j in range(7) for i in range(7)])
-quads = np.array([[j * 7 + i, j * 7 + i + 1, (j + 1) * 7 + i + 1, (j + 1) * 7 + i]
-                  for j in range(6) for i in range(6)])
-nb = len(xb)
-x = np.vstack([xb, plate])
+x, cb, quads, nb = block_on_plate(-DEPTH)
 z_top = 0.5 - DEPTH
 top = np.nonzero(abs(x[:nb, 2] - z_top) < 1e-9)[0]
 
 
 def deck(ignore, end_time, extra):
-    return [nodes_card(x), elements_card('ELEMENT_SOLID', cb, pid=1),
-            elements_card('ELEMENT_SHELL', quads + nb, pid=2, first_id=len(cb) + 1),
-            ['*PART', 'block', f10(1, 1, 1), '*SECTION_SOLID', f10(1, 43),
-             '*MAT_ELASTIC', free(1, RHO, E, NU),
-             '*PART', 'plate', f10(2, 2, 2), '*SECTION_SHELL', f10(2, 2),
-             f10(0.1, 0.1, 0.1, 0.1),
-             '*MAT_RIGID', free(2, 7.85e-9, 210000.0, 0.3), f10(1.0, 7, 7)],
+    return block_on_plate_cards(x, cb, quads, RHO, E, NU) + [
             ['*CONTACT_AUTOMATIC_SURFACE_TO_SURFACE_MORTAR', f10(1, 2, 3, 3),
              f10(0.0, 0.0), f10(1.0, 1.0), f10(0, 0.1), f10(0.0), f10(1, ignore)],
             ['*CONTROL_TERMINATION', f10(end_time), '*DATABASE_BINARY_D3PLOT', f10(end_time),
@@ -118,7 +88,7 @@ if 1 in results:
                  '%.3e' % abs(u).max())
 
 # ---- 3: IGNORE = 1 under a pressure: p A carried from the offset surface ---------------------
-extra = [top_segments(x, cb, z_top, 9), ['*LOAD_SEGMENT_SET', f10(9, 1, 1.0)],
+extra = [face_segments(x, cb, 2, z_top, 1, 9), ['*LOAD_SEGMENT_SET', f10(9, 1, 1.0)],
          curve(1, smooth_ramp(T1, P) + [(1.0, P)])]
 rc, text, out = run_case('ignore1_pressed', deck(1, 2 * T1, extra))
 checks.check(rc == 0, 'pressed block, IGNORE = 1: run succeeds', text[-600:])
