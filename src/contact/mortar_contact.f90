@@ -933,7 +933,7 @@ contains
   subroutine nodal_forces(contact, it)
     type(mortar_contact_t), intent(inout) :: contact  !< contact data
     type(contact_interface_t), intent(inout) :: it    !< the interface
-    real(wp) :: tau(3, 3), f(3), total_slave(3), total_master(3), w
+    real(wp) :: tau(3, 3), total_slave(3), total_master(3)
     integer :: k, a, b, c, na, nm, node, slot, s, m
     total_slave = 0.0_wp
     total_master = 0.0_wp
@@ -948,27 +948,38 @@ contains
       end do
       do b = 1, na
         node = contact%node_index(it%slave%facets(b, s))
-        f = contact%force(:, node)
-        do a = 1, na
-          w = it%pairs(k)%n_ab(a, b)
-          f = f + w*tau(:, a)
-          total_slave = total_slave + w*tau(:, a)
-        end do
-        contact%force(:, node) = f
+        call add_weighted_tractions(na, 1.0_wp, it%pairs(k)%n_ab(:, b), tau, &
+                                    contact%force(:, node), total_slave)
       end do
       do c = 1, nm
         node = contact%node_index(it%master%facets(c, m))
-        f = contact%force(:, node)
-        do a = 1, na
-          w = it%pairs(k)%n_ac(a, c)
-          f = f - w*tau(:, a)
-          total_master = total_master - w*tau(:, a)
-        end do
-        contact%force(:, node) = f
+        call add_weighted_tractions(na, -1.0_wp, it%pairs(k)%n_ac(:, c), tau, &
+                                    contact%force(:, node), total_master)
       end do
     end do
     it%force_slave = total_slave
     it%force_master = total_master
   end subroutine nodal_forces
+
+  !> One node's share of a pair: force += side sum_a w_a tau_a, and the same into the side's
+  !> total (side = +1 slave, -1 master: the reaction; the sign is exact, so the bits are those
+  !> of adding or subtracting w_a tau_a).
+  pure subroutine add_weighted_tractions(na, side, weights, tau, force, total)
+    integer, intent(in) :: na                      !< slave facet vertices
+    real(wp), intent(in) :: side                   !< +1 (slave) or -1 (master)
+    real(wp), intent(in) :: weights(:)             !< (na) mortar weights of the node
+    real(wp), intent(in) :: tau(:,:)               !< (3, na) slave-node tractions
+    real(wp), intent(inout) :: force(3)            !< the node's force
+    real(wp), intent(inout) :: total(3)            !< the side's resultant
+    real(wp) :: f(3), w
+    integer :: a
+    f = force
+    do a = 1, na
+      w = side*weights(a)
+      f = f + w*tau(:, a)
+      total = total + w*tau(:, a)
+    end do
+    force = f
+  end subroutine add_weighted_tractions
 
 end module mefem_mortar_contact
