@@ -27,8 +27,7 @@ module mefem_stable_time_step
   private
 
   public :: cell_mass_shares, cell_inverse_mass_metric, cell_critical_omega_squared, &
-            symmetric_max_eigenvalue, block_critical_omega_squared, &
-            pack_metric, unpack_metric
+            symmetric_max_eigenvalue, block_critical_omega_squared
 
   !> Chebyshev coefficients of y(x) = cos(acos(r)/3) = cos(2/3 acos(t)), t = sqrt((1 + r)/2),
   !> x = 2 t - 1 in [-1, 1] (y is analytic there: no square-root singularity at r = -1 or 1),
@@ -214,23 +213,6 @@ contains
     end if
   end function cell_critical_omega_squared
 
-  !> The 6 distinct entries of a symmetric 3x3 metric W0 (11 22 33 12 23 13), the block
-  !> storage of block_critical_omega_squared (W0 from cell_inverse_mass_metric is symmetric
-  !> bit for bit: g_a g_b / m and g_b g_a / m are the same numbers).
-  pure function pack_metric(w0) result(packed)
-    real(wp), intent(in) :: w0(3, 3)              !< symmetric metric (upper triangle read)
-    real(wp) :: packed(6)
-    packed = [w0(1, 1), w0(2, 2), w0(3, 3), w0(1, 2), w0(2, 3), w0(1, 3)]
-  end function pack_metric
-
-  !> The symmetric 3x3 metric of pack_metric's 6 entries.
-  pure function unpack_metric(packed) result(w0)
-    real(wp), intent(in) :: packed(6)             !< 11 22 33 12 23 13
-    real(wp) :: w0(3, 3)
-    w0 = reshape([packed(1), packed(4), packed(6), packed(4), packed(2), packed(5), &
-                  packed(6), packed(5), packed(3)], [3, 3])
-  end function unpack_metric
-
   !> Block form (3D) of cell_critical_omega_squared for n cells of one material, structure of
   !> arrays (entry i is cell i), with adj(F) and J = det F from mefem_cell_finite_strain's
   !> block_adjugate (the same expressions): the same arithmetic per cell except the
@@ -242,8 +224,7 @@ contains
     integer, intent(in) :: n                      !< cells (<= BLOCK_POINTS)
     integer, parameter :: ld = BLOCK_POINTS       !< leading dimension
     real(wp), intent(in) :: weight(ld)            !< reference volumes
-    real(wp), intent(in) :: w0(ld, 6)             !< reference inverse-mass metrics, packed
-                                                  !< (pack_metric: 11 22 33 12 23 13)
+    real(wp), intent(in) :: w0(ld, 9)             !< reference inverse-mass metrics, by column
     real(wp), intent(in) :: adj(ld, 9)            !< adj(F), column by column
     real(wp), intent(in) :: det(ld)               !< J = det F
     real(wp), intent(in) :: lambda                !< Lame's first constant (< 0 counts as 0)
@@ -257,9 +238,9 @@ contains
     do i = 1, n
       ! y = W0 adj (y(a, b) at a + 3(b-1)), w = adj^T y (upper triangle)
       do b = 0, 2
-        y(1 + 3*b) = w0(i, 1)*adj(i, 1 + 3*b) + w0(i, 4)*adj(i, 2 + 3*b) + w0(i, 6)*adj(i, 3 + 3*b)
-        y(2 + 3*b) = w0(i, 4)*adj(i, 1 + 3*b) + w0(i, 2)*adj(i, 2 + 3*b) + w0(i, 5)*adj(i, 3 + 3*b)
-        y(3 + 3*b) = w0(i, 6)*adj(i, 1 + 3*b) + w0(i, 5)*adj(i, 2 + 3*b) + w0(i, 3)*adj(i, 3 + 3*b)
+        y(1 + 3*b) = w0(i, 1)*adj(i, 1 + 3*b) + w0(i, 4)*adj(i, 2 + 3*b) + w0(i, 7)*adj(i, 3 + 3*b)
+        y(2 + 3*b) = w0(i, 2)*adj(i, 1 + 3*b) + w0(i, 5)*adj(i, 2 + 3*b) + w0(i, 8)*adj(i, 3 + 3*b)
+        y(3 + 3*b) = w0(i, 3)*adj(i, 1 + 3*b) + w0(i, 6)*adj(i, 2 + 3*b) + w0(i, 9)*adj(i, 3 + 3*b)
       end do
       w11 = adj(i, 1)*y(1) + adj(i, 2)*y(2) + adj(i, 3)*y(3)
       w12 = adj(i, 1)*y(4) + adj(i, 2)*y(5) + adj(i, 3)*y(6)

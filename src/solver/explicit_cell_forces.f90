@@ -21,8 +21,7 @@ module mefem_explicit_cell_forces
   use mefem_cell_finite_strain, only: cell_deformation_gradient, cell_internal_force, &
                                       block_deformation_gradient, block_adjugate, &
                                       block_internal_force
-  use mefem_stable_time_step, only: cell_critical_omega_squared, block_critical_omega_squared, &
-                                    pack_metric, unpack_metric
+  use mefem_stable_time_step, only: cell_critical_omega_squared, block_critical_omega_squared
   use mefem_material_state, only: NHIST, material_state_init, BLOCK_CELLS => BLOCK_POINTS
   use mefem_material_update, only: material_update, material_update_block
   use mefem_explicit_state, only: explicit_state_t, set_to_zero
@@ -110,7 +109,7 @@ contains
     b = s%cell_block(l)
     i = s%cell_slot(l)
     grad = s%block_grad(i, :, :, b)
-    w0 = unpack_metric(s%block_w0(i, :, b))
+    w0 = reshape(s%block_w0(i, :, b), [3, 3])
     hist = s%block_hist(i, :, b)
   end subroutine block_cell_data
 
@@ -222,7 +221,7 @@ contains
     ! the cells' data in the blocks (unused entries zero), virgin histories
     allocate(s%cell_block(s%ncell), s%cell_slot(s%ncell))
     allocate(s%block_grad(BLOCK_CELLS, 3, CELL_MAX_NODES, s%nblock), &
-             s%block_w0(BLOCK_CELLS, 6, s%nblock), s%block_weight(BLOCK_CELLS, s%nblock), &
+             s%block_w0(BLOCK_CELLS, 9, s%nblock), s%block_weight(BLOCK_CELLS, s%nblock), &
              s%block_hist(BLOCK_CELLS, NHIST, s%nblock))
     s%block_grad = 0.0_wp
     s%block_w0 = 0.0_wp
@@ -236,7 +235,7 @@ contains
         s%cell_block(l) = b
         s%cell_slot(l) = i
         s%block_grad(i, :, :, b) = cells%grad(:, :, c)
-        s%block_w0(i, :, b) = pack_metric(w0_global(:, :, c))
+        s%block_w0(i, :, b) = reshape(w0_global(:, :, c), [9])
         s%block_weight(i, b) = s%weight(l)
         call material_state_init(s%block_hist(i, :, b))
       end do

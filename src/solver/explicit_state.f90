@@ -71,8 +71,7 @@ module mefem_explicit_state
     integer, allocatable :: cell_block(:)      !< (ncell) block of each local cell
     integer, allocatable :: cell_slot(:)       !< (ncell) its entry in the block
     real(wp), allocatable :: block_grad(:,:,:,:)  !< (BLOCK_CELLS, 3, CELL_MAX_NODES, nblock)
-    real(wp), allocatable :: block_w0(:,:,:)   !< (BLOCK_CELLS, 6, nblock) W0 packed
-                                               !< (pack_metric: 11 22 33 12 23 13)
+    real(wp), allocatable :: block_w0(:,:,:)   !< (BLOCK_CELLS, 9, nblock) W0 by column
     real(wp), allocatable :: block_weight(:,:) !< (BLOCK_CELLS, nblock) reference volumes
     real(wp), allocatable :: block_hist(:,:,:) !< (BLOCK_CELLS, NHIST, nblock) histories
     integer, allocatable :: cell_global(:)     !< (ncell) global cell index

@@ -24,8 +24,7 @@ program test_block_kernels
   use mefem_cell_finite_strain, only: cell_deformation_gradient, cell_internal_force, &
                                       block_deformation_gradient, block_adjugate, &
                                       block_internal_force
-  use mefem_stable_time_step, only: cell_critical_omega_squared, block_critical_omega_squared, &
-                                    pack_metric, unpack_metric
+  use mefem_stable_time_step, only: cell_critical_omega_squared, block_critical_omega_squared
   use mefem_test_fixtures, only: linear_steel, table_steel, power_law_steel
   implicit none
 
@@ -188,7 +187,7 @@ contains
 
   !> block_critical_omega_squared vs cell_critical_omega_squared.
   subroutine check_stable_step()
-    real(wp) :: f(LD, 9), adj(LD, 9), det(LD), w0(LD, 6), weight(LD), omega2(LD), m(3, 3)
+    real(wp) :: f(LD, 9), adj(LD, 9), det(LD), w0(LD, 9), weight(LD), omega2(LD), m(3, 3)
     real(wp) :: f_point(3, 3), w0_point(3, 3), worst, want
     integer :: i
     call random_number(weight)
@@ -202,19 +201,19 @@ contains
       w0_point = matmul(m, transpose(m))                     ! symmetric positive
       if (i == 1) w0_point = reshape([2.0_wp, 0.0_wp, 0.0_wp, 0.0_wp, 2.0_wp, 0.0_wp, 0.0_wp, &
                                       0.0_wp, 2.0_wp], [3, 3])   ! isotropic: triple root
-      w0(i, :) = pack_metric(w0_point)
+      w0(i, :) = reshape(w0_point, [9])
     end do
     call block_adjugate(NCELL, f, adj, det)
     call block_critical_omega_squared(NCELL, weight, w0, adj, det, LAMBDA, MU, omega2)
     worst = 0.0_wp
     do i = 3, NCELL
-      want = cell_critical_omega_squared(3, weight(i), unpack_metric(w0(i, :)), &
+      want = cell_critical_omega_squared(3, weight(i), reshape(w0(i, :), [3, 3]), &
                                          reshape(f(i, :), [3, 3]), LAMBDA, MU)
       worst = max(worst, abs(omega2(i) - want)/want)
     end do
     call check(worst <= 1.0e-13_wp, 'stable step: random cells within 1e-13 of the point '// &
                'kernel (worst '//trim(rstr(worst))//')')
-    want = cell_critical_omega_squared(3, weight(1), unpack_metric(w0(1, :)), &
+    want = cell_critical_omega_squared(3, weight(1), reshape(w0(1, :), [3, 3]), &
                                        reshape(f(1, :), [3, 3]), LAMBDA, MU)
     call check_close(omega2(1), want, 1.0e-15_wp, 'stable step: isotropic metric at F = I')
     call check_close(omega2(1), weight(1)*2.0_wp*(3.0_wp*LAMBDA + 2.0_wp*MU), 1.0e-15_wp, &
@@ -225,7 +224,7 @@ contains
   !> The same cell in blocks of other lengths and at other places gives the same bits.
   subroutine check_placement()
     integer, parameter :: NN = 7
-    real(wp) :: u(LD, 3, CELL_MAX_NODES), grad(LD, 3, CELL_MAX_NODES), w0(LD, 6), weight(LD)
+    real(wp) :: u(LD, 3, CELL_MAX_NODES), grad(LD, 3, CELL_MAX_NODES), w0(LD, 9), weight(LD)
     real(wp) :: hist(LD, NHIST), omega2(LD), force(LD, 3, CELL_MAX_NODES), m(3, 3)
     real(wp) :: ref_force(3, NN), ref_hist(NHIST), ref_omega2
     logical :: same
@@ -237,7 +236,7 @@ contains
     call random_number(weight)
     do i = 1, LD
       call random_number(m)
-      w0(i, :) = pack_metric(matmul(m, transpose(m)))
+      w0(i, :) = reshape(matmul(m, transpose(m)), [9])
     end do
     call run_block(1, 1, NN, u, grad, w0, weight, hist, force, omega2)   ! cell 1 alone
     ref_force = force(1, :, 1:NN)
@@ -259,7 +258,7 @@ contains
   subroutine run_block(n, place, nn, u, grad, w0, weight, hist, force, omega2)
     integer, intent(in) :: n, place, nn        !< block length, reference place, nodes
     real(wp), intent(inout) :: u(LD, 3, CELL_MAX_NODES), grad(LD, 3, CELL_MAX_NODES) !< data
-    real(wp), intent(inout) :: w0(LD, 6), weight(LD)                                  !< data
+    real(wp), intent(inout) :: w0(LD, 9), weight(LD)                                  !< data
     real(wp), intent(out) :: hist(LD, NHIST)                     !< histories after the step
     real(wp), intent(out) :: force(LD, 3, CELL_MAX_NODES)        !< forces
     real(wp), intent(out) :: omega2(LD)                          !< stable-step bounds
