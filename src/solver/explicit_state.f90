@@ -86,9 +86,10 @@ module mefem_explicit_state
     real(wp), allocatable :: share(:,:)        !< (CELL_MAX_NODES, ncell) mass shares
     real(wp), allocatable :: hist(:,:)         !< (NHIST, ncell) material history
     real(wp), allocatable :: cell_force(:,:,:) !< (dim, CELL_MAX_NODES, ncell) contributions
-                                               !< (3D: only those to nodes not pushed)
+                                               !< (3D: the outer cells' all, the inner
+                                               !< cells' only those to nodes not pushed)
     integer, allocatable :: push_node(:,:)     !< (CELL_MAX_NODES, ncell) 3D: the local node
-                                               !< a contribution is added to at once
+                                               !< a contribution is added to straight away
                                                !< (pushed assembly), 0: kept in cell_force
     integer :: replay_next = 1                 !< 3D: the next outer cell (index into outer)
                                                !< whose stored forces are to be pushed
