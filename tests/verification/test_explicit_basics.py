@@ -99,28 +99,42 @@ if rc == 0:
 # ---- 2. results independent of the number of ranks ------------------------------------------
 # The same bar, a shorter run, on 1, 2, 3 and 4 ranks: nodal histories and the final
 # displacements must be the same bits (order-fixed assembly of the cell forces).
-short = 1.0e-5
-results = {}
-for ranks in (1, 2, 3, 4):
-    rc, text, out = run_case('wave_bar_ranks%d' % ranks, bar_deck(short), ranks=ranks)
-    checks.check(rc == 0, 'wave bar on %d ranks: run succeeds' % ranks, text[-600:])
-    if rc != 0:
-        continue
-    n = nodout(out)
-    with h5py.File(os.path.join(out, 'wave_bar_ranks%d.h5' % ranks)) as f:
-        last = sorted(f['states'].keys())[-1]
-        ids = f['mesh/node_ids'][()]
-        disp = f['states/%s/point/displacement' % last][()][np.argsort(ids)]
-    results[ranks] = (np.stack([n[c] for c in ('x-disp', 'x-vel', 'x-accl')]), disp)
-if 1 in results:
-    for ranks in (2, 3, 4):
-        if ranks not in results:
+def runs_on_ranks(name, blocks, label):
+    """Run blocks on 1-4 ranks; per rank count that ran: (nodout histories of the probes,
+    final displacements in node-id order, last state's plastic strain per cell, nodout)."""
+    found = {}
+    for ranks in (1, 2, 3, 4):
+        rc, text, out = run_case('%s_ranks%d' % (name, ranks), blocks, ranks=ranks)
+        checks.check(rc == 0, '%s on %d ranks: run succeeds' % (label, ranks), text[-600:])
+        if rc != 0:
             continue
-        same_hist = np.array_equal(results[1][0], results[ranks][0])
-        same_disp = np.array_equal(results[1][1], results[ranks][1])
-        diff = np.max(abs(results[1][1] - results[ranks][1]))
-        checks.check(same_hist and same_disp, '%d ranks: histories and displacements identical '
-                     'to 1 rank (bit for bit)' % ranks, 'max difference %.3e' % diff)
+        n = nodout(out)
+        with h5py.File(os.path.join(out, '%s_ranks%d.h5' % (name, ranks))) as f:
+            last = sorted(f['states'].keys())[-1]
+            ids = f['mesh/node_ids'][()]
+            disp = f['states/%s/point/displacement' % last][()][np.argsort(ids)]
+            eps = f['states/%s/cell/plastic_strain' % last][()]
+        found[ranks] = (np.stack([n[c] for c in ('x-disp', 'x-vel', 'x-accl')]), disp, eps, n)
+    return found
+
+
+def check_same_bits(found, label):
+    """2, 3 and 4 ranks against 1 rank: histories and final displacements bit for bit."""
+    if 1 not in found:
+        return
+    for ranks in (2, 3, 4):
+        if ranks not in found:
+            continue
+        same_hist = np.array_equal(found[1][0], found[ranks][0])
+        same_disp = np.array_equal(found[1][1], found[ranks][1])
+        diff = np.max(abs(found[1][1] - found[ranks][1]))
+        checks.check(same_hist and same_disp, '%s%d ranks: histories and displacements '
+                     'identical to 1 rank (bit for bit)' % (label, ranks),
+                     'max difference %.3e' % diff)
+
+
+short = 1.0e-5
+check_same_bits(runs_on_ranks('wave_bar', bar_deck(short), 'wave bar'), '')
 
 # ---- 2b. four parts, two materials, ME-FEM and standard tets, on 1-4 ranks ----------------
 # The bar of case 2 cut into four parts along x: ME-FEM elastic (x < 50 mm), ME-FEM J2 with a
@@ -154,37 +168,15 @@ def four_part_deck(end_time):
          history_nodes(probes)]
 
 
-parts_results = {}
-for ranks in (1, 2, 3, 4):
-    rc, text, out = run_case('four_parts_ranks%d' % ranks, four_part_deck(4.0e-5),
-                             ranks=ranks)
-    checks.check(rc == 0, 'four parts on %d ranks: run succeeds' % ranks, text[-600:])
-    if rc != 0:
-        continue
-    n = nodout(out)
-    with h5py.File(os.path.join(out, 'four_parts_ranks%d.h5' % ranks)) as f:
-        last = sorted(f['states'].keys())[-1]
-        ids = f['mesh/node_ids'][()]
-        disp = f['states/%s/point/displacement' % last][()][np.argsort(ids)]
-        eps = f['states/%s/cell/plastic_strain' % last][()]
-    parts_results[ranks] = (np.stack([n[c] for c in ('x-disp', 'x-vel', 'x-accl')]), disp)
-    if ranks == 1:
-        print('    four parts: the wave has reached x = 150 mm (probe velocity %.1f mm/s); '
-              'largest plastic strain %.2e' % (n['x-vel'][-1, 2], eps.max()))
-        checks.check(eps.max() > 0.0 and abs(n['x-vel'][-1, 2]) > 0.1 * V0,
-                     'four parts: the J2 part yields and the wave crosses its interfaces',
-                     'plastic strain %.2e, velocity at 150 mm %.1f' % (eps.max(),
-                                                                       n['x-vel'][-1, 2]))
-if 1 in parts_results:
-    for ranks in (2, 3, 4):
-        if ranks not in parts_results:
-            continue
-        same_hist = np.array_equal(parts_results[1][0], parts_results[ranks][0])
-        same_disp = np.array_equal(parts_results[1][1], parts_results[ranks][1])
-        diff = np.max(abs(parts_results[1][1] - parts_results[ranks][1]))
-        checks.check(same_hist and same_disp, 'four parts, %d ranks: histories and '
-                     'displacements identical to 1 rank (bit for bit)' % ranks,
-                     'max difference %.3e' % diff)
+parts = runs_on_ranks('four_parts', four_part_deck(4.0e-5), 'four parts')
+if 1 in parts:
+    eps, n = parts[1][2], parts[1][3]
+    print('    four parts: the wave has reached x = 150 mm (probe velocity %.1f mm/s); '
+          'largest plastic strain %.2e' % (n['x-vel'][-1, 2], eps.max()))
+    checks.check(eps.max() > 0.0 and abs(n['x-vel'][-1, 2]) > 0.1 * V0,
+                 'four parts: the J2 part yields and the wave crosses its interfaces',
+                 'plastic strain %.2e, velocity at 150 mm %.1f' % (eps.max(), n['x-vel'][-1, 2]))
+check_same_bits(parts, 'four parts, ')
 
 # ---- 3. a free-flying, spinning body: momentum, angular motion, objectivity ----------------
 # Box 20 x 20 x 5 mm, 4 x 4 x 1 hexahedra of 6 tets, initial velocity v + omega e_z x (x - c)
