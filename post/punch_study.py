@@ -174,27 +174,36 @@ def tool_outline(d):
             [b, b, b + TOOL_HEIGHT])
 
 
+def draw_cell_field(ax, s, field, model, colour_style, outline_style):
+    """One panel: the element field s[field] on the deformed mesh (tripcolor with
+    colour_style), the rigid punch's outline (outline_style) when model is 'tool', equal axes
+    in cm. Returns the tripcolor artist (for the colour bar)."""
+    xd = s['x'] + s['u']
+    pc = ax.tripcolor(xd[:, 0], xd[:, 1], s['tri'], facecolors=s[field], **colour_style)
+    if model == 'tool':
+        ox, oy = tool_outline(PUNCH_DEPTH * s['time'])
+        ax.plot(ox, oy, '-', **outline_style)
+    ax.set_aspect('equal')
+    ax.set_xlabel('x [cm]')
+    ax.set_ylabel('y [cm]')
+    return pc
+
+
 def plot_edge(mesh, states, path):
     """Deformed mesh around the punch edge at d_y = 0.35, rigid punch (left) and nodal punch
     (right), ME-FEM, coloured by the equivalent plastic strain."""
     fig, axes = plt.subplots(1, 2, figsize=(10.0, 4.6), layout='constrained')
     hi = max(np.percentile(s['plastic_strain'], 99) for s in states.values())
     for ax, model in zip(axes, ('tool', 'nodal')):
-        s = states[model]
-        xd = s['x'] + s['u']
-        pc = ax.tripcolor(xd[:, 0], xd[:, 1], s['tri'], facecolors=s['plastic_strain'],
-                          cmap='viridis', vmin=0.0, vmax=hi, edgecolors='w', linewidth=0.3)
+        pc = draw_cell_field(ax, states[model], 'plastic_strain', model,
+                             dict(cmap='viridis', vmin=0.0, vmax=hi, edgecolors='w',
+                                  linewidth=0.3), dict(color='r', lw=1.5, label='rigid punch'))
         if model == 'tool':
-            ox, oy = tool_outline(PUNCH_DEPTH * s['time'])
-            ax.plot(ox, oy, 'r-', lw=1.5, label='rigid punch')
             ax.legend(fontsize=8, loc='upper left')
         ax.set_xlim(PUNCH_HALF_WIDTH - 0.45, PUNCH_HALF_WIDTH + 0.45)
         ax.set_ylim(HEIGHT - 0.75, HEIGHT + 0.3)
-        ax.set_aspect('equal')
         ax.set_title('%s punch, ME-FEM, mesh %s, d_y = %.2f cm' % (
             'rigid' if model == 'tool' else 'nodal', mesh, PUNCH_DEPTH), fontsize=9)
-        ax.set_xlabel('x [cm]')
-        ax.set_ylabel('y [cm]')
     cb = fig.colorbar(pc, ax=axes, shrink=0.9)
     cb.set_label('equivalent plastic strain')
     fig.savefig(path, dpi=130)
@@ -210,20 +219,14 @@ def plot_pressure(mesh, model, states, path):
     lo, hi = np.percentile(p_me, [1, 99])
     for ax, variant in zip(axes, ('mefem', 'standard')):
         s = states[variant]
-        xd = s['x'] + s['u']
-        pc = ax.tripcolor(xd[:, 0], xd[:, 1], s['tri'], facecolors=s['pressure'],
-                          cmap='jet', vmin=lo, vmax=hi, edgecolors='none')
-        if model == 'tool':
-            ox, oy = tool_outline(PUNCH_DEPTH * s['time'])
-            ax.plot(ox, oy, 'k-', lw=1.0)
+        pc = draw_cell_field(ax, s, 'pressure', model,
+                             dict(cmap='jet', vmin=lo, vmax=hi, edgecolors='none'),
+                             dict(color='k', lw=1.0))
         ax.set_xlim(0, 3.0)
         ax.set_ylim(0, HEIGHT + 0.3)
-        ax.set_aspect('equal')
         ax.set_title('%s, %s punch, mesh %s, d_y = %.3f cm' % (
             VARIANTS[variant], 'rigid' if model == 'tool' else 'nodal', mesh,
             PUNCH_DEPTH * s['time']), fontsize=9)
-        ax.set_xlabel('x [cm]')
-        ax.set_ylabel('y [cm]')
     cb = fig.colorbar(pc, ax=axes, shrink=0.9)
     cb.set_label('pressure -tr(sigma)/3 [N/cm^2]')
     fig.savefig(path, dpi=130)
