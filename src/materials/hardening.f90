@@ -41,7 +41,12 @@ module mefem_hardening
   !> *MAT_018: SIGY below this value is the strain offset itself, not a stress.
   real(wp), parameter, public :: POWER_LAW_STRAIN_LIMIT = 0.02_wp
 
-  public :: hardening_yield, piecewise_linear_law, power_law_strain_offset, plastic_modulus
+  public :: hardening_yield, hardening_yield_block, piecewise_linear_law
+  public :: power_law_strain_offset, plastic_modulus
+
+  !> Curves of at most this many points have their segment found by counting (the block
+  !> version); longer ones by bisection, point by point
+  integer, parameter :: COUNTED_SEGMENT_POINTS = 16
 
 contains
 
@@ -92,6 +97,65 @@ contains
       slope = 0.0_wp
     end select
   end subroutine hardening_yield
+
+  !> hardening_yield for n points at once (the same values, bit for bit): the linear law and
+  !> the tables and short curves of the piecewise linear law without branches, so that the
+  !> loop over the points is free of calls and mispredicted jumps; a table's or curve's
+  !> segment is found by counting its interior abscissas at or below alpha, which is the
+  !> segment of the bisection (abscissas increasing). The power law and long curves take
+  !> hardening_yield point by point.
+  pure subroutine hardening_yield_block(law, mat, curves, n, alpha, yield_stress, slope)
+    integer, intent(in) :: law                 !< HARDENING_*
+    type(material_t), intent(in) :: mat        !< the material's parameters
+    type(curve_t), intent(in) :: curves(:)     !< the model's curves (for LCSS)
+    integer, intent(in) :: n                   !< number of points
+    real(wp), intent(in) :: alpha(:)           !< (>= n) equivalent plastic strains
+    real(wp), intent(out) :: yield_stress(:)   !< (>= n) K(alpha)
+    real(wp), intent(out) :: slope(:)          !< (>= n) K'(alpha)
+    real(wp) :: modulus
+    integer :: i, k, lo, points
+    select case (law)
+    case (HARDENING_LINEAR)
+      modulus = plastic_modulus(mat)
+      do i = 1, n
+        slope(i) = modulus
+        yield_stress(i) = mat%yield_stress + modulus*alpha(i)
+      end do
+      return
+    case (HARDENING_TABLE)
+      points = mat%n_points
+      if (points >= 2) then                    ! (piecewise_linear's arithmetic)
+        do i = 1, n
+          lo = 1
+          do k = 2, points - 1
+            lo = lo + merge(1, 0, mat%eps(k) <= alpha(i))
+          end do
+          slope(i) = (mat%es(lo+1) - mat%es(lo))/(mat%eps(lo+1) - mat%eps(lo))
+          yield_stress(i) = mat%es(lo) + slope(i)*(alpha(i) - mat%eps(lo))
+        end do
+        return
+      end if
+    case (HARDENING_CURVE)
+      associate (curve => curves(mat%lcss_curve))
+        points = curve%n
+        if (points >= 2 .and. points <= COUNTED_SEGMENT_POINTS) then
+          do i = 1, n                          ! (curve_value's and segment_slope's arithmetic)
+            lo = 1
+            do k = 2, points - 1
+              lo = lo + merge(1, 0, curve%t(k) <= alpha(i))
+            end do
+            yield_stress(i) = curve%f(lo) + (curve%f(lo+1) - curve%f(lo))* &
+                              (alpha(i) - curve%t(lo))/(curve%t(lo+1) - curve%t(lo))
+            slope(i) = (curve%f(lo+1) - curve%f(lo))/(curve%t(lo+1) - curve%t(lo))
+          end do
+          return
+        end if
+      end associate
+    end select
+    do i = 1, n
+      call hardening_yield(law, mat, curves, alpha(i), yield_stress(i), slope(i))
+    end do
+  end subroutine hardening_yield_block
 
   !> *MAT_018 strain offset eps_yp from SIGY, E, K and N (rule in the module header).
   !> With SIGY = 0 and N = 1 the lines do not meet; 0 is returned.

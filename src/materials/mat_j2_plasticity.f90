@@ -38,7 +38,7 @@ module mefem_mat_j2_plasticity
   use mefem_strings, only: itoa, rtoa
   use mefem_tensor_algebra, only: IDENTITY, deviator, add_outer_product, add_symmetric_identity
   use mefem_material_state, only: NHIST, HIST_F, HIST_BE, HIST_ALPHA, BLOCK_POINTS
-  use mefem_hardening, only: hardening_yield
+  use mefem_hardening, only: hardening_yield, hardening_yield_block
   implicit none
   private
 
@@ -299,21 +299,20 @@ contains
                            s_trial(i, ZZ)*s_trial(i, ZZ) + 2.0_wp*(s_trial(i, XY)*s_trial(i, XY) &
                            + s_trial(i, YZ)*s_trial(i, YZ) + s_trial(i, ZX)*s_trial(i, ZX)))
     end do
-    ! 3-4: yield check (hardening law point by point) and return map of the plastic points
+    ! 3-4: yield check (the hardening law for the whole block) and return map of the plastic
+    ! points (points that cannot be updated are neither: their alpha_n is not used)
+    call hardening_yield_block(law, mat, curves, n, hist(:, HIST_ALPHA), yield_old, slope)
     do i = 1, n
-      plastic(i) = .false.
-      dgamma(i) = 0.0_wp
-      denominator(i) = 1.0_wp
-      if (.not. ok(i)) cycle
-      call hardening_yield(law, mat, curves, hist(i, HIST_ALPHA), yield_old(i), slope(i))
-      ok(i) = yield_old(i) > 0.0_wp
+      ok(i) = ok(i) .and. yield_old(i) > 0.0_wp
       plastic(i) = ok(i) .and. norm_trial(i) - SQRT_TWO_THIRDS*yield_old(i) > 0.0_wp
-      if (plastic(i)) then
-        call return_map(law, mat, curves, hist(i, HIST_ALPHA), yield_old(i), norm_trial(i), &
-                        mu_bar(i), dgamma(i), slope(i), converged)
-        ok(i) = converged
-        denominator(i) = norm_trial(i)
-      end if
+      dgamma(i) = 0.0_wp
+      denominator(i) = merge(norm_trial(i), 1.0_wp, plastic(i))
+    end do
+    do i = 1, n
+      if (.not. plastic(i)) cycle
+      call return_map(law, mat, curves, hist(i, HIST_ALPHA), yield_old(i), norm_trial(i), &
+                      mu_bar(i), dgamma(i), slope(i), converged)
+      ok(i) = converged
     end do
     ! 5: s, be_new = s/mu, the unimodular shift's first test, tau (branch-free: elastic points
     ! have dgamma = 0, so return_factor = 1 and s = s_trial exactly)

@@ -4,18 +4,19 @@
 !>   shear stress mu gamma); 3 objectivity under superposed (time-varying) rotations;
 !> 4 plastic incompressibility (det be_bar = 1); 5 consistent tangents against central
 !>   differences of tau(F) with the Lie-derivative identity; 6 det F <= 0 reported;
-!> 7 hardening laws (values, slopes, LS-DYNA *MAT_018 strain offset, the seed-law identity).
+!> 7 hardening laws (values, slopes, LS-DYNA *MAT_018 strain offset, the seed-law identity);
+!> 8 the block form of the hardening laws gives the point form's bits.
 program test_materials
   use mefem_kinds, only: wp
   use mefem_testing, only: test_start, test_finish, check, check_close
   use mefem_errors, only: status_t
-  use mefem_strings, only: rtoa
+  use mefem_strings, only: rtoa, itoa
   use mefem_model, only: material_t, curve_t, MAT_ELASTIC, MAT_PIECEWISE_LINEAR, MAT_POWER_LAW, &
                          MAT_MOONEY_RIVLIN, MAT_RIGID
   use mefem_material_state, only: NHIST, HIST_ALPHA, material_state_init, &
                                   state_get_elastic_strain, state_get_deformation
   use mefem_material_update, only: material_update
-  use mefem_hardening, only: hardening_yield, piecewise_linear_law, power_law_strain_offset, &
+  use mefem_hardening, only: hardening_yield, hardening_yield_block, piecewise_linear_law, power_law_strain_offset, &
                              plastic_modulus, HARDENING_POWER_LAW, HARDENING_LINEAR, &
                              HARDENING_TABLE, HARDENING_CURVE
   use mefem_tensor_algebra, only: IDENTITY, determinant, deviator, frobenius_norm
@@ -28,6 +29,7 @@ program test_materials
   call test_start('materials')
   call make_curves()
   call test_hardening()
+  call test_hardening_block()
   call test_uniaxial(linear_steel(), 'linear hardening', 1.3_wp)
   call test_uniaxial(linear_steel(), 'linear hardening', 1.0_wp/1.3_wp)
   call test_uniaxial(power_law_steel(), 'power law', 1.3_wp)
@@ -244,6 +246,68 @@ contains
                      'seed punch law against the reference values (rounded to 0.05)', &
                      atol=0.05_wp)
   end subroutine test_hardening
+
+  ! ---------------------------------------------------------------- 8 block hardening
+
+  !> hardening_yield_block against hardening_yield, bit for bit, for every law: at 0, at each
+  !> table / curve point and just below and above it, between points, past the last point
+  !> (extrapolation) and at pseudo-random strains; a curve of 20 points (longer than the
+  !> counted search takes) and a table of 8 points as well.
+  subroutine test_hardening_block()
+    integer, parameter :: N = 64
+    type(material_t) :: mats(6)
+    type(curve_t), allocatable :: long_curves(:)
+    real(wp) :: alpha(N), k_block(N), slope_block(N), k_point, slope_point, r
+    integer :: m, i, law, mismatches
+    character(len=24), parameter :: names(6) = [character(len=24) :: 'linear', 'power law', &
+        'table of 4', 'curve of 4', 'curve of 20', 'table of 8']
+    allocate(long_curves(2))
+    long_curves(1) = curves(1)
+    long_curves(2)%id = 12
+    long_curves(2)%n = 20
+    long_curves(2)%t = [(0.01_wp*real(i - 1, wp)**1.5_wp, i = 1, 20)]
+    long_curves(2)%f = [(250.0_wp + 40.0_wp*sqrt(long_curves(2)%t(i)), i = 1, 20)]
+    mats(1) = linear_steel()
+    mats(2) = power_law_steel()
+    mats(3) = table_steel()
+    mats(4) = curve_steel()
+    mats(5) = curve_steel()
+    mats(5)%lcss_curve = 2
+    mats(6) = table_steel()
+    mats(6)%n_points = 8
+    mats(6)%eps = [0.0_wp, 0.01_wp, 0.03_wp, 0.06_wp, 0.1_wp, 0.2_wp, 0.4_wp, 0.8_wp]
+    mats(6)%es = [200.0_wp, 230.0_wp, 255.0_wp, 275.0_wp, 290.0_wp, 310.0_wp, 330.0_wp, 345.0_wp]
+    do m = 1, size(mats)
+      alpha = 0.0_wp
+      do i = 1, 8                          ! the table's / curve's points and their neighbours
+        alpha(i) = mats(6)%eps(i)
+        alpha(8 + i) = nearest(mats(6)%eps(i), -1.0_wp)
+        alpha(16 + i) = nearest(mats(6)%eps(i), 1.0_wp)
+      end do
+      alpha(25:28) = curves(1)%t
+      alpha(29:32) = mats(3)%eps(1:4)
+      alpha(33:40) = long_curves(2)%t(13:20)
+      alpha(41:44) = [1.0_wp, 2.5_wp, 0.0_wp, 1.0e-9_wp]          ! past the last points
+      do i = 45, N
+        call random_number(r)
+        alpha(i) = 0.9_wp*r
+      end do
+      alpha = max(alpha, 0.0_wp)
+      if (mats(m)%kind == MAT_POWER_LAW) then
+        law = HARDENING_POWER_LAW
+      else
+        law = piecewise_linear_law(mats(m))
+      end if
+      call hardening_yield_block(law, mats(m), long_curves, N, alpha, k_block, slope_block)
+      mismatches = 0
+      do i = 1, N
+        call hardening_yield(law, mats(m), long_curves, alpha(i), k_point, slope_point)
+        if (k_block(i) /= k_point .or. slope_block(i) /= slope_point) mismatches = mismatches + 1
+      end do
+      call check(mismatches == 0, 'block hardening, '//trim(names(m))//': K and K'' as the '// &
+                 'point form, bit for bit, at 64 strains', 'mismatches: '//itoa(mismatches))
+    end do
+  end subroutine test_hardening_block
 
   !> K'(alpha) of a J2 material.
   subroutine slope_of(mat, alpha, slope)
