@@ -539,7 +539,16 @@ contains
     integer, intent(in) :: ncomp                   !< components per contribution
     integer, intent(in) :: nsource                 !< slots x local cells
     real(wp), intent(in) :: values(ncomp, nsource) !< cell contributions, one per column
-    integer :: t
+    integer :: t, source
+    if (ncomp == 3) then                  ! (forces: three stores, not a memcpy call each)
+      do t = halo%send_start(k), halo%send_start(k + 1) - 1
+        source = halo%send_source(t)
+        halo%assembly_send(3*t - 2) = values(1, source)
+        halo%assembly_send(3*t - 1) = values(2, source)
+        halo%assembly_send(3*t) = values(3, source)
+      end do
+      return
+    end if
     do t = halo%send_start(k), halo%send_start(k + 1) - 1
       halo%assembly_send(ncomp*(t - 1) + 1:ncomp*t) = values(:, halo%send_source(t))
     end do

@@ -306,7 +306,7 @@ contains
     real(wp) :: u(LD, 3, CELL_MAX_NODES), force(LD, 3, CELL_MAX_NODES)
     real(wp) :: f(LD, 9), adj(LD, 9), det(LD), tau(LD, 6), omega2(LD), dt_block(LD)
     logical :: ok(LD), finite(LD), steps_at_once, inner
-    integer :: n, nn, i, a, l, node, first
+    integer :: n, nn, i, a, l, node, first, p
     first = s%block_start(b)
     n = s%block_start(b + 1) - first
     if (n == 0) return
@@ -371,6 +371,14 @@ contains
           s%cell_force(3, a, l) = force(i, 3, a)
         end if
       end do
+      if (.not. inner .and. allocated(s%outer_force)) then   ! the replay's copy
+        p = s%outer_slot(l)
+        do a = 1, s%nnodes(l)
+          s%outer_force(1, a, p) = force(i, 1, a)
+          s%outer_force(2, a, p) = force(i, 2, a)
+          s%outer_force(3, a, p) = force(i, 3, a)
+        end do
+      end if
       if (.not. ok(i)) cycle
       if (.not. steps_at_once) then
         call take_cell_step(model, s, l, omega2(i))
@@ -437,6 +445,16 @@ contains
         if (pushed(s%nodes(a, l))) s%push_node(a, l) = s%nodes(a, l)
       end do
     end do
+    ! the outer cells' push nodes and forces once more, in outer order (the replay reads
+    ! them one after the other instead of scattered over the cell arrays)
+    allocate(s%outer_slot(s%ncell), s%outer_push(CELL_MAX_NODES, size(s%outer)), &
+             s%outer_force(3, CELL_MAX_NODES, size(s%outer)))
+    s%outer_slot = 0
+    s%outer_force = 0.0_wp
+    do p = 1, size(s%outer)
+      s%outer_slot(s%outer(p)) = p
+      s%outer_push(:, p) = s%push_node(:, s%outer(p))
+    end do
   end subroutine plan_pushed_assembly
 
   !> Push the stored forces of the outer cells below local cell `below` that are not pushed
@@ -444,15 +462,20 @@ contains
   subroutine replay_outer_forces(s, below)
     type(explicit_state_t), intent(inout) :: s        !< local state
     integer, intent(in) :: below                      !< local cell (ncell + 1: all the rest)
-    integer :: l, a, node
+    integer :: l, a, node, p
     do while (s%replay_next <= size(s%outer))
-      l = s%outer(s%replay_next)
+      p = s%replay_next
+      l = s%outer(p)
       if (l >= below) exit
       do a = 1, s%nnodes(l)
-        node = s%push_node(a, l)
-        if (node > 0) s%f_int_new(:, node) = s%f_int_new(:, node) + s%cell_force(:, a, l)
+        node = s%outer_push(a, p)
+        if (node > 0) then
+          s%f_int_new(1, node) = s%f_int_new(1, node) + s%outer_force(1, a, p)
+          s%f_int_new(2, node) = s%f_int_new(2, node) + s%outer_force(2, a, p)
+          s%f_int_new(3, node) = s%f_int_new(3, node) + s%outer_force(3, a, p)
+        end if
       end do
-      s%replay_next = s%replay_next + 1
+      s%replay_next = p + 1
     end do
   end subroutine replay_outer_forces
 

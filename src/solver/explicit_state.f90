@@ -93,6 +93,12 @@ module mefem_explicit_state
                                                !< (pushed assembly), 0: kept in cell_force
     integer :: replay_next = 1                 !< 3D: the next outer cell (index into outer)
                                                !< whose stored forces are to be pushed
+    integer, allocatable :: outer_slot(:)      !< (ncell) 3D: index into outer, 0: inner cell
+    integer, allocatable :: outer_push(:,:)    !< (CELL_MAX_NODES, size(outer)) 3D: push_node
+                                               !< of the outer cells, in outer order
+    real(wp), allocatable :: outer_force(:,:,:) !< (3, CELL_MAX_NODES, size(outer)) 3D: the
+                                               !< outer cells' contributions again, in outer
+                                               !< order, so that the replay streams them
     real(wp), allocatable :: added(:,:,:)      !< (1, CELL_MAX_NODES, ncell) added masses
     logical :: mass_scaling = .false.          !< DT2MS < 0 given
     ! time step of the last force evaluation
