@@ -20,7 +20,14 @@
 #   --small: 12 x 12 x 12 cubes = 8 640 tets, 100 cycles (a few seconds)
 # Environment: BENCH_EX_CELLS="NX NY NZ", BENCH_EX_CYCLES, BENCH_EX_RANKS (default "1 2"),
 # BENCH_EX_ELFORMS (default "43 10"), BENCH_EX_SPEED (top speed, mm/s; default 20000),
-# BENCH_EX_REPEAT (default 3), MEFEM (binary, default bin/mefem).
+# BENCH_EX_REPEAT (default 3), BENCH_EX_PAIR (default 1: after each 2-rank run, two independent
+# 1-rank runs at the same time, see below; 0: not), MEFEM (binary, default bin/mefem).
+#
+# The pair of 1-rank runs measures what this machine gives two processes at once (shared
+# caches, memory, the host's other load): their ns per element-cycle over the 1-rank run's
+# bounds the speed-up any 2-rank run can reach here ("machine bound"), and their ns over the
+# 2-rank run's is the 2-rank run's efficiency against that bound (what MPI, the halo and the
+# ranks waiting for each other cost).
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
@@ -41,6 +48,7 @@ ranks=${BENCH_EX_RANKS:-1 2}
 elforms=${BENCH_EX_ELFORMS:-43 10}
 speed=${BENCH_EX_SPEED:-20000.0}
 repeat=${BENCH_EX_REPEAT:-3}
+pair=${BENCH_EX_PAIR:-1}
 mefem=${MEFEM:-bin/mefem}
 read -r nx ny nz <<< "$cells"
 
@@ -96,11 +104,13 @@ K
   } > "$deck"
 }
 
-# one run: prints the summary numbers as "key=value" words
+# one run: prints the summary numbers as "key=value" words (optional 5th argument: the
+# result directory's suffix, for runs made at the same time; 6th: binding, default Open MPI's)
 run_case() {
-  local elform=$1 np=$2 deck=$3 log=$4
+  local elform=$1 np=$2 deck=$3 log=$4 suffix=${5:-} bind=${6:-}
   /usr/bin/time -f 'process %e %U %S' -o "$log.time" \
-    mpirun --oversubscribe -np "$np" "$mefem" -o "$out/run_${elform}_np$np" "$deck" > "$log" 2>&1 \
+    mpirun --oversubscribe ${bind:+--bind-to $bind} -np "$np" "$mefem" \
+    -o "$out/run_${elform}_np$np$suffix" "$deck" > "$log" 2>&1 \
     || { echo "mefem failed, see $log" >&2; tail -5 "$log" >&2; exit 1; }
   /usr/bin/python3 - "$log" "$np" <<'PY'
 import re, sys
@@ -149,6 +159,19 @@ for rep in $(seq 1 "$repeat"); do
       line=$(run_case "$elform" "$np" "$deck" "$log")
       echo "elform=$elform np=$np rep=$rep $line" >> "$results"
       echo "  round $rep, ELFORM $elform, $np rank(s): done ($log)"
+      if [ "$np" = 2 ] && [ "$pair" = 1 ]; then
+        # what the machine gives two processes at once: two independent 1-rank runs (not
+        # bound: each mpirun alone would bind its rank to the same first core)
+        for half in a b; do
+          run_case "$elform" 1 "$deck" "$out/run_${tag}_e${elform}_pair${half}_r$rep.log" \
+            "_pair$half" none > "$out/pair_$half.txt" &
+        done
+        wait
+        for half in a b; do
+          echo "elform=$elform np=pair rep=$rep $(cat "$out/pair_$half.txt")" >> "$results"
+        done
+        echo "  round $rep, ELFORM $elform, two 1-rank runs at once: done"
+      fi
     done
   done
 done
@@ -162,6 +185,8 @@ for line in open(sys.argv[1]):
 def f(d, k):
     return float(d[k])
 name = {'43': 'ME-FEM tet (43)', '10': 'standard tet (10)'}
+pairs = [d for d in runs if d['np'] == 'pair']
+runs = [d for d in runs if d['np'] != 'pair']
 cases = []                                   # (elform, np) in the order first run
 for d in runs:
     if (d['elform'], d['np']) not in cases:
@@ -200,6 +225,26 @@ for elform, np_text in cases:
           f'{f(d, "ns_cell"):.0f} | {f(d, "forces"):.1f} % | {f(d, "halo"):.1f} % | '
           f'{f(d, "update"):.1f} % | {f(d, "output"):.1f} % | {mem:.0f} MiB | '
           f'{per_elem:.2f} KiB | {speedup} | {spread} | {f(d, "cpu_share"):.2f} | {every} |')
+# the pair of 1-rank runs at once, per round: machine bound 2 ns(1)/ns(pair), efficiency of
+# the 2-rank run against it ns(pair)/ns(2), ns(pair) the mean of the two runs
+for elform in dict.fromkeys(d['elform'] for d in pairs):
+    pair_ns = {}
+    for d in pairs:
+        if d['elform'] == elform:
+            pair_ns.setdefault(d['rep'], []).append(f(d, 'ns_elem'))
+    one, two = ns_of.get((elform, '1'), {}), ns_of.get((elform, '2'), {})
+    bound = [2.0 * one[r] * 2 / sum(v) for r, v in pair_ns.items() if r in one and len(v) == 2]
+    eff = [sum(v) / 2 / two[r] for r, v in pair_ns.items() if r in two and len(v) == 2]
+    every = ' / '.join(f'{sum(v) / len(v):.0f}' for r, v in sorted(pair_ns.items(),
+                                                                 key=lambda t: int(t[0])))
+    text = f'\n{name.get(elform, elform)}, two 1-rank runs at once: ns/element-cycle {every}'
+    if bound:
+        text += (f'; machine bound of the 2-rank speed-up {median(bound):.2f} '
+                 f'({min(bound):.2f}-{max(bound):.2f})')
+    if eff:
+        text += (f'; 2-rank run against it {100 * median(eff):.0f} % '
+                 f'({100 * min(eff):.0f}-{100 * max(eff):.0f} %)')
+    print(text)
 ns = {e: median(v.values()) for (e, n), v in ns_of.items() if n == '1'}
 if '43' in ns and '10' in ns:
     print(f'\nME-FEM / standard cost per element-cycle on 1 rank (medians): '
