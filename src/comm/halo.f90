@@ -72,10 +72,13 @@ module mefem_halo
                                                  !< contributions are local, else 0
     integer, allocatable :: mixed_nodes(:)       !< nodes with received contributions
     integer, allocatable :: mixed_start(:)       !< (size(mixed_nodes)+1) their plans: node
-    integer, allocatable :: mixed_source(:)      !< mixed_nodes(m) sums mixed_source(mixed_
+    integer, allocatable :: mixed_entry(:)       !< mixed_nodes(m) sums mixed_entry(mixed_
                                                  !< start(m):mixed_start(m+1)-1) in this order
-                                                 !< (the layout's plan: > 0 own contribution
-                                                 !< j + slots*(l-1), < 0 received one)
+                                                 !< (the layout's plan): > 0 own contribution,
+                                                 !< at that position of assembly_send (where
+                                                 !< halo_assemble_start packed it; its first
+                                                 !< copy), < 0 received one, at position
+                                                 !< -entry of assembly_receive
     real(wp), allocatable :: assembly_send(:)    !< (ncomp_max * size(send_source))
     real(wp), allocatable :: assembly_receive(:) !< (ncomp_max * received contributions)
     type(comm_requests_t) :: assembly_requests   !< halo_assemble transfers in flight
@@ -123,8 +126,11 @@ contains
     halo%send_source = layout%send_source
     halo%receive_start = layout%receive_start
     call plan_scatter(halo, layout%assembly_start, layout%assembly_source)
-    allocate(halo%assembly_send(ncomp_max*size(layout%send_source)))
-    allocate(halo%assembly_receive(ncomp_max*(layout%receive_start(layout%nneighbour + 1) - 1)))
+    ! (at least one contribution each: the mixed sums read both at every entry)
+    allocate(halo%assembly_send(ncomp_max*max(size(layout%send_source), 1)))
+    allocate(halo%assembly_receive(ncomp_max*max(layout%receive_start(layout%nneighbour + 1) &
+                                                 - 1, 1)))
+    call plan_mixed_entries(halo, layout%assembly_start, layout%assembly_source)
   end subroutine halo_build_layout
 
   !> Split the layout's assembly plan: a node whose contributions all come from this rank's
@@ -147,7 +153,7 @@ contains
         nentries = nentries + assembly_start(i + 1) - assembly_start(i)
       end if
     end do
-    allocate(halo%mixed_nodes(nmixed), halo%mixed_start(nmixed + 1), halo%mixed_source(nentries))
+    allocate(halo%mixed_nodes(nmixed), halo%mixed_start(nmixed + 1), halo%mixed_entry(nentries))
     halo%mixed_start(1) = 1
     nmixed = 0
     do i = 1, halo%nnode_local
@@ -156,7 +162,7 @@ contains
           nmixed = nmixed + 1
           halo%mixed_nodes(nmixed) = i
           halo%mixed_start(nmixed + 1) = halo%mixed_start(nmixed) + size(sources)
-          halo%mixed_source(halo%mixed_start(nmixed):halo%mixed_start(nmixed + 1) - 1) = sources
+          halo%mixed_entry(halo%mixed_start(nmixed):halo%mixed_start(nmixed + 1) - 1) = sources
         else
           do p = 1, size(sources)
             halo%source_node(sources(p)) = i
@@ -165,6 +171,43 @@ contains
       end associate
     end do
   end subroutine plan_scatter
+
+  !> Point the mixed nodes' own contributions at their packed copies in assembly_send, so
+  !> that the mixed sums stream both buffers (the send list is walked node by node of the
+  !> shared lists, each node's own contributions in plan order, as the mixed sums walk them).
+  !> Every own contribution to a mixed node is sent: the ranks it receives from share it.
+  subroutine plan_mixed_entries(halo, assembly_start, assembly_source)
+    type(halo_t), intent(inout) :: halo            !< halo with plan_scatter's mixed plan
+    integer, intent(in) :: assembly_start(:)       !< (nnode_local+1) the layout's plan
+    integer, intent(in) :: assembly_source(:)      !< its sources, ascending cell order per node
+    integer, allocatable :: first_sent(:)
+    integer :: k, s, i, m, p, position, own
+    allocate(first_sent(halo%nnode_local))
+    first_sent = 0
+    position = 0
+    do k = 1, halo%nneighbour
+      do s = halo%shared_start(k), halo%shared_start(k + 1) - 1
+        i = halo%shared_nodes(s)
+        if (first_sent(i) == 0) first_sent(i) = position + 1
+        position = position + count(assembly_source(assembly_start(i):assembly_start(i + 1) - 1) > 0)
+      end do
+    end do
+    if (position /= size(halo%send_source)) call fatal_local('halo_build: the send list '// &
+        'does not follow the shared nodes')
+    do m = 1, size(halo%mixed_nodes)
+      i = halo%mixed_nodes(m)
+      own = 0
+      do p = halo%mixed_start(m), halo%mixed_start(m + 1) - 1
+        if (halo%mixed_entry(p) < 0) cycle
+        if (first_sent(i) == 0) call fatal_local('halo_build: a mixed node is not sent')
+        position = first_sent(i) + own
+        if (halo%send_source(position) /= halo%mixed_entry(p)) call fatal_local('halo_build: '// &
+            'the send list does not hold a mixed node''s contributions in plan order')
+        halo%mixed_entry(p) = position
+        own = own + 1
+      end do
+    end do
+  end subroutine plan_mixed_entries
 
   !> Copy the neighbour lists, allocate the buffers and plan the ascending-rank sums.
   subroutine set_lists(halo, rank, nnode_local, neighbour_rank, shared_start, shared_nodes, &
@@ -377,8 +420,7 @@ contains
       call sum_in_plan_order(halo, ncomp, size(cell_values, 2)*size(cell_values, 3), &
                              cell_values, f)
     end if
-    call sum_mixed_in_plan_order(halo, ncomp, size(cell_values, 2)*size(cell_values, 3), &
-                                 cell_values, f)
+    call sum_mixed_in_plan_order(halo, ncomp, f)
   end subroutine halo_assemble_finish
 
   !> Between halo_assemble_start and _finish: let the transfers advance (call it every few
@@ -485,17 +527,17 @@ contains
 
   !> The nodes with received contributions (shared nodes), each summed by its plan (ascending
   !> global cell order, own and received contributions interleaved), after the own-only nodes.
-  subroutine sum_mixed_in_plan_order(halo, ncomp, nsource, values, f)
-    type(halo_t), intent(in) :: halo               !< halo with its assembly plan
+  !> The own contributions are read from their packed copies in assembly_send, the received
+  !> ones from assembly_receive: both in the order the sums take them.
+  subroutine sum_mixed_in_plan_order(halo, ncomp, f)
+    type(halo_t), intent(in) :: halo               !< halo after the exchange
     integer, intent(in) :: ncomp                   !< components per contribution
-    integer, intent(in) :: nsource                 !< slots x local cells
-    real(wp), intent(in) :: values(ncomp, nsource) !< cell contributions, one per column
     real(wp), intent(inout) :: f(:,:)              !< (ncomp, nnode_local) nodal sums
     real(wp) :: sum1, sum2, sum3
-    integer :: i, m, p, source, offset, own
+    integer :: i, m, p, entry, offset, own, received
     logical :: is_own
-    if (ncomp == 3 .and. nsource > 0) then
-      ! (forces) the sums in registers and no branch on the source's kind: own and received
+    if (ncomp == 3) then
+      ! (forces) the sums in registers and no branch on the entry's kind: own and received
       ! contributions alternate at random, and a mispredicted branch cost more than the
       ! second (cached) load that merge reads
       do m = 1, size(halo%mixed_nodes)
@@ -504,13 +546,16 @@ contains
         sum2 = f(2, i)
         sum3 = f(3, i)
         do p = halo%mixed_start(m), halo%mixed_start(m + 1) - 1
-          source = halo%mixed_source(p)
-          is_own = source > 0
-          own = max(source, 1)
-          offset = 3*max(-source - 1, 0)
-          sum1 = sum1 + merge(values(1, own), halo%assembly_receive(offset + 1), is_own)
-          sum2 = sum2 + merge(values(2, own), halo%assembly_receive(offset + 2), is_own)
-          sum3 = sum3 + merge(values(3, own), halo%assembly_receive(offset + 3), is_own)
+          entry = halo%mixed_entry(p)
+          is_own = entry > 0
+          own = 3*max(entry - 1, 0)                  ! (both offsets valid: merge reads both)
+          received = 3*max(-entry - 1, 0)
+          sum1 = sum1 + merge(halo%assembly_send(own + 1), halo%assembly_receive(received + 1), &
+                              is_own)
+          sum2 = sum2 + merge(halo%assembly_send(own + 2), halo%assembly_receive(received + 2), &
+                              is_own)
+          sum3 = sum3 + merge(halo%assembly_send(own + 3), halo%assembly_receive(received + 3), &
+                              is_own)
         end do
         f(1, i) = sum1
         f(2, i) = sum2
@@ -521,11 +566,11 @@ contains
     do m = 1, size(halo%mixed_nodes)
       i = halo%mixed_nodes(m)
       do p = halo%mixed_start(m), halo%mixed_start(m + 1) - 1
-        source = halo%mixed_source(p)
-        if (source > 0) then
-          f(1:ncomp, i) = f(1:ncomp, i) + values(:, source)
+        entry = halo%mixed_entry(p)
+        offset = ncomp*(abs(entry) - 1)
+        if (entry > 0) then
+          f(1:ncomp, i) = f(1:ncomp, i) + halo%assembly_send(offset + 1:offset + ncomp)
         else
-          offset = ncomp*(-source - 1)
           f(1:ncomp, i) = f(1:ncomp, i) + halo%assembly_receive(offset + 1:offset + ncomp)
         end if
       end do
