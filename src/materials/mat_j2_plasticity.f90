@@ -223,6 +223,9 @@ contains
     real(wp) :: mu, kappa, inverse_mu
     real(wp), dimension(ld) :: j_old, x, y, d, scale, i_bar, mu_bar, norm_trial, yield_old
     real(wp), dimension(ld) :: slope, dgamma, i2, i3, g, jp, denominator
+    real(wp), dimension(ld) :: residual0, step, alpha_step, yield_step, slope_step
+    real(wp) :: high, derivative, residual1
+    integer :: plastic_point(ld), nplastic
     real(wp) :: a(9), adj(9), rel(9), tt(9), be_old(SYM), be_trial(SYM), s(SYM), dv(SYM)
     real(wp) :: s_trial(ld, SYM), be_new(ld, SYM), dev(ld, SYM), return_factor, x_shift(ld)
     real(wp) :: x0, x1, x2, dg0, dg1, g1, g2
@@ -308,11 +311,40 @@ contains
       dgamma(i) = 0.0_wp
       denominator(i) = merge(norm_trial(i), 1.0_wp, plastic(i))
     end do
+    ! return_map's first two iterations for the block's plastic points at once (the same
+    ! arithmetic: its residual at dgamma = 0, one safeguarded Newton step, the residual there
+    ! with the hardening law of the block); the points these do not settle take return_map
+    ! itself (a piecewise linear law is settled by the step unless it crosses a table point)
+    nplastic = 0
     do i = 1, n
       if (.not. plastic(i)) cycle
-      call return_map(law, mat, curves, hist(i, HIST_ALPHA), yield_old(i), norm_trial(i), &
-                      mu_bar(i), dgamma(i), slope(i), converged)
-      ok(i) = converged
+      nplastic = nplastic + 1
+      plastic_point(nplastic) = i
+    end do
+    do k = 1, nplastic
+      i = plastic_point(k)
+      residual0(k) = norm_trial(i) - 2.0_wp*mu_bar(i)*0.0_wp - SQRT_TWO_THIRDS*yield_old(i)
+      high = norm_trial(i)/(2.0_wp*mu_bar(i))
+      derivative = -2.0_wp*mu_bar(i) - 2.0_wp/3.0_wp*slope(i)
+      step(k) = merge(0.0_wp - residual0(k)/merge(derivative, -1.0_wp, derivative < 0.0_wp), &
+                      high, derivative < 0.0_wp)
+      if (.not. (step(k) > 0.0_wp .and. step(k) < high)) step(k) = 0.5_wp*(0.0_wp + high)
+      alpha_step(k) = hist(i, HIST_ALPHA) + SQRT_TWO_THIRDS*step(k)
+    end do
+    call hardening_yield_block(law, mat, curves, nplastic, alpha_step, yield_step, slope_step)
+    do k = 1, nplastic
+      i = plastic_point(k)
+      residual1 = norm_trial(i) - 2.0_wp*mu_bar(i)*step(k) - SQRT_TWO_THIRDS*yield_step(k)
+      if (abs(residual0(k)) <= RETURN_TOLERANCE*norm_trial(i)) then
+        dgamma(i) = 0.0_wp                     ! (barely plastic: settled at dgamma = 0)
+      else if (abs(residual1) <= RETURN_TOLERANCE*norm_trial(i)) then
+        dgamma(i) = step(k)
+        slope(i) = slope_step(k)
+      else
+        call return_map(law, mat, curves, hist(i, HIST_ALPHA), yield_old(i), norm_trial(i), &
+                        mu_bar(i), dgamma(i), slope(i), converged)
+        ok(i) = converged
+      end if
     end do
     ! 5: s, be_new = s/mu, the unimodular shift's first test, tau (branch-free: elastic points
     ! have dgamma = 0, so return_factor = 1 and s = s_trial exactly)
