@@ -336,6 +336,7 @@ contains
                               s%prescribed_dof(count_entries), s%prescribed_motion(count_entries))
     end do
     s%nprescribed = count_entries
+    allocate(s%prescribed_v_old(count_entries))
 
     ! initial velocities: mesh nodes from the deck, an enriched node the mean of its element's
     ! corners (the value of the linear field at the centroid, which the enrichment reproduces)
@@ -535,8 +536,16 @@ contains
     real(wp) :: dt_avg, amount, work
     integer :: k, n, i, m
     dt_avg = 0.5_wp*(dt_old + dt)
-    call advance_velocities(s%dim, s%nnode, dt_avg, s%active, s%fixed, s%a, s%v, s%v_old, &
-                            s%driven)
+    ! v^{n-1/2} where it is read: all nodes for the rigid walls, the prescribed dofs (whose
+    ! driven flags, the only ones ever set, are cleared here)
+    if (s%nwall > 0) s%v_old = s%v
+    do k = 1, s%nprescribed
+      n = s%prescribed_node(k)
+      i = s%prescribed_dof(k)
+      s%prescribed_v_old(k) = s%v(i, n)
+      s%driven(i, n) = .false.
+    end do
+    call advance_velocities(s%dim, s%nnode, dt_avg, s%active, s%fixed, s%a, s%v)
     work = 0.0_wp
     do k = 1, s%nprescribed
       n = s%prescribed_node(k)
@@ -550,7 +559,7 @@ contains
           s%v(i, n) = amount
         case (VAD_ACCELERATION)
           amount = pm%scale*curve_value(model%curves(pm%curve), t)
-          s%v(i, n) = s%v_old(i, n) + dt_avg*amount
+          s%v(i, n) = s%prescribed_v_old(k) + dt_avg*amount
         case (VAD_DISPLACEMENT)
           amount = pm%scale*curve_value(model%curves(pm%curve), t + dt)
           s%v(i, n) = (amount - s%u(i, n))/dt
@@ -558,9 +567,9 @@ contains
         s%driven(i, n) = .true.
         ! work of the reaction at t^n over the half steps around it (owned nodes)
         if (s%owned(n) .and. dt_avg > 0.0_wp) work = work + &
-            (s%mass(n)*(s%v(i, n) - s%v_old(i, n))/dt_avg - s%f_ext(i, n) - s%f_con(i, n) + &
-             s%f_int(i, n))* &
-            0.5_wp*(dt_old*s%v_old(i, n) + dt*s%v(i, n))
+            (s%mass(n)*(s%v(i, n) - s%prescribed_v_old(k))/dt_avg - s%f_ext(i, n) - &
+             s%f_con(i, n) + s%f_int(i, n))* &
+            0.5_wp*(dt_old*s%prescribed_v_old(k) + dt*s%v(i, n))
       end associate
     end do
     s%external_work = s%external_work + work
@@ -752,24 +761,20 @@ contains
     end do
   end subroutine nodal_balance
 
-  !> v^{n+1/2} = v^{n-1/2} + dt_avg a^n at the integrated nodes, 0 at fixed dofs; keeps
-  !> v^{n-1/2} and clears the driven flags (first part of update_velocities, on plain arrays).
-  pure subroutine advance_velocities(dim, nnode, dt_avg, active, fixed, a, v, v_old, driven)
+  !> v^{n+1/2} = v^{n-1/2} + dt_avg a^n at the integrated nodes, 0 at fixed dofs (first part
+  !> of update_velocities, on plain arrays).
+  pure subroutine advance_velocities(dim, nnode, dt_avg, active, fixed, a, v)
     integer, intent(in) :: dim, nnode                 !< dimension, local nodes
     real(wp), intent(in) :: dt_avg                    !< (dt^{n-1/2} + dt^{n+1/2})/2
     logical, intent(in) :: active(nnode)              !< integrated nodes
     logical, intent(in) :: fixed(dim, nnode)          !< SPC / TC fixed dofs
     real(wp), intent(in) :: a(dim, nnode)             !< a^n
     real(wp), intent(inout) :: v(dim, nnode)          !< v^{n-1/2} -> v^{n+1/2}
-    real(wp), intent(out) :: v_old(dim, nnode)        !< v^{n-1/2}
-    logical, intent(out) :: driven(dim, nnode)        !< cleared
     integer :: n, d
     do n = 1, nnode
       do d = 1, dim
-        v_old(d, n) = v(d, n)
         if (active(n)) v(d, n) = v(d, n) + dt_avg*a(d, n)
         if (fixed(d, n)) v(d, n) = 0.0_wp
-        driven(d, n) = .false.
       end do
     end do
   end subroutine advance_velocities

@@ -28,7 +28,8 @@ module mefem_explicit_state
     real(wp), allocatable :: x0(:,:)           !< (dim, nnode) reference coordinates
     real(wp), allocatable :: u(:,:)            !< (dim, nnode) displacements u^n
     real(wp), allocatable :: v(:,:)            !< (dim, nnode) velocities v^{n+1/2}
-    real(wp), allocatable :: v_old(:,:)        !< (dim, nnode) velocities v^{n-1/2}
+    real(wp), allocatable :: v_old(:,:)        !< (dim, nnode) velocities v^{n-1/2} (kept each
+                                               !< cycle only with rigid walls, which read it)
     real(wp), allocatable :: a(:,:)            !< (dim, nnode) accelerations a^n
     real(wp), allocatable :: f_int(:,:)        !< (dim, nnode) internal forces at t^n
     real(wp), allocatable :: f_int_new(:,:)    !< (dim, nnode) internal forces being assembled
@@ -50,10 +51,12 @@ module mefem_explicit_state
     logical, allocatable :: fixed(:,:)         !< (dim, nnode) SPC / TC fixed dof
     logical :: spc_in_time = .false.           !< an SPC has a BIRTH or DEATH time
     logical, allocatable :: driven(:,:)        !< (dim, nnode) dof moved by a motion this cycle
+                                               !< (set and cleared at the prescribed dofs)
     ! prescribed motions of deformable nodes: entry k moves dof prescribed_dof(k) of local
     ! node prescribed_node(k) as model%motions(prescribed_motion(k)) says
     integer :: nprescribed = 0
     integer, allocatable :: prescribed_node(:), prescribed_dof(:), prescribed_motion(:)
+    real(wp), allocatable :: prescribed_v_old(:) !< (nprescribed) their v^{n-1/2}, this cycle
     ! cells
     integer, allocatable :: outer(:)           !< local cells touching a shared node
     integer, allocatable :: inner(:)           !< the other local cells
