@@ -96,13 +96,24 @@ $(BUILD)/deps.mk: $(SRC) $(UNIT_SRC) tests/unit/testing.f90 tests/unit/fixtures.
 
 -include $(BUILD)/deps.mk
 
-$(BUILD)/%.o: src/%.f90
-	@mkdir -p $(dir $@) $(BUILD)/mod
-	$(FC) $(FFLAGS) $(INCLUDES) -J$(BUILD)/mod -c $< -o $@
+# The compile command of this build, rewritten only when it changes (another ARCH, FC or
+# FFLAGS): every object depends on it, so a change of flags rebuilds all of them instead of
+# leaving objects of two instruction sets in one binary.
+COMPILE := $(FC) $(FFLAGS) $(INCLUDES)
+$(BUILD)/compile_flags: FORCE
+	@mkdir -p $(BUILD)
+	@echo '$(COMPILE)' | cmp -s - $@ || echo '$(COMPILE)' > $@
 
-$(BUILD)/tests/%.o: tests/unit/%.f90
+.PHONY: FORCE
+FORCE:
+
+$(BUILD)/%.o: src/%.f90 $(BUILD)/compile_flags
 	@mkdir -p $(dir $@) $(BUILD)/mod
-	$(FC) $(FFLAGS) $(INCLUDES) -J$(BUILD)/mod -c $< -o $@
+	$(COMPILE) -J$(BUILD)/mod -c $< -o $@
+
+$(BUILD)/tests/%.o: tests/unit/%.f90 $(BUILD)/compile_flags
+	@mkdir -p $(dir $@) $(BUILD)/mod
+	$(COMPILE) -J$(BUILD)/mod -c $< -o $@
 
 $(BUILD)/tests/test_%: $(BUILD)/tests/test_%.o $(HARNESS) $(LIB_OBJ)
 	$(FC) $(FFLAGS) -o $@ $< $(HARNESS) $(LIB_OBJ) $(LIBS)
