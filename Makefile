@@ -153,8 +153,10 @@ sphere: deps
 	@$(MAKE) --no-print-directory bin/mefem
 	/usr/bin/python3 post/sphere_study.py
 
+# The code rules (implicit none, private modules, no legacy statements, newunit, each library
+# behind its one module); also part of make test (tests/style/test_code_rules.sh).
 lint:
-	@bash tests/lint.sh
+	@bash tests/style/check_code_rules.sh
 
 clean:
 	rm -rf build bin results tests/out

@@ -189,7 +189,8 @@ contains
       do s = halo%shared_start(k), halo%shared_start(k + 1) - 1
         i = halo%shared_nodes(s)
         if (first_sent(i) == 0) first_sent(i) = position + 1
-        position = position + count(assembly_source(assembly_start(i):assembly_start(i + 1) - 1) > 0)
+        position = position + &
+                   count(assembly_source(assembly_start(i):assembly_start(i + 1) - 1) > 0)
       end do
     end do
     if (position /= size(halo%send_source)) call fatal_local('halo_build: the send list '// &

@@ -1,0 +1,69 @@
+#!/usr/bin/env bash
+# Code rules of mefem's Fortran (README "Code"; `make lint`, and tests/style/test_code_rules.sh
+# in `make test`), checked on the files given (default: src/*/*.f90 tests/unit/*.f90):
+#   implicit-none   every module and program has `implicit none`
+#   private         every module has a `private` statement (private by default)
+#   legacy          no COMMON, EQUIVALENCE, GOTO, implicit typing, include of mpif.h
+#   newunit         every OPEN statement takes its unit from newunit=
+#   libraries       MPI only in src/comm/comm.f90, MUMPS only in src/linalg/mumps_solver.f90,
+#                   METIS only in src/partition/metis_partition.f90, HDF5 only in
+#                   src/io/hdf5_output.f90
+# Prints "PASS: code rules: <rule>" or "FAIL: code rules: <rule>" with file:line of each
+# violation; exits 1 if a rule fails.
+set -u
+cd "$(dirname "$0")/../.."
+if [ $# -gt 0 ]; then files=("$@"); else files=(src/*/*.f90 tests/unit/*.f90); fi
+status=0
+
+# report RULE VIOLATIONS: PASS when VIOLATIONS (file:line lines) is empty
+report() {
+  if [ -z "$2" ]; then
+    echo "PASS: code rules: $1"
+  else
+    echo "FAIL: code rules: $1"
+    echo "$2" | sed 's/^/    /'
+    status=1
+  fi
+}
+
+# comments stripped (a ! outside quotes ends the code; good enough for these patterns)
+code() { sed -e 's/!.*$//' "$1"; }
+
+units=""; private=""; legacy=""; opens=""; libraries=""
+for f in "${files[@]}"; do
+  # program units (module/program statements, not "module procedure"/"end module") against
+  # their implicit none and private statements
+  n_units=$(code "$f" | grep -ciE '^\s*(module|program|submodule)\s+[a-z_0-9()]+\s*$' || true)
+  n_modules=$(code "$f" | grep -ciE '^\s*module\s+[a-z_0-9]+\s*$' || true)
+  n_implicit=$(code "$f" | grep -ciE '^\s*implicit\s+none\b' || true)
+  n_private=$(code "$f" | grep -ciE '^\s*private\s*$' || true)
+  [ "$n_implicit" -lt "$n_units" ] && units+="$f: $n_units program units, $n_implicit implicit none"$'\n'
+  [ "$n_private" -lt "$n_modules" ] && private+="$f: $n_modules modules, $n_private private statements"$'\n'
+  legacy+=$(code "$f" | grep -niE '^\s*(common\s*/|equivalence\b|go\s*to\b|include\s+.mpif|implicit\s+(real|integer|double|logical|complex|character|type))|\bgo\s*to\s+[0-9]' \
+    | sed "s|^|$f:|")$'\n'
+  opens+=$(code "$f" | grep -niE '^\s*open\s*\(' | grep -viE 'newunit\s*=' | sed "s|^|$f:|")$'\n'
+  case $f in
+    src/comm/comm.f90) ;;
+    *) libraries+=$(code "$f" | grep -niE '^\s*use\s+mpi(_f08)?\b|\bcall\s+mpi_' | sed "s|^|$f: MPI:|")$'\n' ;;
+  esac
+  case $f in
+    src/linalg/mumps_solver.f90) ;;
+    *) libraries+=$(code "$f" | grep -niE '\bdmumps|\bmumps_struc' | sed "s|^|$f: MUMPS:|")$'\n' ;;
+  esac
+  case $f in
+    src/partition/metis_partition.f90) ;;
+    *) libraries+=$(code "$f" | grep -nE '\bMETIS_[A-Za-z]+' | sed "s|^|$f: METIS:|")$'\n' ;;
+  esac
+  case $f in
+    src/io/hdf5_output.f90) ;;
+    *) libraries+=$(code "$f" | grep -niE '^\s*use\s+hdf5\b|\bcall\s+h5[a-z]*_f\b' \
+         | sed "s|^|$f: HDF5:|")$'\n' ;;
+  esac
+done
+trim() { printf '%s' "$1" | sed '/^$/d'; }
+report "implicit none in every module and program" "$(trim "$units")"
+report "private by default in every module" "$(trim "$private")"
+report "no COMMON, EQUIVALENCE, GOTO or implicit typing" "$(trim "$legacy")"
+report "OPEN takes its unit from newunit=" "$(trim "$opens")"
+report "MPI, MUMPS, METIS and HDF5 each called from their one module" "$(trim "$libraries")"
+exit $status
