@@ -42,6 +42,7 @@ program test_block_kernels
   call check_material(linear_steel(), 'linear hardening')
   call check_material(table_steel(), 'EPS/ES table')
   call check_material(power_law_steel(), 'power law')
+  call check_material(fine_table_steel(), 'EPS/ES table 0.002 apart')
   call check_failed_point()
   call check_stable_step()
   call check_placement()
@@ -160,6 +161,17 @@ contains
                  ' step: stresses bit-identical to mat_j2_update')
     end do
   end subroutine check_material
+
+  !> *MAT_024 with 8 table points 0.002 apart (slopes changing at each): the plastic steps
+  !> of check_material cross table points, so the block's one-step return map leaves points
+  !> to return_map, whose results must be the same bits too.
+  type(material_t) function fine_table_steel() result(mat)
+    integer :: k
+    mat = table_steel()
+    mat%n_points = 8
+    mat%eps = [(0.002_wp*real(k - 1, wp), k = 1, 8)]
+    mat%es = [250.0_wp, 262.0_wp, 271.0_wp, 282.0_wp, 288.0_wp, 297.0_wp, 301.0_wp, 309.0_wp]
+  end function fine_table_steel
 
   !> An inverted point in a block: reported, its history untouched; the others updated.
   subroutine check_failed_point()
