@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # Code rules of mefem's Fortran (README "Code"; `make lint`, and tests/style/test_code_rules.sh
 # in `make test`), checked on the files given (default: src/*/*.f90 tests/unit/*.f90):
-#   implicit-none   every module and program has `implicit none`
-#   private         every module has a `private` statement (private by default)
+#   implicit-none   every module and program has `implicit none` in its specification part
+#   private         every module has a bare `private` there (private by default); a type's own
+#                   `private` or an interface body's `implicit none` does not count
 #   legacy          no COMMON, EQUIVALENCE, GOTO, implicit typing, include of mpif.h
 #   newunit         every OPEN statement takes its unit from newunit=
 #   libraries       MPI only in src/comm/comm.f90, MUMPS only in src/linalg/mumps_solver.f90,
@@ -31,14 +32,32 @@ code() { sed -e 's/!.*$//' "$1"; }
 
 units=""; private=""; legacy=""; opens=""; libraries=""
 for f in "${files[@]}"; do
-  # program units (module/program statements, not "module procedure"/"end module") against
-  # their implicit none and private statements
-  n_units=$(code "$f" | grep -ciE '^\s*(module|program|submodule)\s+[a-z_0-9()]+\s*$' || true)
-  n_modules=$(code "$f" | grep -ciE '^\s*module\s+[a-z_0-9]+\s*$' || true)
-  n_implicit=$(code "$f" | grep -ciE '^\s*implicit\s+none\b' || true)
-  n_private=$(code "$f" | grep -ciE '^\s*private\s*$' || true)
-  [ "$n_implicit" -lt "$n_units" ] && units+="$f: $n_units program units, $n_implicit implicit none"$'\n'
-  [ "$n_private" -lt "$n_modules" ] && private+="$f: $n_modules modules, $n_private private statements"$'\n'
+  # each module and program: `implicit none` (and, for a module, a bare `private`) in its
+  # specification part, i.e. before its `contains`, outside type and interface blocks (a
+  # type's own `private` or an interface body's `implicit none` does not count)
+  missing=$(code "$f" | awk -v file="$f" '
+    function report() {
+      if (unit != "" && !implicit) printf "%s: %s %s has no implicit none\n", file, kind, unit
+      if (unit != "" && kind == "module" && !private) \
+        printf "%s: module %s is not private by default\n", file, unit
+      unit = ""
+    }
+    { line = tolower($0) }
+    line ~ /^[ \t]*(module|program)[ \t]+[a-z_0-9]+[ \t]*$/ && line !~ /procedure/ {
+      report(); kind = $1; unit = $2; implicit = 0; private = 0; depth = 0; spec = 1; next
+    }
+    !spec { next }
+    line ~ /^[ \t]*contains[ \t]*$/ || line ~ /^[ \t]*end[ \t]+(module|program)/ {
+      report(); spec = 0; next
+    }
+    line ~ /^[ \t]*(abstract[ \t]+)?interface([ \t]|$)/ || \
+      line ~ /^[ \t]*type[ \t]*(,|::|[ \t]+[a-z])/ { depth++; next }
+    line ~ /^[ \t]*end[ \t]+(interface|type)/ { depth--; next }
+    depth == 0 && line ~ /^[ \t]*implicit[ \t]+none/ { implicit = 1 }
+    depth == 0 && line ~ /^[ \t]*private[ \t]*$/ { private = 1 }
+    END { if (spec) report() }')
+  units+=$(echo "$missing" | grep 'implicit none' || true)$'\n'
+  private+=$(echo "$missing" | grep 'private by default' || true)$'\n'
   legacy+=$(code "$f" | grep -niE '^\s*(common\s*/|equivalence\b|go\s*to\b|include\s+.mpif|implicit\s+(real|integer|double|logical|complex|character|type))|\bgo\s*to\s+[0-9]' \
     | sed "s|^|$f:|")$'\n'
   opens+=$(code "$f" | grep -niE '^\s*open\s*\(' | grep -viE 'newunit\s*=' | sed "s|^|$f:|")$'\n'

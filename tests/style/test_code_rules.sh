@@ -24,6 +24,27 @@ contains
     call h5open_f(u)
   end subroutine legacy
 end module bad_rules
+
+module bad_private_type
+  implicit none
+  type :: hidden_t
+    private
+    integer :: n = 0
+  end type hidden_t
+contains
+  subroutine noop()
+    implicit none
+  end subroutine noop
+end module bad_private_type
+
+program bad_program
+  use bad_private_type
+  interface
+    subroutine external_routine()
+      implicit none
+    end subroutine external_routine
+  end interface
+end program bad_program
 F90
 out=$(bash tests/style/check_code_rules.sh "$bad")
 for rule in "implicit none in every module" "private by default" "no COMMON, EQUIVALENCE, GOTO" \
@@ -32,6 +53,15 @@ for rule in "implicit none in every module" "private by default" "no COMMON, EQU
     echo "PASS: code rules: the checker catches a file that breaks \"$rule\""
   else
     echo "FAIL: code rules: the checker missed a file that breaks \"$rule\""
+  fi
+done
+# a type's own private, or an interface body's implicit none, is not the unit's
+for unit in "module bad_private_type is not private by default" \
+            "program bad_program has no implicit none"; do
+  if echo "$out" | grep -q "$unit"; then
+    echo "PASS: code rules: the checker reports \"$unit\""
+  else
+    echo "FAIL: code rules: the checker missed \"$unit\""
   fi
 done
 for library in MPI METIS HDF5; do
