@@ -312,9 +312,10 @@ contains
       denominator(i) = merge(norm_trial(i), 1.0_wp, plastic(i))
     end do
     ! return_map's first two iterations for the block's plastic points at once (the same
-    ! arithmetic: its residual at dgamma = 0, one safeguarded Newton step, the residual there
-    ! with the hardening law of the block); the points these do not settle take return_map
-    ! itself (a piecewise linear law is settled by the step unless it crosses a table point)
+    ! values: its residual at dgamma = 0, one Newton step kept inside (0, |s_tr|/(2 mu_bar))
+    ! or else the bracket's midpoint, the residual there with the hardening law of the
+    ! block); the points these do not settle take return_map itself (a piecewise linear law
+    ! is settled by the step unless it crosses a table point)
     nplastic = 0
     do i = 1, n
       if (.not. plastic(i)) cycle
@@ -323,12 +324,12 @@ contains
     end do
     do k = 1, nplastic
       i = plastic_point(k)
-      residual0(k) = norm_trial(i) - 2.0_wp*mu_bar(i)*0.0_wp - SQRT_TWO_THIRDS*yield_old(i)
+      residual0(k) = norm_trial(i) - SQRT_TWO_THIRDS*yield_old(i)
       high = norm_trial(i)/(2.0_wp*mu_bar(i))
       derivative = -2.0_wp*mu_bar(i) - 2.0_wp/3.0_wp*slope(i)
-      step(k) = merge(0.0_wp - residual0(k)/merge(derivative, -1.0_wp, derivative < 0.0_wp), &
-                      high, derivative < 0.0_wp)
-      if (.not. (step(k) > 0.0_wp .and. step(k) < high)) step(k) = 0.5_wp*(0.0_wp + high)
+      step(k) = merge(-residual0(k)/merge(derivative, -1.0_wp, derivative < 0.0_wp), high, &
+                      derivative < 0.0_wp)
+      if (.not. (step(k) > 0.0_wp .and. step(k) < high)) step(k) = 0.5_wp*high
       alpha_step(k) = hist(i, HIST_ALPHA) + SQRT_TWO_THIRDS*step(k)
     end do
     call hardening_yield_block(law, mat, curves, nplastic, alpha_step, yield_step, slope_step)
