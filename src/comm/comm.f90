@@ -42,7 +42,7 @@ module mefem_comm
 
   !> Pending non-blocking transfers (opaque): comm_isend_real and comm_irecv_real add one,
   !> comm_waitall completes them all. Keep one per exchange that may be in flight.
-  public :: comm_requests_t, comm_isend_real, comm_irecv_real, comm_waitall, comm_progress
+  public :: comm_requests_t, comm_isend_real, comm_irecv_real, comm_waitall
   type :: comm_requests_t
     private
     integer :: n = 0                                  !< transfers posted, not yet completed
@@ -341,18 +341,6 @@ contains
                                          MPI_STATUSES_IGNORE, ierr)
     requests%n = 0
   end subroutine comm_waitall
-
-  !> Let MPI move the posted transfers on (one MPI_Testall) without waiting: large messages
-  !> go by rendezvous, which advances only inside MPI calls, so a long computation between
-  !> posting and waiting calls this now and then to overlap the transfer with it. Completed
-  !> handles become MPI_REQUEST_NULL; comm_waitall still ends the exchange.
-  subroutine comm_progress(requests)
-    type(comm_requests_t), intent(inout) :: requests    !< posted transfers
-    logical :: done
-    integer :: ierr
-    if (requests%n > 0) call MPI_Testall(requests%n, requests%list(1:requests%n), done, &
-                                         MPI_STATUSES_IGNORE, ierr)
-  end subroutine comm_progress
 
   !> Make room for one more request handle (the list doubles when full).
   subroutine grow_requests(requests)

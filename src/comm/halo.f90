@@ -28,7 +28,7 @@ module mefem_halo
   use mefem_kinds, only: wp
   use mefem_errors, only: fatal_local
   use mefem_comm, only: comm_requests_t, comm_isend_real, comm_irecv_real, comm_waitall, &
-                        comm_wtime, comm_progress
+                        comm_wtime
   use mefem_decomposition, only: decomposition_t
   use mefem_explicit_layout, only: explicit_layout_t
   implicit none
@@ -36,7 +36,6 @@ module mefem_halo
 
   public :: halo_build, halo_sum, halo_sum_start, halo_sum_finish
   public :: halo_assemble, halo_assemble_start, halo_assemble_finish, halo_assembly_push_nodes
-  public :: halo_assemble_progress
 
   integer, parameter :: DEFAULT_TAG = 7100     !< message tag when none is given
 
@@ -423,13 +422,6 @@ contains
     end if
     call sum_mixed_in_plan_order(halo, ncomp, f)
   end subroutine halo_assemble_finish
-
-  !> Between halo_assemble_start and _finish: let the transfers advance (call it every few
-  !> thousand cells of interior work; without it a large message may move only at _finish).
-  subroutine halo_assemble_progress(halo)
-    type(halo_t), intent(inout), asynchronous :: halo !< halo with an assembly in flight
-    if (halo%assembly_ncomp /= 0) call comm_progress(halo%assembly_requests)
-  end subroutine halo_assemble_progress
 
   !> Let the caller assemble the nodes marked in `pushed` itself: it adds each contribution to
   !> such a node straight into the nodal array, in ascending global cell order, starting from

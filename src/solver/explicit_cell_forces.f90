@@ -2,9 +2,10 @@
 !> nodal force contributions and the cell's stable step, and their assembly into f_int_new.
 !>
 !> 3D cells are computed in blocks of up to BLOCK_CELLS cells of one material and node count
-!> (build_blocks, block_forces: structure-of-arrays kernels vectorised across the cells); 2D
-!> cells one by one (cell_forces). The outer cells (touching a shared node) come first, then
-!> the halo exchange of their contributions starts and the inner cells overlap it.
+!> (build_blocks, block_forces: structure-of-arrays kernels vectorised across the cells), all
+!> of them in ascending cell order, and the halo exchange of the contributions to shared
+!> nodes starts after the last block; 2D cells one by one (cell_forces), the outer cells
+!> (touching a shared node) first, so that the exchange overlaps the inner ones.
 !>
 !> Assembly in ascending global cell order at every node, so that forces have the same bits
 !> on any number of ranks: in 3D, a contribution is added at once to its node when the blocks
@@ -15,8 +16,7 @@ module mefem_explicit_cell_forces
   use mefem_errors, only: status_t
   use mefem_strings, only: itoa
   use mefem_model, only: model_t
-  use mefem_halo, only: halo_t, halo_assemble_start, halo_assembly_push_nodes, &
-                        halo_assemble_progress
+  use mefem_halo, only: halo_t, halo_assemble_start, halo_assembly_push_nodes
   use mefem_cells, only: cells_t, CELL_MAX_NODES
   use mefem_cell_finite_strain, only: cell_deformation_gradient, cell_internal_force, &
                                       block_deformation_gradient, block_adjugate, &
@@ -29,9 +29,6 @@ module mefem_explicit_cell_forces
   private
 
   public :: explicit_cells_set_up, explicit_cell_loop, block_cell_data
-
-  !> inner blocks between two calls that let the halo's transfers advance (about 2 000 cells)
-  integer, parameter :: PROGRESS_BLOCKS = 64
 
 contains
 
@@ -47,9 +44,15 @@ contains
   end subroutine explicit_cells_set_up
 
   !> All local cells at the current displacements: internal forces into f_int_new (pushed
-  !> nodes) and cell_force (the others; the halo exchange of the outer cells' is started
-  !> here and finished by the caller), the smallest stable step (dt_stable, dt_cell) and
-  !> the first failure (failed, failure).
+  !> nodes) and cell_force (the others; their halo exchange is started here and finished by
+  !> the caller), the smallest stable step (dt_stable, dt_cell) and the first failure
+  !> (failed, failure).
+  !>
+  !> 3D: the blocks in ascending cell order, then the exchange. Computing the outer cells
+  !> first so that the exchange overlaps the inner ones (as in 2D) was measured slower
+  !> (doc/performance.md, fifth round): the ranks meet at the time-step reduction right
+  !> after anyway, and keeping the pushed sums in cell order then took a second store of
+  !> the outer cells' forces and a replay of them between the inner blocks.
   subroutine explicit_cell_loop(model, s, halo)
     type(model_t), intent(in) :: model                !< resolved model
     type(explicit_state_t), intent(inout) :: s        !< local state
@@ -60,16 +63,10 @@ contains
     s%failed = .false.
     if (s%nblock > 0 .or. s%ncell == 0) then
       if (allocated(s%push_node)) call set_to_zero(size(s%f_int_new), s%f_int_new)
-      do k = 1, s%nblock_outer
+      do k = 1, s%nblock
         call block_forces(model, s, k)
       end do
       call halo_assemble_start(halo, s%cell_force)
-      s%replay_next = 1
-      do k = s%nblock_outer + 1, s%nblock
-        call block_forces(model, s, k)
-        if (mod(k - s%nblock_outer, PROGRESS_BLOCKS) == 0) call halo_assemble_progress(halo)
-      end do
-      if (allocated(s%push_node)) call replay_outer_forces(s, s%ncell + 1)
     else
       do k = 1, size(s%outer)
         call cell_forces(model, s, s%outer(k))
@@ -199,9 +196,8 @@ contains
     end if
   end subroutine keep_smallest_step
 
-  !> Group the local cells into blocks for block_forces: outer cells first (they must be done
-  !> before the halo exchange starts), then inner ones; within each, cells of equal (material,
-  !> node count) together in ascending cell order, cut into blocks of at most BLOCK_CELLS.
+  !> Group the local cells into blocks for block_forces: cells of equal (material, node
+  !> count) together in ascending cell order, cut into blocks of at most BLOCK_CELLS.
   !> The order of computation does not change any result: every cell writes its own
   !> contributions and the assembly order is fixed by the layout's plan.
   subroutine build_blocks(s, cells, w0_global)
@@ -213,9 +209,7 @@ contains
     allocate(s%block_cell(s%ncell), starts(s%ncell + 2), nodes_of(s%ncell + 1))
     s%nblock = 0
     starts(1) = 1
-    call group(s%outer, 0)
-    s%nblock_outer = s%nblock
-    call group(s%inner, size(s%outer))
+    call group([(l, l = 1, s%ncell)])
     s%block_start = starts(1:s%nblock + 1)
     s%block_nodes = nodes_of(1:s%nblock)
     ! the cells' data in the blocks (unused entries zero), virgin histories
@@ -242,14 +236,13 @@ contains
     end do
   contains
 
-    !> Append the blocks of one list of cells (placed after `offset` cells of block_cell).
-    subroutine group(list, offset)
+    !> The blocks of a list of cells.
+    subroutine group(list)
       integer, intent(in) :: list(:)                  !< local cells, ascending
-      integer, intent(in) :: offset                   !< cells already placed
       logical :: placed(size(list))
       integer :: k, m, placed_count, key_material, key_nodes, in_block
       placed = .false.
-      placed_count = offset
+      placed_count = 0
       do k = 1, size(list)
         if (placed(k)) cycle
         key_material = s%material(list(k))
@@ -305,8 +298,8 @@ contains
     integer, parameter :: LD = BLOCK_CELLS
     real(wp) :: u(LD, 3, CELL_MAX_NODES), force(LD, 3, CELL_MAX_NODES)
     real(wp) :: f(LD, 9), adj(LD, 9), det(LD), tau(LD, 6), omega2(LD), dt_block(LD)
-    logical :: ok(LD), finite(LD), steps_at_once, inner
-    integer :: n, nn, i, a, l, node, first, p
+    logical :: ok(LD), finite(LD), steps_at_once
+    integer :: n, nn, i, a, l, node, first
     first = s%block_start(b)
     n = s%block_start(b + 1) - first
     if (n == 0) return
@@ -346,7 +339,6 @@ contains
     end if
     ! the forces: added to the pushed nodes at once (the blocks run in ascending cell order
     ! for them: plan_pushed_assembly), kept for the halo's assembly otherwise; the step
-    inner = b > s%nblock_outer
     do i = 1, n
       l = s%block_cell(first + i - 1)
       if (.not. ok(i)) then
@@ -355,12 +347,8 @@ contains
           force(i, :, a) = s%cell_force(:, a, l)
         end do
       end if
-      if (inner .and. s%replay_next <= size(s%outer)) then
-        if (s%outer(s%replay_next) < l) call replay_outer_forces(s, l)
-      end if
       do a = 1, s%nnodes(l)
-        node = 0
-        if (inner) node = s%push_node(a, l)          ! outer cells: replayed in their place
+        node = s%push_node(a, l)
         if (node > 0) then
           s%f_int_new(1, node) = s%f_int_new(1, node) + force(i, 1, a)
           s%f_int_new(2, node) = s%f_int_new(2, node) + force(i, 2, a)
@@ -371,14 +359,6 @@ contains
           s%cell_force(3, a, l) = force(i, 3, a)
         end if
       end do
-      if (.not. inner .and. allocated(s%outer_force)) then   ! the replay's copy
-        p = s%outer_slot(l)
-        do a = 1, s%nnodes(l)
-          s%outer_force(1, a, p) = force(i, 1, a)
-          s%outer_force(2, a, p) = force(i, 2, a)
-          s%outer_force(3, a, p) = force(i, 3, a)
-        end do
-      end if
       if (.not. ok(i)) cycle
       if (.not. steps_at_once) then
         call take_cell_step(model, s, l, omega2(i))
@@ -391,41 +371,19 @@ contains
   !> Pushed assembly of the 3D cell loop: block_forces adds a cell's contribution to a node
   !> straight into f_int_new when the blocks reach the node's cells in ascending global cell
   !> order (the order of the halo's plan, so the sums have the same bits on any number of
-  !> ranks) and no other rank adds to it. The outer cells (those touching a shared node),
-  !> computed before the halo exchange starts, store their forces, which the exchange sends;
-  !> each is pushed ("replayed") just before the first inner cell above it is pushed, so it
-  !> takes its place in the order. That pushes every node without contributions from other
-  !> ranks, except where materials or cell kinds change (the blocks group cells by those);
-  !> those nodes and the ones other ranks add to keep the halo's order-fixed assembly.
+  !> ranks) and no other rank adds to it. That pushes every node without contributions from
+  !> other ranks, except where materials or cell kinds change (the blocks group cells by
+  !> those); those nodes and the ones other ranks add to keep the halo's order-fixed assembly.
   subroutine plan_pushed_assembly(s, halo)
     type(explicit_state_t), intent(inout) :: s        !< local state (blocks built)
     type(halo_t), intent(inout) :: halo               !< force exchange: told the pushed nodes
     integer, allocatable :: position(:), last_position(:)
     logical, allocatable :: pushed(:)
-    integer :: k, l, a, node, p, sequence, m
-    ! the order in which contributions reach the nodal array: the inner blocks' cells, and
-    ! before each the outer cells (computed first and stored) below it, their stored forces
-    ! "replayed" (block_forces); the outer cells left at the end after the last block
+    integer :: m, l, a, node
+    ! the order in which contributions reach the nodal array: the blocks' cells
     allocate(position(s%ncell), last_position(s%nnode), pushed(s%nnode))
-    p = 1
-    sequence = 0
-    do k = s%nblock_outer + 1, s%nblock
-      do m = s%block_start(k), s%block_start(k + 1) - 1
-        l = s%block_cell(m)
-        do while (p <= size(s%outer))
-          if (s%outer(p) >= l) exit
-          sequence = sequence + 1
-          position(s%outer(p)) = sequence
-          p = p + 1
-        end do
-        sequence = sequence + 1
-        position(l) = sequence
-      end do
-    end do
-    do while (p <= size(s%outer))
-      sequence = sequence + 1
-      position(s%outer(p)) = sequence
-      p = p + 1
+    do m = 1, s%ncell
+      position(s%block_cell(m)) = m
     end do
     pushed = .true.
     pushed(halo%mixed_nodes) = .false.                ! they get other ranks' contributions
@@ -445,39 +403,7 @@ contains
         if (pushed(s%nodes(a, l))) s%push_node(a, l) = s%nodes(a, l)
       end do
     end do
-    ! the outer cells' push nodes and forces once more, in outer order (the replay reads
-    ! them one after the other instead of scattered over the cell arrays)
-    allocate(s%outer_slot(s%ncell), s%outer_push(CELL_MAX_NODES, size(s%outer)), &
-             s%outer_force(3, CELL_MAX_NODES, size(s%outer)))
-    s%outer_slot = 0
-    s%outer_force = 0.0_wp
-    do p = 1, size(s%outer)
-      s%outer_slot(s%outer(p)) = p
-      s%outer_push(:, p) = s%push_node(:, s%outer(p))
-    end do
   end subroutine plan_pushed_assembly
-
-  !> Push the stored forces of the outer cells below local cell `below` that are not pushed
-  !> yet (from replay_next on, ascending) to their pushed nodes.
-  subroutine replay_outer_forces(s, below)
-    type(explicit_state_t), intent(inout) :: s        !< local state
-    integer, intent(in) :: below                      !< local cell (ncell + 1: all the rest)
-    integer :: l, a, node, p
-    do while (s%replay_next <= size(s%outer))
-      p = s%replay_next
-      l = s%outer(p)
-      if (l >= below) exit
-      do a = 1, s%nnodes(l)
-        node = s%outer_push(a, p)
-        if (node > 0) then
-          s%f_int_new(1, node) = s%f_int_new(1, node) + s%outer_force(1, a, p)
-          s%f_int_new(2, node) = s%f_int_new(2, node) + s%outer_force(2, a, p)
-          s%f_int_new(3, node) = s%f_int_new(3, node) + s%outer_force(3, a, p)
-        end if
-      end do
-      s%replay_next = p + 1
-    end do
-  end subroutine replay_outer_forces
 
   !> The model element a local cell belongs to (the first of its one or two elements).
   integer function first_element(s, l)

@@ -16,9 +16,10 @@
 !>
 !> Parallel layout (mefem_explicit_layout): each rank computes the cells of its own elements
 !> (METIS partition) and holds every node they touch; the nodal forces of shared nodes are
-!> completed by a halo exchange of the cells' contributions, started after the outer cells
-!> and finished after the inner ones. Every rank then updates all its local nodes, shared ones
-!> included, with identical data, so copies never drift and no second exchange is needed.
+!> completed by a halo exchange of the cells' contributions, started after the cell loop (2D:
+!> after the outer cells, overlapping the inner ones). Every rank then updates all its local
+!> nodes, shared ones included, with identical data, so copies never drift and no second
+!> exchange is needed.
 !> Reductions: the time step (one per cycle), energies and histories (at output times).
 !>
 !> Energies (glstat): internal energy by the trapezoidal rule on the nodal forces,
@@ -576,7 +577,8 @@ contains
   end subroutine update_velocities
 
   !> Internal and external forces at time t (into f_int_new, f_ext_new) and the local stable
-  !> time step; the halo exchange of the outer cells' contributions overlaps the inner cells.
+  !> time step; the cell loop starts the halo exchange of the contributions to shared nodes,
+  !> finished here.
   subroutine compute_forces(model, s, halo, t, dt, timing)
     type(model_t), intent(in) :: model                !< resolved model
     type(explicit_state_t), intent(inout) :: s        !< local state

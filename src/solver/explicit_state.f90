@@ -58,12 +58,13 @@ module mefem_explicit_state
     integer, allocatable :: prescribed_node(:), prescribed_dof(:), prescribed_motion(:)
     real(wp), allocatable :: prescribed_v_old(:) !< (nprescribed) their v^{n-1/2}, this cycle
     ! cells
-    integer, allocatable :: outer(:)           !< local cells touching a shared node
+    integer, allocatable :: outer(:)           !< local cells touching a shared node (2D:
+                                               !< computed first, the exchange overlaps
+                                               !< the inner ones)
     integer, allocatable :: inner(:)           !< the other local cells
-    ! blocks of the 3D cell loop: the outer cells, then the inner ones, each grouped by
-    ! (material, number of nodes) in ascending cell order and cut into at most BLOCK_CELLS
+    ! blocks of the 3D cell loop: the cells grouped by (material, number of nodes) in
+    ! ascending cell order and cut into at most BLOCK_CELLS
     integer :: nblock = 0                      !< blocks (3D; 0 in 2D)
-    integer :: nblock_outer = 0                !< the first nblock_outer blocks are outer cells
     integer, allocatable :: block_start(:)     !< (nblock+1) offsets into block_cell
     integer, allocatable :: block_nodes(:)     !< (nblock) nodes its cells are computed with
                                                !< (block_node_count)
@@ -89,19 +90,10 @@ module mefem_explicit_state
     real(wp), allocatable :: share(:,:)        !< (CELL_MAX_NODES, ncell) mass shares
     real(wp), allocatable :: hist(:,:)         !< (NHIST, ncell) material history
     real(wp), allocatable :: cell_force(:,:,:) !< (dim, CELL_MAX_NODES, ncell) contributions
-                                               !< (3D: the outer cells' all, the inner
-                                               !< cells' only those to nodes not pushed)
+                                               !< (3D: only those to nodes not pushed)
     integer, allocatable :: push_node(:,:)     !< (CELL_MAX_NODES, ncell) 3D: the local node
                                                !< a contribution is added to straight away
                                                !< (pushed assembly), 0: kept in cell_force
-    integer :: replay_next = 1                 !< 3D: the next outer cell (index into outer)
-                                               !< whose stored forces are to be pushed
-    integer, allocatable :: outer_slot(:)      !< (ncell) 3D: index into outer, 0: inner cell
-    integer, allocatable :: outer_push(:,:)    !< (CELL_MAX_NODES, size(outer)) 3D: push_node
-                                               !< of the outer cells, in outer order
-    real(wp), allocatable :: outer_force(:,:,:) !< (3, CELL_MAX_NODES, size(outer)) 3D: the
-                                               !< outer cells' contributions again, in outer
-                                               !< order, so that the replay streams them
     real(wp), allocatable :: added(:,:,:)      !< (1, CELL_MAX_NODES, ncell) added masses
     logical :: mass_scaling = .false.          !< DT2MS < 0 given
     ! time step of the last force evaluation
