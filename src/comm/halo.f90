@@ -73,13 +73,16 @@ module mefem_halo
     integer, allocatable :: mixed_start(:)       !< (size(mixed_nodes)+1) their plans: node
     integer, allocatable :: mixed_entry(:)       !< mixed_nodes(m) sums mixed_entry(mixed_
                                                  !< start(m):mixed_start(m+1)-1) in this order
-                                                 !< (the layout's plan): > 0 own contribution,
-                                                 !< at that position of assembly_send (where
-                                                 !< halo_assemble_start packed it; its first
-                                                 !< copy), < 0 received one, at position
-                                                 !< -entry of assembly_receive
-    real(wp), allocatable :: assembly_send(:)    !< (ncomp_max * size(send_source))
-    real(wp), allocatable :: assembly_receive(:) !< (ncomp_max * received contributions)
+                                                 !< (the layout's plan): the contributions'
+                                                 !< places in assembly_buffer: own ones where
+                                                 !< halo_assemble_start packed them (the first
+                                                 !< copy), then the received ones
+    integer :: nsent = 0                         !< contributions sent (size(send_source))
+    real(wp), allocatable :: assembly_buffer(:)  !< (ncomp_max * (sent + received contributions))
+                                                 !< for ncomp components: contribution e at
+                                                 !< ncomp*(e-1)+1 : ncomp*e, the sent ones
+                                                 !< first (e = send position), the received
+                                                 !< after them (e = nsent + receive position)
     type(comm_requests_t) :: assembly_requests   !< halo_assemble transfers in flight
     integer :: assembly_ncomp = 0                !< components of the assembly in flight
     real(wp) :: assembly_wait = 0.0_wp           !< wall time spent waiting for neighbours'
@@ -125,10 +128,9 @@ contains
     halo%send_source = layout%send_source
     halo%receive_start = layout%receive_start
     call plan_scatter(halo, layout%assembly_start, layout%assembly_source)
-    ! (at least one contribution each: the mixed sums read both at every entry)
-    allocate(halo%assembly_send(ncomp_max*max(size(layout%send_source), 1)))
-    allocate(halo%assembly_receive(ncomp_max*max(layout%receive_start(layout%nneighbour + 1) &
-                                                 - 1, 1)))
+    halo%nsent = size(layout%send_source)
+    allocate(halo%assembly_buffer(ncomp_max*(halo%nsent + layout%receive_start(layout% &
+                                                                   nneighbour + 1) - 1)))
     call plan_mixed_entries(halo, layout%assembly_start, layout%assembly_source)
   end subroutine halo_build_layout
 
@@ -171,9 +173,10 @@ contains
     end do
   end subroutine plan_scatter
 
-  !> Point the mixed nodes' own contributions at their packed copies in assembly_send, so
-  !> that the mixed sums stream both buffers (the send list is walked node by node of the
-  !> shared lists, each node's own contributions in plan order, as the mixed sums walk them).
+  !> Point the mixed nodes' contributions at their places in assembly_buffer: the own ones at
+  !> their packed copies in the sent part, the received ones in the received part, so that
+  !> the mixed sums stream the buffer (the send list is walked node by node of the shared
+  !> lists, each node's own contributions in plan order, as the mixed sums walk them).
   !> Every own contribution to a mixed node is sent: the ranks it receives from share it.
   subroutine plan_mixed_entries(halo, assembly_start, assembly_source)
     type(halo_t), intent(inout) :: halo            !< halo with plan_scatter's mixed plan
@@ -198,7 +201,10 @@ contains
       i = halo%mixed_nodes(m)
       own = 0
       do p = halo%mixed_start(m), halo%mixed_start(m + 1) - 1
-        if (halo%mixed_entry(p) < 0) cycle
+        if (halo%mixed_entry(p) < 0) then
+          halo%mixed_entry(p) = halo%nsent - halo%mixed_entry(p)
+          cycle
+        end if
         if (first_sent(i) == 0) call fatal_local('halo_build: a mixed node is not sent')
         position = first_sent(i) + own
         if (halo%send_source(position) /= halo%mixed_entry(p)) call fatal_local('halo_build: '// &
@@ -372,9 +378,9 @@ contains
       call fatal_local('halo_assemble_start: previous exchange not finished')
     halo%assembly_ncomp = ncomp
     do k = 1, halo%nneighbour
-      first = ncomp*(halo%receive_start(k) - 1) + 1
-      last = ncomp*(halo%receive_start(k + 1) - 1)
-      call comm_irecv_real(halo%assembly_receive(first:last), halo%neighbour_rank(k), &
+      first = ncomp*(halo%nsent + halo%receive_start(k) - 1) + 1
+      last = ncomp*(halo%nsent + halo%receive_start(k + 1) - 1)
+      call comm_irecv_real(halo%assembly_buffer(first:last), halo%neighbour_rank(k), &
                            halo%tag + 1, halo%assembly_requests)
     end do
     do k = 1, halo%nneighbour
@@ -382,7 +388,7 @@ contains
                               cell_values)
       first = ncomp*(halo%send_start(k) - 1) + 1
       last = ncomp*(halo%send_start(k + 1) - 1)
-      call comm_isend_real(halo%assembly_send(first:last), halo%neighbour_rank(k), &
+      call comm_isend_real(halo%assembly_buffer(first:last), halo%neighbour_rank(k), &
                            halo%tag + 1, halo%assembly_requests)
     end do
   end subroutine halo_assemble_start
@@ -520,35 +526,25 @@ contains
 
   !> The nodes with received contributions (shared nodes), each summed by its plan (ascending
   !> global cell order, own and received contributions interleaved), after the own-only nodes.
-  !> The own contributions are read from their packed copies in assembly_send, the received
-  !> ones from assembly_receive: both in the order the sums take them.
+  !> The own contributions are read from their packed copies, the received ones from where
+  !> they arrived: both in assembly_buffer, in the order the sums take them.
   subroutine sum_mixed_in_plan_order(halo, ncomp, f)
     type(halo_t), intent(in) :: halo               !< halo after the exchange
     integer, intent(in) :: ncomp                   !< components per contribution
     real(wp), intent(inout) :: f(:,:)              !< (ncomp, nnode_local) nodal sums
     real(wp) :: sum1, sum2, sum3
-    integer :: i, m, p, entry, offset, own, received
-    logical :: is_own
-    if (ncomp == 3) then
-      ! (forces) the sums in registers and no branch on the entry's kind: own and received
-      ! contributions alternate at random, and a mispredicted branch cost more than the
-      ! second (cached) load that merge reads
+    integer :: i, m, p, offset
+    if (ncomp == 3) then                           ! (forces: the sums in registers)
       do m = 1, size(halo%mixed_nodes)
         i = halo%mixed_nodes(m)
         sum1 = f(1, i)
         sum2 = f(2, i)
         sum3 = f(3, i)
         do p = halo%mixed_start(m), halo%mixed_start(m + 1) - 1
-          entry = halo%mixed_entry(p)
-          is_own = entry > 0
-          own = 3*max(entry - 1, 0)                  ! (both offsets valid: merge reads both)
-          received = 3*max(-entry - 1, 0)
-          sum1 = sum1 + merge(halo%assembly_send(own + 1), halo%assembly_receive(received + 1), &
-                              is_own)
-          sum2 = sum2 + merge(halo%assembly_send(own + 2), halo%assembly_receive(received + 2), &
-                              is_own)
-          sum3 = sum3 + merge(halo%assembly_send(own + 3), halo%assembly_receive(received + 3), &
-                              is_own)
+          offset = 3*(halo%mixed_entry(p) - 1)
+          sum1 = sum1 + halo%assembly_buffer(offset + 1)
+          sum2 = sum2 + halo%assembly_buffer(offset + 2)
+          sum3 = sum3 + halo%assembly_buffer(offset + 3)
         end do
         f(1, i) = sum1
         f(2, i) = sum2
@@ -559,18 +555,14 @@ contains
     do m = 1, size(halo%mixed_nodes)
       i = halo%mixed_nodes(m)
       do p = halo%mixed_start(m), halo%mixed_start(m + 1) - 1
-        entry = halo%mixed_entry(p)
-        offset = ncomp*(abs(entry) - 1)
-        if (entry > 0) then
-          f(1:ncomp, i) = f(1:ncomp, i) + halo%assembly_send(offset + 1:offset + ncomp)
-        else
-          f(1:ncomp, i) = f(1:ncomp, i) + halo%assembly_receive(offset + 1:offset + ncomp)
-        end if
+        offset = ncomp*(halo%mixed_entry(p) - 1)
+        f(1:ncomp, i) = f(1:ncomp, i) + halo%assembly_buffer(offset + 1:offset + ncomp)
       end do
     end do
   end subroutine sum_mixed_in_plan_order
 
-  !> The contributions neighbour k needs, packed into assembly_send (columns as above).
+  !> The contributions neighbour k needs, packed into the sent part of assembly_buffer
+  !> (columns as above).
   subroutine pack_contributions(halo, k, ncomp, nsource, values)
     type(halo_t), intent(inout) :: halo            !< halo with its assembly plan
     integer, intent(in) :: k                       !< neighbour
@@ -581,14 +573,14 @@ contains
     if (ncomp == 3) then                  ! (forces: three stores, not a memcpy call each)
       do t = halo%send_start(k), halo%send_start(k + 1) - 1
         source = halo%send_source(t)
-        halo%assembly_send(3*t - 2) = values(1, source)
-        halo%assembly_send(3*t - 1) = values(2, source)
-        halo%assembly_send(3*t) = values(3, source)
+        halo%assembly_buffer(3*t - 2) = values(1, source)
+        halo%assembly_buffer(3*t - 1) = values(2, source)
+        halo%assembly_buffer(3*t) = values(3, source)
       end do
       return
     end if
     do t = halo%send_start(k), halo%send_start(k + 1) - 1
-      halo%assembly_send(ncomp*(t - 1) + 1:ncomp*t) = values(:, halo%send_source(t))
+      halo%assembly_buffer(ncomp*(t - 1) + 1:ncomp*t) = values(:, halo%send_source(t))
     end do
   end subroutine pack_contributions
 
