@@ -343,7 +343,7 @@ contains
     ! corners (the value of the linear field at the centroid, which the enrichment reproduces)
     allocate(v_global(dim, cells%n_mesh_nodes))
     call initial_velocities(model, v_global)
-    allocate(s%u(dim, s%nnode), s%v(dim, s%nnode), s%v_old(dim, s%nnode), s%a(dim, s%nnode), &
+    allocate(s%u(dim, s%nnode), s%v(dim, s%nnode), s%a(dim, s%nnode), &
              s%f_int(dim, s%nnode), s%f_int_new(dim, s%nnode), s%f_ext(dim, s%nnode), &
              s%f_ext_new(dim, s%nnode), s%f_con(dim, s%nnode), s%f_con_new(dim, s%nnode))
     s%f_con = 0.0_wp                   ! without loads or contact these stay zero: they are
@@ -366,7 +366,6 @@ contains
       end if
     end do
     where (s%fixed) s%v = 0.0_wp
-    s%v_old = s%v
     do n = 1, s%nnode
       if (.not. s%active(n)) s%v(:, n) = 0.0_wp
     end do
@@ -413,7 +412,6 @@ contains
         call rigid_body_point_motion(s%bodies, s%rigid_body(k), s%x0(:, l), s%u(:, l), &
                                      s%v(:, l))
       end do
-      s%v_old = s%v
     end if
 
     ! mortar contact: every rank holds all surfaces (the mortar kernels are divided among
@@ -438,7 +436,9 @@ contains
       call rigid_wall_nodes(model, k, s%node_global, cells%n_mesh_nodes, s%wall_nodes(k)%nodes, &
                             skip=s%bodies%node_body > 0)
     end do
-    if (s%nwall > 0) allocate(s%u_old(dim, s%nnode), s%v_trial(dim, s%nnode))
+    ! (u^n, v^{n-1/2} and the velocities before the walls act: copied each cycle)
+    if (s%nwall > 0) allocate(s%u_old(dim, s%nnode), s%v_old(dim, s%nnode), &
+                              s%v_trial(dim, s%nnode))
   contains
 
     !> Body of local node l (0: none).

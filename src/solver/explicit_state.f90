@@ -28,8 +28,8 @@ module mefem_explicit_state
     real(wp), allocatable :: x0(:,:)           !< (dim, nnode) reference coordinates
     real(wp), allocatable :: u(:,:)            !< (dim, nnode) displacements u^n
     real(wp), allocatable :: v(:,:)            !< (dim, nnode) velocities v^{n+1/2}
-    real(wp), allocatable :: v_old(:,:)        !< (dim, nnode) velocities v^{n-1/2} (kept each
-                                               !< cycle only with rigid walls, which read it)
+    real(wp), allocatable :: v_old(:,:)        !< (dim, nnode) velocities v^{n-1/2} (only with
+                                               !< rigid walls, which read it)
     real(wp), allocatable :: a(:,:)            !< (dim, nnode) accelerations a^n
     real(wp), allocatable :: f_int(:,:)        !< (dim, nnode) internal forces at t^n
     real(wp), allocatable :: f_int_new(:,:)    !< (dim, nnode) internal forces being assembled
