@@ -11,6 +11,12 @@
 !>
 !> progress_start and progress_finish must be called on every rank (progress_finish reduces
 !> the peak memory over ranks).
+!>
+!> Rank 0 also keeps the distribution of the wall time between successive updates (the wall
+!> time of each cycle, or step) in a histogram of logarithmic bins, each CYCLE_BIN_RATIO wide,
+!> and the summary gives its 5, 50 and 95 % percentiles. The median cycle is what a run
+!> costs without the few slow cycles (output, a busy host): on a shared machine it is a
+!> steadier figure than the mean (doc/performance.md).
 module mefem_progress
   use, intrinsic :: iso_fortran_env, only: int64
   use mefem_kinds, only: wp
@@ -21,10 +27,16 @@ module mefem_progress
 
   public :: progress_start, progress_update, progress_finish
   public :: progress_line, progress_fraction, format_seconds, peak_memory_mib
+  public :: cycle_time_bin, cycle_time_percentile
 
   integer, parameter, public :: PROGRESS_LINE_LENGTH = 160  !< length of progress_line's text
   integer, parameter, public :: SECONDS_TEXT_LENGTH = 16    !< length of format_seconds' text
   real(wp), parameter :: DEFAULT_INTERVAL = 5.0_wp          !< seconds between two lines
+  ! histogram of cycle wall times: bin k (1..CYCLE_BINS) holds [t_k, t_k*ratio) with
+  ! t_k = CYCLE_TIME_LOW*ratio**(k-1); shorter times go to bin 1, longer ones to the last
+  real(wp), parameter, public :: CYCLE_TIME_LOW = 1.0e-7_wp  !< lower edge of bin 1 (s)
+  real(wp), parameter, public :: CYCLE_BIN_RATIO = 1.005_wp  !< upper/lower edge of a bin
+  integer, parameter, public :: CYCLE_BINS = 6000            !< bins: up to about 1e6 s
 
   character(len=64) :: run_label = ''        !< prefix of every line, e.g. "explicit"
   character(len=16) :: step_word = 'cycle'   !< "cycle" (explicit) or "step" (implicit)
@@ -40,6 +52,8 @@ module mefem_progress
   logical :: updated = .false.               !< progress_update called since progress_start
   integer :: first_cycle = 0, last_cycle = 0 !< cycles of the first and latest updates
   real(wp) :: last_time = 0.0_wp             !< simulation time of the latest update
+  real(wp) :: wall_previous = 0.0_wp         !< wall time (from start) of the latest update
+  integer :: cycle_counts(CYCLE_BINS) = 0    !< histogram of the wall times between updates
 
 contains
 
@@ -66,6 +80,8 @@ contains
     first_cycle = 0
     last_cycle = 0
     last_time = 0.0_wp
+    wall_previous = 0.0_wp
+    cycle_counts = 0
     active = .true.
   end subroutine progress_start
 
@@ -81,6 +97,10 @@ contains
     if (present(printed)) printed = .false.
     if (.not. (active .and. comm_is_root())) return
     wall = comm_wtime() - wall_start
+    associate (bin => cycle_time_bin(wall - wall_previous))
+      cycle_counts(bin) = cycle_counts(bin) + 1
+    end associate
+    wall_previous = wall
     fraction = progress_fraction(cycle, time, run_end_time, run_end_cycle)
     due = .not. updated
     if (due) then
@@ -107,7 +127,8 @@ contains
   end subroutine progress_update
 
   !> Print the summary of the run (call on every rank): wall time, cycles, time reached,
-  !> wall time per cycle and peak memory (this rank's and the maximum over ranks).
+  !> wall time per cycle (mean; 5, 50 and 95 % percentiles) and peak memory (this rank's
+  !> and the maximum over ranks).
   subroutine progress_finish()
     real(wp) :: memory, memory_max, wall, per_cycle
     integer :: cycles
@@ -131,11 +152,53 @@ contains
       per_cycle = wall / real(cycles, wp)
       write(text, '(a,es10.3,a)') 'average wall time per '//trim(step_word)//' ', per_cycle, ' s'
       call say(trim(run_label)//': '//trim(text))
+      write(text, '(a,3(es10.3,a))') 'wall time per '//trim(step_word)//', 5 / 50 / 95 % of '// &
+          trim(step_word)//'s below ', cycle_time_percentile(cycle_counts, 5.0_wp), ' /', &
+          cycle_time_percentile(cycle_counts, 50.0_wp), ' /', &
+          cycle_time_percentile(cycle_counts, 95.0_wp), ' s'
+      call say(trim(run_label)//': '//trim(text))
     end if
     call say(trim(run_label)//': peak memory '//decimal_text(memory)//' MiB on rank 0, '// &
              decimal_text(memory_max)//' MiB max over ranks')
     active = .false.
   end subroutine progress_finish
+
+  !> Histogram bin of a cycle's wall time (s): k with CYCLE_TIME_LOW*CYCLE_BIN_RATIO**(k-1)
+  !> <= seconds < CYCLE_TIME_LOW*CYCLE_BIN_RATIO**k, clipped to 1..CYCLE_BINS (a time below
+  !> the lowest edge, zero or not a number goes to bin 1).
+  pure integer function cycle_time_bin(seconds) result(bin)
+    real(wp), intent(in) :: seconds     !< wall time of one cycle
+    real(wp) :: position
+    bin = 1
+    if (.not. (seconds > CYCLE_TIME_LOW)) return
+    position = log(seconds/CYCLE_TIME_LOW)/log(CYCLE_BIN_RATIO)
+    if (position >= real(CYCLE_BINS - 1, wp)) then
+      bin = CYCLE_BINS
+    else
+      bin = 1 + int(position)
+    end if
+  end function cycle_time_bin
+
+  !> The p % percentile of the cycle times counted in a histogram of cycle_time_bin bins:
+  !> the upper edge of the first bin at which the cumulated count reaches p % of the total
+  !> (so at most CYCLE_BIN_RATIO - 1 above the exact percentile); 0 when nothing is counted.
+  pure real(wp) function cycle_time_percentile(counts, percent) result(seconds)
+    integer, intent(in) :: counts(CYCLE_BINS)  !< cycles per bin
+    real(wp), intent(in) :: percent             !< p in [0, 100]
+    real(wp) :: wanted
+    integer :: bin, total, cumulated
+    seconds = 0.0_wp
+    total = sum(counts)
+    if (total == 0) return
+    wanted = max(percent, 0.0_wp)/100.0_wp*real(total, wp)
+    cumulated = 0
+    do bin = 1, CYCLE_BINS
+      cumulated = cumulated + counts(bin)
+      if (counts(bin) > 0 .and. real(cumulated, wp) >= wanted) exit
+    end do
+    bin = min(bin, CYCLE_BINS)
+    seconds = CYCLE_TIME_LOW*CYCLE_BIN_RATIO**bin
+  end function cycle_time_percentile
 
   !> A non-negative number with one decimal and no leading blanks, e.g. "0.5", "3723.4".
   pure function decimal_text(value) result(text)

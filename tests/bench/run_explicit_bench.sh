@@ -133,6 +133,8 @@ g['halo'] = grab(r'halo exchange and reductions (\S+) %')
 g['update'] = grab(r'nodal update (\S+) %')
 g['output'] = grab(r'output (\S+) %')
 g['mem_max'] = grab(r'(\S+) MiB max over ranks')
+# the median cycle's wall time (the driver's 50 % percentile of the wall time per cycle)
+g['cycle_p50'] = grab(r'% of cycles below\s+\S+ /\s*(\S+) /')
 # several ranks: the spread of the force time over ranks (load imbalance) and the halo wait
 g['forces_min'] = grab(r'min / max over ranks: .* forces (\S+) /')
 g['forces_max'] = grab(r'min / max over ranks: .* forces \S+ / (\S+) s')
@@ -245,6 +247,29 @@ for elform in dict.fromkeys(d['elform'] for d in pairs):
         text += (f'; 2-rank run against it {100 * median(eff):.0f} % '
                  f'({100 * min(eff):.0f}-{100 * max(eff):.0f} %)')
     print(text)
+# the same at the median cycle (50 % percentile of the wall time per cycle, which a few slow
+# stretches of the host do not move): speed-up p50(1)/p50(np) and bound 2 p50(1)/p50(pair)
+for elform in dict.fromkeys(d['elform'] for d in runs):
+    p50 = {}
+    for d in runs + pairs:
+        if d['elform'] == elform and d.get('cycle_p50', 'nan') != 'nan':
+            p50.setdefault(d['np'], {}).setdefault(d['rep'], []).append(f(d, 'cycle_p50'))
+    one = {r: v[0] for r, v in p50.get('1', {}).items()}
+    if not one:
+        continue
+    text = (f'\n{name.get(elform, elform)}, at the median cycle: 1 rank '
+            f'{1e3 * median(one.values()):.1f} ms')
+    for np_text in sorted(k for k in p50 if k not in ('1', 'pair')):
+        times = {r: v[0] for r, v in p50[np_text].items()}
+        ups = [one[r] / t for r, t in times.items() if r in one]
+        text += f'; {np_text} ranks {1e3 * median(times.values()):.1f} ms'
+        if ups:
+            text += f', speed-up {median(ups):.2f} ({min(ups):.2f}-{max(ups):.2f})'
+    bound = [4.0 * one[r] / sum(v) for r, v in
+             p50.get('pair', {}).items() if r in one and len(v) == 2]
+    if bound:
+        text += f'; machine bound {median(bound):.2f} ({min(bound):.2f}-{max(bound):.2f})'
+    print(text)
 ns = {e: median(v.values()) for (e, n), v in ns_of.items() if n == '1'}
 if '43' in ns and '10' in ns:
     print(f'\nME-FEM / standard cost per element-cycle on 1 rank (medians): '
@@ -255,5 +280,6 @@ print('(rows: the run with the median ns per element-cycle of its case, runs lis
       'that x ranks / elements; speed-up: ranks x ns(1 rank)/ns(ranks) per round, median '
       '(range); force time max/min: the slowest rank\'s cell loop over the fastest\'s (load '
       'imbalance); CPU share: CPU time / (wall x ranks) of the whole process, well below 1 '
-      'when other jobs shared the cores, which inflates the wall-time figures)')
+      'when other jobs shared the cores, which inflates the wall-time figures; at the median '
+      'cycle: the 50 % percentile of the wall time per cycle, per round)')
 PY

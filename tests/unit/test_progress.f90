@@ -1,18 +1,19 @@
 !> Unit test of the progress reporter: duration text, progress line text, fraction done,
-!> when lines are printed, peak memory.
+!> when lines are printed, the histogram of cycle times and its percentiles, peak memory.
 ! ranks: 1 2
 program test_progress
   use mefem_kinds, only: wp
   use mefem_comm, only: comm_is_root
   use mefem_testing, only: test_start, test_finish, check, check_close
   use mefem_progress, only: progress_start, progress_update, progress_finish, progress_line, &
-      progress_fraction, format_seconds, peak_memory_mib, PROGRESS_LINE_LENGTH
+      progress_fraction, format_seconds, peak_memory_mib, PROGRESS_LINE_LENGTH, &
+      cycle_time_bin, cycle_time_percentile, CYCLE_BINS, CYCLE_BIN_RATIO, CYCLE_TIME_LOW
   implicit none
 
   character(len=PROGRESS_LINE_LENGTH) :: line
   logical :: printed(8)
-  real(wp) :: memory
-  integer :: k
+  real(wp) :: memory, exact, got
+  integer :: k, counts(CYCLE_BINS)
 
   call test_start('progress')
 
@@ -83,12 +84,55 @@ program test_progress
   call check(all(printed .eqv. comm_is_root()), 'zero interval: every update prints on rank 0')
   call progress_finish()
 
+  ! cycle-time bins: edges, inside, below the first and beyond the last
+  call check(cycle_time_bin(CYCLE_TIME_LOW*CYCLE_BIN_RATIO**9.5_wp) == 10, 'bin of a time in bin 10')
+  call check(cycle_time_bin(CYCLE_TIME_LOW*CYCLE_BIN_RATIO**1000.2_wp) == 1001, &
+             'bin of a time in bin 1001')
+  call check(cycle_time_bin(0.5_wp*CYCLE_TIME_LOW) == 1 .and. cycle_time_bin(0.0_wp) == 1 .and. &
+             cycle_time_bin(-1.0_wp) == 1, 'times below the first edge go to bin 1')
+  call check(cycle_time_bin(1.0e12_wp) == CYCLE_BINS, 'times past the last edge go to the last bin')
+  ! percentiles of the cycle times 1, 2, .., 100 ms: the k % percentile is k ms, given as the
+  ! upper edge of its bin (at most one bin ratio above)
+  counts = 0
+  do k = 1, 100
+    counts(cycle_time_bin(1.0e-3_wp*k)) = counts(cycle_time_bin(1.0e-3_wp*k)) + 1
+  end do
+  do k = 5, 95, 45
+    exact = 1.0e-3_wp*k
+    got = cycle_time_percentile(counts, real(k, wp))
+    call check(got > exact .and. got <= exact*CYCLE_BIN_RATIO*(1.0_wp + 1.0e-12_wp), &
+               'percentile of 1..100 ms within one bin', 'got '//rtext(got))
+  end do
+  call check(cycle_time_percentile(counts, 0.0_wp) > 1.0e-3_wp .and. &
+             cycle_time_percentile(counts, 0.0_wp) <= 1.0e-3_wp*CYCLE_BIN_RATIO, &
+             '0 % percentile is the shortest time')
+  call check(cycle_time_percentile(counts, 100.0_wp) > 0.1_wp .and. &
+             cycle_time_percentile(counts, 100.0_wp) <= 0.1_wp*CYCLE_BIN_RATIO, &
+             '100 % percentile is the longest time')
+  ! a slow tail of 10 cycles among 300 moves the mean, not the median
+  counts = 0
+  counts(cycle_time_bin(0.050_wp)) = 290
+  counts(cycle_time_bin(0.080_wp)) = 10
+  got = cycle_time_percentile(counts, 50.0_wp)
+  call check(got > 0.050_wp .and. got <= 0.050_wp*CYCLE_BIN_RATIO, 'median ignores a slow tail')
+  got = cycle_time_percentile(counts, 97.0_wp)
+  call check(got > 0.080_wp .and. got <= 0.080_wp*CYCLE_BIN_RATIO, '97 % percentile is in the tail')
+  counts = 0
+  call check(cycle_time_percentile(counts, 50.0_wp) == 0.0_wp, 'empty histogram: percentile 0')
+
   memory = peak_memory_mib()
   call check(memory > 0.0_wp .and. memory < 1.0e6_wp, 'peak memory is positive and plausible')
 
   call test_finish()
 
 contains
+
+  !> A number as text for messages.
+  function rtext(x) result(text)
+    real(wp), intent(in) :: x          !< the number
+    character(len=24) :: text
+    write(text, '(es24.16)') x
+  end function rtext
 
   !> Check a fixed-length text against the expected text (trailing blanks ignored).
   subroutine check_text(got, want)
