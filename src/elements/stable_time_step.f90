@@ -61,26 +61,30 @@ module mefem_stable_time_step
 
 contains
 
-  !> Per-cell nodal mass shares: share(j, c) is the mass of node cells%nodes(j, c) that cell c
-  !> carries. ME-FEM: each element's corner mass rho V (1 - psibar)/(dim+1) and enriched mass
-  !> rho V psibar, divided by dim+1 (one share per side); standard: rho V/(dim+1) per corner.
-  !> Summed over the cells they give lumped_mass (same formulas; up to round-off).
-  subroutine cell_mass_shares(model, cells, share)
+  !> Nodal mass shares of the cells in `list`: share(j, k) is the mass of node
+  !> cells%nodes(j, list(k)) that cell list(k) carries. ME-FEM: each element's corner mass
+  !> rho V (1 - psibar)/(dim+1) and enriched mass rho V psibar, divided by dim+1 (one share per
+  !> side); standard: rho V/(dim+1) per corner. Summed over all cells they give lumped_mass
+  !> (same formulas; up to round-off). Each cell's shares depend on that cell alone, so a
+  !> rank asks for its own cells only (the same bits as from the list of all cells).
+  subroutine cell_mass_shares(model, cells, list, share)
     type(model_t), intent(in) :: model                 !< resolved model (densities, geometry)
     type(cells_t), intent(in) :: cells                 !< cells built from the same model
-    real(wp), allocatable, intent(out) :: share(:,:)   !< (CELL_MAX_NODES, cells%n) shares
-    integer :: nv, c, slot, e, local, material
+    integer, intent(in) :: list(:)                     !< cells wanted
+    real(wp), allocatable, intent(out) :: share(:,:)   !< (CELL_MAX_NODES, size(list)) shares
+    integer :: nv, k, c, slot, e, local, material
     real(wp) :: rho, volume, psibar, corner_share, enriched_share
 
     nv = cells%dim + 1
     psibar = cells%enrichment%mass_fraction
-    allocate(share(CELL_MAX_NODES, cells%n))
+    allocate(share(CELL_MAX_NODES, size(list)))
     share = 0.0_wp
-    do c = 1, cells%n
+    do k = 1, size(list)
+      c = list(k)
       if (cells%enriched_of(cells%elements(1, c)) == 0) then
         ! standard element = its own cell: the element's nodal masses
         rho = model%materials(cells%material(c))%density
-        share(1:nv, c) = rho*cells%weight(c)/real(nv, wp)
+        share(1:nv, k) = rho*cells%weight(c)/real(nv, wp)
         cycle
       end if
       do slot = 1, 2
@@ -93,9 +97,9 @@ contains
         enriched_share = rho*volume*psibar
         do local = 1, nv
           call add_share(cells, c, model%elements%conn(local, e), corner_share/real(nv, wp), &
-                         share)
+                         share(:, k))
         end do
-        call add_share(cells, c, cells%enriched_of(e), enriched_share/real(nv, wp), share)
+        call add_share(cells, c, cells%enriched_of(e), enriched_share/real(nv, wp), share(:, k))
       end do
     end do
   end subroutine cell_mass_shares
@@ -107,33 +111,36 @@ contains
     integer, intent(in) :: c                  !< cell
     integer, intent(in) :: node               !< node number
     real(wp), intent(in) :: m                 !< mass to add
-    real(wp), intent(inout) :: share(:,:)     !< (CELL_MAX_NODES, cells%n) shares
+    real(wp), intent(inout) :: share(:)       !< (CELL_MAX_NODES) cell c's shares
     integer :: j
     do j = 1, cells%nnodes(c)
       if (cells%nodes(j, c) == node) then
-        share(j, c) = share(j, c) + m
+        share(j) = share(j) + m
         return
       end if
     end do
   end subroutine add_share
 
-  !> Inverse-mass metric of every cell in the reference configuration:
-  !> w0(:,:,c) = sum_I g_I g_I^T / m_I over the cell's nodes (nodes with zero share skipped:
-  !> such a node must have a zero gradient for the bound to hold).
-  subroutine cell_inverse_mass_metric(cells, share, w0)
+  !> Inverse-mass metric of the cells in `list` in the reference configuration:
+  !> w0(:,:,k) = sum_I g_I g_I^T / m_I over the nodes of cell list(k), m_I its shares
+  !> share(:, k) (cell_mass_shares of the same list; nodes with zero share skipped: such a
+  !> node must have a zero gradient for the bound to hold).
+  subroutine cell_inverse_mass_metric(cells, list, share, w0)
     type(cells_t), intent(in) :: cells                 !< cells
-    real(wp), intent(in) :: share(:,:)                 !< (CELL_MAX_NODES, cells%n) shares
-    real(wp), allocatable, intent(out) :: w0(:,:,:)    !< (dim, dim, cells%n) metric
-    integer :: dim, c, j, a, b
+    integer, intent(in) :: list(:)                     !< cells wanted
+    real(wp), intent(in) :: share(:,:)                 !< (CELL_MAX_NODES, size(list)) shares
+    real(wp), allocatable, intent(out) :: w0(:,:,:)    !< (dim, dim, size(list)) metric
+    integer :: dim, k, c, j, a, b
     dim = cells%dim
-    allocate(w0(dim, dim, cells%n))
+    allocate(w0(dim, dim, size(list)))
     w0 = 0.0_wp
-    do c = 1, cells%n
+    do k = 1, size(list)
+      c = list(k)
       do j = 1, cells%nnodes(c)
-        if (.not. (share(j, c) > 0.0_wp)) cycle
+        if (.not. (share(j, k) > 0.0_wp)) cycle
         do b = 1, dim
           do a = 1, dim
-            w0(a, b, c) = w0(a, b, c) + cells%grad(a, j, c)*cells%grad(b, j, c)/share(j, c)
+            w0(a, b, k) = w0(a, b, k) + cells%grad(a, j, c)*cells%grad(b, j, c)/share(j, k)
           end do
         end do
       end do

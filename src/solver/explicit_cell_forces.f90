@@ -34,12 +34,12 @@ contains
 
   !> 3D: group the local cells into blocks (with their gradients, metrics, volumes and
   !> virgin histories) and plan the pushed assembly (telling the halo which nodes it is).
-  subroutine explicit_cells_set_up(s, cells, w0_global, halo)
+  subroutine explicit_cells_set_up(s, cells, w0, halo)
     type(explicit_state_t), intent(inout) :: s        !< local state (cells set up)
     type(cells_t), intent(in) :: cells                !< all cells (gradients)
-    real(wp), intent(in) :: w0_global(:,:,:)          !< (3, 3, cells%n) inverse-mass metrics
+    real(wp), intent(in) :: w0(:,:,:)                 !< (3, 3, s%ncell) local cells' metrics
     type(halo_t), intent(inout) :: halo               !< force exchange
-    call build_blocks(s, cells, w0_global)
+    call build_blocks(s, cells, w0)
     call plan_pushed_assembly(s, halo)
   end subroutine explicit_cells_set_up
 
@@ -200,10 +200,10 @@ contains
   !> count) together in ascending cell order, cut into blocks of at most BLOCK_CELLS.
   !> The order of computation does not change any result: every cell writes its own
   !> contributions and the assembly order is fixed by the layout's plan.
-  subroutine build_blocks(s, cells, w0_global)
+  subroutine build_blocks(s, cells, w0)
     type(explicit_state_t), intent(inout) :: s        !< local state (cells set up)
     type(cells_t), intent(in) :: cells                !< all cells (gradients)
-    real(wp), intent(in) :: w0_global(:,:,:)          !< (3, 3, cells%n) inverse-mass metrics
+    real(wp), intent(in) :: w0(:,:,:)                 !< (3, 3, s%ncell) local cells' metrics
     integer, allocatable :: starts(:), nodes_of(:)
     integer :: b, k, l, i, c
     allocate(s%block_cell(s%ncell), starts(s%ncell + 2), nodes_of(s%ncell + 1))
@@ -229,7 +229,7 @@ contains
         s%cell_block(l) = b
         s%cell_slot(l) = i
         s%block_grad(i, :, :, b) = cells%grad(:, :, c)
-        s%block_w0(i, :, b) = reshape(w0_global(:, :, c), [9])
+        s%block_w0(i, :, b) = reshape(w0(:, :, l), [9])
         s%block_weight(i, b) = s%weight(l)
         call material_state_init(s%block_hist(i, :, b))
       end do

@@ -232,8 +232,8 @@ contains
     type(halo_t), intent(out) :: halo                 !< force exchange
     type(explicit_state_t), intent(inout) :: s        !< local state
     integer, allocatable :: elem_start(:), elem_nodes(:)
-    real(wp), allocatable :: mass_global(:), share_global(:,:), v_global(:,:)
-    real(wp), allocatable :: w0_global(:,:,:)
+    real(wp), allocatable :: mass_global(:), share(:,:), v_global(:,:)
+    real(wp), allocatable :: w0(:,:,:)
     logical, allocatable :: fixed_global(:,:)
     real(wp) :: lambda, mu
     type(status_t) :: status
@@ -271,18 +271,21 @@ contains
 
     ! cells: local copies in the layout's order
     allocate(s%cell_global(s%ncell), s%nnodes(s%ncell), s%weight(s%ncell), &
-             s%material(s%ncell), s%lame(2, s%ncell), s%share(CELL_MAX_NODES, s%ncell), &
-             s%cell_force(dim, CELL_MAX_NODES, s%ncell))
+             s%material(s%ncell), s%lame(2, s%ncell), s%cell_force(dim, CELL_MAX_NODES, s%ncell))
     if (dim == 2) allocate(s%grad(dim, CELL_MAX_NODES, s%ncell), s%w0(dim, dim, s%ncell), &
                            s%hist(NHIST, s%ncell))      ! 3D: in the blocks (build_blocks)
     s%cell_global = layout%cell_global(1:s%ncell)
     s%cell_element = cells%elements(1, s%cell_global)
     s%node_global = layout%node_global
-    s%outer = layout%outer_cells
-    s%inner = layout%inner_cells
+    if (dim == 2) then                  ! 2D computes its outer cells first (3D: blocks)
+      s%outer = layout%outer_cells
+      s%inner = layout%inner_cells
+    end if
     s%nodes = layout%cell_nodes(:, 1:s%ncell)
-    call cell_mass_shares(model, cells, share_global)
-    call cell_inverse_mass_metric(cells, share_global, w0_global)
+    ! the local cells' mass shares and inverse-mass metrics (time step; the shares again
+    ! for the mass added by scaling)
+    call cell_mass_shares(model, cells, s%cell_global, share)
+    call cell_inverse_mass_metric(cells, s%cell_global, share, w0)
     do l = 1, s%ncell
       c = s%cell_global(l)
       s%nnodes(l) = cells%nnodes(c)
@@ -290,17 +293,19 @@ contains
       s%material(l) = cells%material(c)
       call material_elastic_moduli(model%materials(s%material(l)), lambda, mu)
       s%lame(:, l) = [lambda, mu]
-      s%share(:, l) = share_global(:, c)
       if (dim == 2) then
         s%grad(:, :, l) = cells%grad(:, :, c)
-        s%w0(:, :, l) = w0_global(:, :, c)
+        s%w0(:, :, l) = w0(:, :, l)
         call material_state_init(s%hist(:, l))
       end if
     end do
     s%cell_force = 0.0_wp
-    if (dim == 3) call explicit_cells_set_up(s, cells, w0_global, halo)
+    if (dim == 3) call explicit_cells_set_up(s, cells, w0, halo)
     s%mass_scaling = model%controls%dt2ms < 0.0_wp
-    if (s%mass_scaling) allocate(s%added(1, CELL_MAX_NODES, s%ncell))
+    if (s%mass_scaling) then
+      allocate(s%added(1, CELL_MAX_NODES, s%ncell))
+      call move_alloc(share, s%share)
+    end if
 
     ! essential conditions: fixed dofs and the prescribed motions of local mesh nodes
     s%spc_in_time = any(model%spcs(1:model%n_spcs)%birth > 0.0_wp) .or. &

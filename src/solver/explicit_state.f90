@@ -87,7 +87,8 @@ module mefem_explicit_state
     integer, allocatable :: material(:)        !< (ncell) material index
     real(wp), allocatable :: lame(:,:)         !< (2, ncell) lambda, mu of the material
     real(wp), allocatable :: w0(:,:,:)         !< (dim, dim, ncell) sum g g^T / m_share
-    real(wp), allocatable :: share(:,:)        !< (CELL_MAX_NODES, ncell) mass shares
+    real(wp), allocatable :: share(:,:)        !< (CELL_MAX_NODES, ncell) mass shares (only
+                                               !< with mass scaling, which reads them)
     real(wp), allocatable :: hist(:,:)         !< (NHIST, ncell) material history
     real(wp), allocatable :: cell_force(:,:,:) !< (dim, CELL_MAX_NODES, ncell) contributions
                                                !< (3D: only those to nodes not pushed)

@@ -342,6 +342,7 @@ contains
     real(wp), allocatable, intent(out) :: w0(:,:,:)       !< cell metrics
     logical, intent(out) :: ok                            !< cells built
     type(status_t) :: status
+    integer :: c
     call cells_build(model, cells, status)
     ok = status%ok
     if (.not. ok) then
@@ -349,8 +350,8 @@ contains
       return
     end if
     call lumped_mass(model, cells, mass)
-    call cell_mass_shares(model, cells, share)
-    call cell_inverse_mass_metric(cells, share, w0)
+    call cell_mass_shares(model, cells, [(c, c = 1, cells%n)], share)
+    call cell_inverse_mass_metric(cells, [(c, c = 1, cells%n)], share, w0)
   end subroutine cell_set_up
 
   !> The omega^2 bound of every cell at the deformation gradient f.
@@ -621,6 +622,16 @@ contains
       end do
     end do
     call check(ok_slots, name//': shares positive at every cell node, zero elsewhere')
+    ! a rank's own cells (here every third, backwards): the same bits as from all cells
+    block
+      integer, allocatable :: list(:)
+      real(wp), allocatable :: share_part(:,:), w0_part(:,:,:)
+      list = [(c, c = cells%n, 1, -3)]
+      call cell_mass_shares(model, cells, list, share_part)
+      call cell_inverse_mass_metric(cells, list, share_part, w0_part)
+      call check(all(share_part == share(:, list)) .and. all(w0_part == w0(:, :, list)), &
+                 name//': shares and metrics of a list of cells = those of all cells (bits)')
+    end block
     worst_share = maxval(abs(summed - mass)/mass)
     call check(worst_share <= 1.0e-14_wp, name//': shares sum to lumped_mass (1e-14)', &
                'worst '//real_text(worst_share))
