@@ -4,6 +4,7 @@
 !> directly. A serial run is the same code on one rank. Libraries that need the
 !> communicator (MUMPS, HDF5) get the Fortran integer handle from comm_fortran_handle().
 module mefem_comm
+  use, intrinsic :: iso_c_binding, only: c_ptr, c_null_ptr
   use mpi_f08
   use mefem_kinds, only: wp, i8
   implicit none
@@ -14,6 +15,10 @@ module mefem_comm
   public :: comm_sum, comm_min, comm_max, comm_bcast, comm_exscan_sum
   public :: comm_allgather, comm_any, comm_gatherv_real, comm_gatherv_int
   public :: comm_info_null_handle, comm_allgatherv_real
+  public :: comm_arena_t, comm_arena_create, comm_arena_free, comm_arena_array, &
+            comm_arena_peer_array, comm_arena_on_node
+  public :: comm_work_reset, comm_work_take, comm_work_steal, comm_work_finished, &
+            comm_work_wait
 
   integer :: my_rank = 0    !< rank of this process in the world communicator
   integer :: n_ranks = 1    !< number of ranks
@@ -48,6 +53,42 @@ module mefem_comm
     integer :: n = 0                                  !< transfers posted, not yet completed
     type(MPI_Request), allocatable :: list(:)         !< their handles
   end type comm_requests_t
+
+  !> Node-shared memory (MPI-3 shared windows): each rank of a node has one segment that the
+  !> other ranks of its node can read and write with plain loads and stores. A segment starts
+  !> with a header of ARENA_HEADER_BYTES (the work-claiming words below), then the arrays the
+  !> rank asked for, each ARENA_ALIGN-byte aligned. The segments are one window, so that one
+  !> MPI_Win_sync orders every access (the window is locked for all ranks from creation to
+  !> release: passive-target atomics on it need no further locking).
+  !>
+  !> Work claiming (comm_work_*): a rank's n work items (e.g. its cell blocks) are taken in
+  !> chunks from the front by the rank itself and from the back by the other ranks of its
+  !> node when they have run out of their own. One 64-bit word counts both ends, front +
+  !> back * 2**32, and every claim is one atomic fetch-and-add on it, so no item is taken twice
+  !> and none is left out (each claimant computes its range from the word's value before its
+  !> own addition). The thieves add the count of the items they finished to a second word,
+  !> after a memory barrier, and the owner waits for it before reading their results.
+  type :: comm_arena_t
+    private
+    logical :: active = .false.                       !< created, not yet freed
+    type(MPI_Win) :: win                              !< the node's shared window
+    integer :: narray = 0                             !< arrays per segment
+    integer :: node_size = 1                          !< ranks on this node
+    integer, allocatable :: node_rank_of(:)           !< (world size) node rank of a world
+                                                      !< rank, -1 if on another node
+    integer(MPI_ADDRESS_KIND), allocatable :: offset(:,:)  !< (narray, node_size) byte offset
+                                                      !< of array k in node rank r's segment
+    type(c_ptr), allocatable :: segment(:)            !< (node_size) base of each segment
+    integer(i8) :: items = 0                          !< owner: items of the current round
+    integer(i8) :: chunk = 1                          !< owner: items per claim
+  end type comm_arena_t
+
+  integer, parameter :: ARENA_ALIGN = 64              !< alignment of arrays (a cache line)
+  integer, parameter :: ARENA_HEADER_BYTES = 64       !< claim word, done word, item count
+  integer(MPI_ADDRESS_KIND), parameter :: WORD_CLAIM = 0, WORD_DONE = 1, WORD_ITEMS = 2
+  integer(i8), parameter :: BACK_UNIT = 2_i8**32      !< one item taken from the back
+  type(MPI_Comm) :: node_comm                         !< the ranks sharing this node's memory
+  logical :: have_node_comm = .false.
 
 contains
 
@@ -353,4 +394,225 @@ contains
     call move_alloc(bigger, requests%list)
   end subroutine grow_requests
 
+
+  !> Create an arena (collective over all ranks): this rank's segment holds arrays of
+  !> bytes(k) bytes each (sizes may differ between ranks; the same number of arrays on every
+  !> rank). comm_arena_array gives their addresses.
+  subroutine comm_arena_create(arena, bytes)
+    type(comm_arena_t), intent(out) :: arena          !< the new arena
+    integer(i8), intent(in) :: bytes(:)               !< size of each array (bytes)
+    integer(MPI_ADDRESS_KIND) :: total, peer_size
+    integer(MPI_ADDRESS_KIND), allocatable :: mine(:)
+    integer :: k, r, node_rank, ierr, disp_unit
+    integer, allocatable :: world_of(:)
+    type(c_ptr) :: base
+    if (.not. have_node_comm) then
+      call MPI_Comm_split_type(MPI_COMM_WORLD, MPI_COMM_TYPE_SHARED, my_rank, MPI_INFO_NULL, &
+                               node_comm, ierr)
+      have_node_comm = .true.
+    end if
+    call MPI_Comm_size(node_comm, arena%node_size, ierr)
+    call MPI_Comm_rank(node_comm, node_rank, ierr)
+    arena%narray = size(bytes)
+    allocate(mine(arena%narray), arena%offset(arena%narray, arena%node_size))
+    ! room for the header, the arrays rounded up to whole lines, and the shift that aligns the
+    ! first array (the segment itself may start anywhere)
+    total = ARENA_HEADER_BYTES + ARENA_ALIGN
+    do k = 1, arena%narray
+      total = total + ((int(bytes(k), MPI_ADDRESS_KIND) + ARENA_ALIGN - 1)/ARENA_ALIGN)*ARENA_ALIGN
+    end do
+    allocate(world_of(arena%node_size), arena%node_rank_of(n_ranks), arena%segment(arena%node_size))
+    call MPI_Allgather(my_rank, 1, MPI_INTEGER, world_of, 1, MPI_INTEGER, node_comm, ierr)
+    arena%node_rank_of = -1
+    do r = 1, arena%node_size
+      arena%node_rank_of(world_of(r) + 1) = r - 1
+    end do
+    call MPI_Win_allocate_shared(total, 1, MPI_INFO_NULL, node_comm, base, arena%win, ierr)
+    mine(1) = ARENA_HEADER_BYTES + modulo(-address_of(base) - ARENA_HEADER_BYTES, &
+                                          int(ARENA_ALIGN, MPI_ADDRESS_KIND))
+    do k = 2, arena%narray
+      mine(k) = mine(k - 1) + ((int(bytes(k - 1), MPI_ADDRESS_KIND) + ARENA_ALIGN - 1)/ &
+                               ARENA_ALIGN)*ARENA_ALIGN
+    end do
+    call MPI_Allgather(mine, arena%narray, MPI_AINT, arena%offset, arena%narray, MPI_AINT, &
+                       node_comm, ierr)
+    do r = 1, arena%node_size
+      call MPI_Win_shared_query(arena%win, r - 1, peer_size, disp_unit, arena%segment(r), ierr)
+    end do
+    call MPI_Win_lock_all(MPI_MODE_NOCHECK, arena%win, ierr)
+    call put_word(arena, node_rank, WORD_CLAIM, 0_i8)
+    call put_word(arena, node_rank, WORD_DONE, 0_i8)
+    call put_word(arena, node_rank, WORD_ITEMS, 0_i8)
+    call MPI_Win_sync(arena%win, ierr)
+    call MPI_Barrier(node_comm, ierr)
+    arena%active = .true.
+  end subroutine comm_arena_create
+
+  !> Release an arena (collective over all ranks; nothing may use its arrays afterwards).
+  subroutine comm_arena_free(arena)
+    type(comm_arena_t), intent(inout) :: arena        !< the arena
+    integer :: ierr
+    if (.not. arena%active) return
+    call MPI_Win_unlock_all(arena%win, ierr)
+    call MPI_Win_free(arena%win, ierr)
+    arena%active = .false.
+  end subroutine comm_arena_free
+
+  !> Address of this rank's array k.
+  function comm_arena_array(arena, k) result(address)
+    type(comm_arena_t), intent(in) :: arena           !< the arena
+    integer, intent(in) :: k                          !< array (order of comm_arena_create)
+    type(c_ptr) :: address
+    address = comm_arena_peer_array(arena, my_rank, k)
+  end function comm_arena_array
+
+  !> Address of array k of world rank `rank` (c_null_ptr if that rank is on another node).
+  function comm_arena_peer_array(arena, rank, k) result(address)
+    type(comm_arena_t), intent(in) :: arena           !< the arena
+    integer, intent(in) :: rank                       !< world rank (0-based)
+    integer, intent(in) :: k                          !< array
+    type(c_ptr) :: address
+    integer :: node_rank
+    address = c_null_ptr
+    if (.not. arena%active) return
+    node_rank = arena%node_rank_of(rank + 1)
+    if (node_rank < 0) return
+    address = byte_offset(arena%segment(node_rank + 1), arena%offset(k, node_rank + 1))
+  end function comm_arena_peer_array
+
+  !> Whether world rank `rank` shares this node's memory (always true for this rank).
+  logical function comm_arena_on_node(arena, rank)
+    type(comm_arena_t), intent(in) :: arena           !< the arena
+    integer, intent(in) :: rank                       !< world rank (0-based)
+    comm_arena_on_node = .false.
+    if (arena%active) comm_arena_on_node = arena%node_rank_of(rank + 1) >= 0
+  end function comm_arena_on_node
+
+  !> Owner: start a round of n work items, claimed `chunk` at a time. Call after the data the
+  !> thieves read were written (the reset orders them before any claim of this round).
+  subroutine comm_work_reset(arena, n, chunk)
+    type(comm_arena_t), intent(inout) :: arena        !< the arena
+    integer, intent(in) :: n                          !< work items of this round
+    integer, intent(in) :: chunk                      !< items per claim (>= 1)
+    integer :: node_rank, ierr
+    node_rank = arena%node_rank_of(my_rank + 1)
+    arena%items = int(n, i8)
+    arena%chunk = int(max(chunk, 1), i8)
+    call MPI_Win_sync(arena%win, ierr)
+    call put_word(arena, node_rank, WORD_DONE, 0_i8)
+    call put_word(arena, node_rank, WORD_ITEMS, arena%items)
+    call put_word(arena, node_rank, WORD_CLAIM, 0_i8)
+  end subroutine comm_work_reset
+
+  !> Owner: the next chunk of its own items from the front, items first..last (1-based); last
+  !> < first when none is left (then the owner waits for the thieves: comm_work_wait).
+  subroutine comm_work_take(arena, first, last)
+    type(comm_arena_t), intent(inout) :: arena        !< the arena
+    integer, intent(out) :: first, last               !< the items taken
+    integer(i8) :: old, front, back
+    old = add_word(arena, arena%node_rank_of(my_rank + 1), WORD_CLAIM, arena%chunk)
+    front = iand(old, BACK_UNIT - 1)
+    back = old/BACK_UNIT
+    first = int(front + 1)
+    last = int(min(front + arena%chunk, arena%items - back))
+  end subroutine comm_work_take
+
+  !> Thief: a chunk of `chunk` items of world rank `rank` (same node) from the back, items
+  !> first..last of that rank; last < first when it has none left. The items' data are
+  !> readable once this returns a range.
+  subroutine comm_work_steal(arena, rank, chunk, first, last)
+    type(comm_arena_t), intent(inout) :: arena        !< the arena
+    integer, intent(in) :: rank                       !< the owner (world rank, 0-based)
+    integer, intent(in) :: chunk                      !< items per claim (>= 1)
+    integer, intent(out) :: first, last               !< the items taken
+    integer(i8) :: old, front, back, items
+    integer :: node_rank, ierr
+    first = 1
+    last = 0
+    node_rank = arena%node_rank_of(rank + 1)
+    if (node_rank < 0 .or. rank == my_rank) return
+    items = add_word(arena, node_rank, WORD_ITEMS, 0_i8)
+    old = add_word(arena, node_rank, WORD_CLAIM, int(max(chunk, 1), i8)*BACK_UNIT)
+    front = iand(old, BACK_UNIT - 1)
+    back = old/BACK_UNIT
+    last = int(items - back)
+    first = int(max(items - back - int(max(chunk, 1), i8) + 1, front + 1))
+    call MPI_Win_sync(arena%win, ierr)
+  end subroutine comm_work_steal
+
+  !> Thief: count items of world rank `rank` done (their results written before this call).
+  subroutine comm_work_finished(arena, rank, count)
+    type(comm_arena_t), intent(inout) :: arena        !< the arena
+    integer, intent(in) :: rank                       !< the owner (world rank, 0-based)
+    integer, intent(in) :: count                      !< items finished
+    integer(i8) :: old
+    integer :: ierr
+    call MPI_Win_sync(arena%win, ierr)
+    old = add_word(arena, arena%node_rank_of(rank + 1), WORD_DONE, int(count, i8))
+  end subroutine comm_work_finished
+
+  !> Owner: wait until the thieves have finished `stolen` of its items (the round's items
+  !> less those it took itself); their results are readable when this returns.
+  subroutine comm_work_wait(arena, stolen)
+    type(comm_arena_t), intent(inout) :: arena        !< the arena
+    integer, intent(in) :: stolen                     !< items the thieves took
+    integer :: node_rank, ierr
+    node_rank = arena%node_rank_of(my_rank + 1)
+    do while (add_word(arena, node_rank, WORD_DONE, 0_i8) < int(stolen, i8))
+    end do
+    call MPI_Win_sync(arena%win, ierr)
+  end subroutine comm_work_wait
+
+  !> Atomically add `value` to header word `word` of node rank `node_rank`; the old value.
+  function add_word(arena, node_rank, word, value) result(old)
+    type(comm_arena_t), intent(inout) :: arena        !< the arena
+    integer, intent(in) :: node_rank                  !< whose header
+    integer(MPI_ADDRESS_KIND), intent(in) :: word     !< word index in the header
+    integer(i8), intent(in) :: value                  !< added (0: an atomic read)
+    integer(i8) :: old
+    integer :: ierr
+    call MPI_Fetch_and_op(value, old, MPI_INTEGER8, node_rank, word*8, MPI_SUM, arena%win, ierr)
+    call MPI_Win_flush(node_rank, arena%win, ierr)
+  end function add_word
+
+  !> Atomically set header word `word` of node rank `node_rank`.
+  subroutine put_word(arena, node_rank, word, value)
+    type(comm_arena_t), intent(inout) :: arena        !< the arena
+    integer, intent(in) :: node_rank                  !< whose header
+    integer(MPI_ADDRESS_KIND), intent(in) :: word     !< word index in the header
+    integer(i8), intent(in) :: value                  !< the new value
+    integer(i8) :: old
+    integer :: ierr
+    call MPI_Fetch_and_op(value, old, MPI_INTEGER8, node_rank, word*8, MPI_REPLACE, arena%win, &
+                          ierr)
+    call MPI_Win_flush(node_rank, arena%win, ierr)
+  end subroutine put_word
+
+  !> A C address as an integer.
+  integer(MPI_ADDRESS_KIND) function address_of(base)
+    type(c_ptr), intent(in) :: base                   !< the address
+    integer :: ierr
+    character(len=1), pointer :: memory(:)
+    call c_f_pointer_bytes(base, memory)
+    call MPI_Get_address(memory(1), address_of, ierr)
+  end function address_of
+
+  !> The memory at `base` as bytes (one, enough to take its address).
+  subroutine c_f_pointer_bytes(base, memory)
+    use, intrinsic :: iso_c_binding, only: c_f_pointer
+    type(c_ptr), intent(in) :: base                   !< the address
+    character(len=1), pointer, intent(out) :: memory(:)  !< one byte there
+    call c_f_pointer(base, memory, [1])
+  end subroutine c_f_pointer_bytes
+
+  !> The address `bytes` past `base`.
+  function byte_offset(base, bytes) result(address)
+    use, intrinsic :: iso_c_binding, only: c_f_pointer, c_loc
+    type(c_ptr), intent(in) :: base                   !< start address
+    integer(MPI_ADDRESS_KIND), intent(in) :: bytes    !< offset
+    type(c_ptr) :: address
+    character(len=1), pointer :: memory(:)
+    call c_f_pointer(base, memory, [bytes + 1])
+    address = c_loc(memory(bytes + 1))
+  end function byte_offset
 end module mefem_comm
