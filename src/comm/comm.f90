@@ -16,7 +16,7 @@ module mefem_comm
   public :: comm_allgather, comm_any, comm_gatherv_real, comm_gatherv_int
   public :: comm_info_null_handle, comm_allgatherv_real
   public :: comm_arena_t, comm_arena_create, comm_arena_free, comm_arena_array, &
-            comm_arena_peer_array, comm_arena_on_node
+            comm_arena_peer_array, comm_arena_on_node, comm_arena_sync
   public :: comm_work_reset, comm_work_take, comm_work_steal, comm_work_finished, &
             comm_work_wait
 
@@ -488,6 +488,14 @@ contains
     if (arena%active) comm_arena_on_node = arena%node_rank_of(rank + 1) >= 0
   end function comm_arena_on_node
 
+  !> Make this rank's stores to the arena visible to the node's other ranks and theirs to
+  !> this rank (a memory barrier: MPI_Win_sync), e.g. around a barrier after set-up.
+  subroutine comm_arena_sync(arena)
+    type(comm_arena_t), intent(inout) :: arena        !< the arena
+    integer :: ierr
+    if (arena%active) call MPI_Win_sync(arena%win, ierr)
+  end subroutine comm_arena_sync
+
   !> Owner: start a round of n work items, claimed `chunk` at a time. Call after the data the
   !> thieves read were written (the reset orders them before any claim of this round).
   subroutine comm_work_reset(arena, n, chunk)
@@ -557,8 +565,12 @@ contains
     type(comm_arena_t), intent(inout) :: arena        !< the arena
     integer, intent(in) :: stolen                     !< items the thieves took
     integer :: node_rank, ierr
+    logical :: arrived
     node_rank = arena%node_rank_of(my_rank + 1)
     do while (add_word(arena, node_rank, WORD_DONE, 0_i8) < int(stolen, i8))
+      ! MPI progress: with more ranks than cores Open MPI yields the core here
+      call MPI_Iprobe(MPI_ANY_SOURCE, MPI_ANY_TAG, MPI_COMM_WORLD, arrived, MPI_STATUS_IGNORE, &
+                      ierr)
     end do
     call MPI_Win_sync(arena%win, ierr)
   end subroutine comm_work_wait

@@ -13,7 +13,7 @@
 !> are stored per cell and summed by mefem_halo's order-fixed plan, with other ranks' ones.
 module mefem_explicit_cell_forces
   use mefem_kinds, only: wp
-  use mefem_errors, only: status_t
+  use mefem_errors, only: status_t, fatal
   use mefem_strings, only: itoa
   use mefem_model, only: model_t
   use mefem_halo, only: halo_t, halo_assemble_start, halo_assembly_push_nodes
@@ -24,11 +24,15 @@ module mefem_explicit_cell_forces
   use mefem_stable_time_step, only: cell_critical_omega_squared, block_critical_omega_squared
   use mefem_material_state, only: NHIST, material_state_init, BLOCK_CELLS => BLOCK_POINTS
   use mefem_material_update, only: material_update, material_update_block
-  use mefem_explicit_state, only: explicit_state_t, set_to_zero
+  use mefem_explicit_state, only: explicit_state_t, set_to_zero, state_peer_view
+  use mefem_comm, only: comm_rank, comm_size, comm_barrier, comm_arena_free, comm_arena_sync, &
+                        comm_work_reset, &
+                        comm_work_take, comm_work_steal, comm_work_finished, comm_work_wait
   implicit none
   private
 
-  public :: explicit_cells_set_up, explicit_cell_loop, block_cell_data
+  public :: explicit_cells_set_up, explicit_cell_loop, block_cell_data, explicit_blocks_count
+  public :: explicit_steal_set_up, explicit_steal_tear_down
 
 contains
 
@@ -45,7 +49,7 @@ contains
 
   !> All local cells at the current displacements: internal forces into f_int_new (pushed
   !> nodes) and cell_force (the others; their halo exchange is started here and finished by
-  !> the caller), the smallest stable step (dt_stable, dt_cell) and the first failure
+  !> the caller), the smallest stable step (dt_stable, dt_element) and the first failure
   !> (failed, failure).
   !>
   !> 3D: the blocks in ascending cell order, then the exchange. Computing the outer cells
@@ -59,13 +63,17 @@ contains
     type(halo_t), intent(inout) :: halo               !< force exchange (started here)
     integer :: k
     s%dt_stable = huge(1.0_wp)
-    s%dt_cell = 0
+    s%dt_element = 0
     s%failed = .false.
     if (s%nblock > 0 .or. s%ncell == 0) then
       if (allocated(s%push_node)) call set_to_zero(size(s%f_int_new), s%f_int_new)
-      do k = 1, s%nblock
-        call block_forces(model, s, k)
-      end do
+      if (size(s%peers) == 0) then
+        do k = 1, s%nblock
+          call block_forces(model, s, k, .false.)
+        end do
+      else
+        call blocks_shared_with_node(model, s)
+      end if
       call halo_assemble_start(halo, s%cell_force)
     else
       do k = 1, size(s%outer)
@@ -77,6 +85,142 @@ contains
       end do
     end if
   end subroutine explicit_cell_loop
+
+  !> 3D blocks with the other ranks of this node (work stealing): this rank takes its blocks
+  !> in chunks from the front (mefem_comm's comm_work_take) and, when none are left, takes
+  !> chunks from the back of the others' blocks and computes them through their views
+  !> (block_forces with every contribution stored in the owner's cell array, its histories
+  !> updated in place); then it waits until the others have finished the blocks they took of
+  !> its own, and adds those blocks' pushed contributions in block order, as the blocks'
+  !> own pass would have (so every sum keeps its order and the forces their bits). The
+  !> smallest step and a failure found in another rank's cells count as this rank's.
+  subroutine blocks_shared_with_node(model, s)
+    type(model_t), intent(in) :: model                !< resolved model
+    type(explicit_state_t), intent(inout) :: s        !< local state (peers set up)
+    integer, parameter :: OWN_CHUNK = 8               !< blocks per claim of one's own
+    integer, parameter :: STEAL_CHUNK = 4             !< blocks per claim of another's
+    integer :: first, last, own, k, j, m, l, a, node
+    logical :: took
+    call comm_work_reset(s%arena, s%nblock, OWN_CHUNK)
+    own = 0
+    if (s%steal_test) then
+      call take_own(s%nblock/2)         ! tests: the others' blocks before the second half
+    else
+      call take_own(s%nblock)
+    end if
+    ! the others' blocks, from their backs, until none is left anywhere
+    do
+      took = .false.
+      do j = 1, size(s%peers)
+        call comm_work_steal(s%arena, s%peer_rank(j), STEAL_CHUNK, first, last)
+        if (last < first) cycle
+        took = .true.
+        s%peers(j)%dt_stable = huge(1.0_wp)
+        s%peers(j)%dt_element = 0
+        s%peers(j)%failed = .false.
+        do k = first, last
+          call block_forces(model, s%peers(j), k, .true.)
+        end do
+        call comm_work_finished(s%arena, s%peer_rank(j), last - first + 1)
+        s%blocks_for_others = s%blocks_for_others + (last - first + 1)
+        call keep_smaller_step(model, s, s%peers(j)%dt_stable, s%peers(j)%dt_element)
+        if (s%peers(j)%failed .and. .not. s%failed) then
+          s%failed = .true.
+          s%failure = s%peers(j)%failure
+        end if
+      end do
+      if (.not. took) exit
+    end do
+    call take_own(s%nblock)             ! (tests: what the others left of the second half)
+    ! this rank's blocks the others took: wait for them, then their pushed contributions
+    call comm_work_wait(s%arena, s%nblock - own)
+    s%blocks_by_others = s%blocks_by_others + (s%nblock - own)
+    if (.not. allocated(s%push_node)) return
+    do k = own + 1, s%nblock
+      do m = s%block_start(k), s%block_start(k + 1) - 1
+        l = s%block_cell(m)
+        do a = 1, s%nnodes(l)
+          node = s%push_node(a, l)
+          if (node == 0) cycle
+          s%f_int_new(1, node) = s%f_int_new(1, node) + s%cell_force(1, a, l)
+          s%f_int_new(2, node) = s%f_int_new(2, node) + s%cell_force(2, a, l)
+          s%f_int_new(3, node) = s%f_int_new(3, node) + s%cell_force(3, a, l)
+        end do
+      end do
+    end do
+  contains
+
+    !> Own blocks from the front, chunk by chunk, until `limit` is passed or none is left
+    !> (the blocks taken are 1..own: the front only moves forward).
+    subroutine take_own(limit)
+      integer, intent(in) :: limit                    !< stop once own >= limit
+      do while (own < limit)
+        call comm_work_take(s%arena, first, last)
+        if (last < first) exit
+        do k = first, last
+          call block_forces(model, s, k, .false.)
+        end do
+        own = last
+      end do
+    end subroutine take_own
+
+  end subroutine blocks_shared_with_node
+
+  !> Views of the other ranks of this node, for blocks_shared_with_node (3D; collective: every
+  !> rank's arena must hold its sizes, so call it after every rank's set-up of its cells).
+  subroutine explicit_steal_set_up(s)
+    type(explicit_state_t), intent(inout) :: s        !< local state (arena filled)
+    type(explicit_state_t), allocatable :: views(:)
+    integer, allocatable :: ranks(:)
+    integer :: r, n
+    logical :: ok
+    character(len=8) :: value
+    integer :: length, status
+    call comm_arena_sync(s%arena)
+    call comm_barrier()                               ! every arena's sizes written
+    call comm_arena_sync(s%arena)
+    allocate(views(comm_size()), ranks(comm_size()))
+    n = 0
+    if (s%dim == 3) then
+      do r = 0, comm_size() - 1
+        if (r == comm_rank()) cycle
+        call state_peer_view(s, r, views(n + 1), ok)
+        if (.not. ok) cycle
+        if (views(n + 1)%dim /= 3) cycle
+        n = n + 1
+        ranks(n) = r
+      end do
+    end if
+    allocate(s%peers(n))
+    do r = 1, n
+      call state_peer_view(s, ranks(r), s%peers(r), ok)
+    end do
+    s%peer_rank = ranks(1:n)
+    call get_environment_variable('MEFEM_STEAL_TEST', value, length, status)
+    s%steal_test = status == 0 .and. trim(value) == '1' .and. comm_rank() == 0 .and. n > 0
+  end subroutine explicit_steal_set_up
+
+  !> Release the node-shared arena (collective; at the end of the run).
+  subroutine explicit_steal_tear_down(s)
+    type(explicit_state_t), intent(inout) :: s        !< local state
+    if (allocated(s%peers)) deallocate(s%peers)
+    call comm_arena_free(s%arena)
+  end subroutine explicit_steal_tear_down
+
+  !> Keep a step found in another rank's cells if smaller than this rank's (equal: the lower
+  !> element id), as keep_smallest_step does cell by cell.
+  subroutine keep_smaller_step(model, s, dt, element)
+    type(model_t), intent(in) :: model                !< resolved model
+    type(explicit_state_t), intent(inout) :: s        !< local state
+    real(wp), intent(in) :: dt                        !< the other cells' smallest step
+    integer, intent(in) :: element                    !< its element (0: none)
+    if (element == 0) return
+    if (dt < s%dt_stable .or. (dt == s%dt_stable .and. s%dt_element > 0 .and. &
+        model%elements%id(element) < model%elements%id(max(s%dt_element, 1)))) then
+      s%dt_stable = dt
+      s%dt_element = element
+    end if
+  end subroutine keep_smaller_step
 
   !> One cell: smoothed F, material update (history committed at once: explicit), the
   !> nodal force contributions and the cell's stable step (with added mass if scaling). The
@@ -189,34 +333,81 @@ contains
     real(wp), intent(in) :: dt_cell                   !< its step (TSSFAC applied)
     if (dt_cell < s%dt_stable) then
       s%dt_stable = dt_cell
-      s%dt_cell = l
-    else if (dt_cell == s%dt_stable .and. s%dt_cell > 0) then
-      if (model%elements%id(s%cell_element(l)) < model%elements%id(s%cell_element(s%dt_cell))) &
-        s%dt_cell = l
+      s%dt_element = s%cell_element(l)
+    else if (dt_cell == s%dt_stable .and. s%dt_element > 0) then
+      if (model%elements%id(s%cell_element(l)) < model%elements%id(s%dt_element)) &
+        s%dt_element = s%cell_element(l)
     end if
   end subroutine keep_smallest_step
 
-  !> Group the local cells into blocks for block_forces: cells of equal (material, node
-  !> count) together in ascending cell order, cut into blocks of at most BLOCK_CELLS.
-  !> The order of computation does not change any result: every cell writes its own
-  !> contributions and the assembly order is fixed by the layout's plan.
+  !> Number of blocks the local cells form (group_blocks), for sizing the arena before the
+  !> blocks are filled.
+  subroutine explicit_blocks_count(material, nnodes, nblock)
+    integer, intent(in) :: material(:)                !< (ncell) material of each local cell
+    integer, intent(in) :: nnodes(:)                  !< (ncell) nodes of each local cell
+    integer, intent(out) :: nblock                    !< blocks
+    integer, allocatable :: starts(:), nodes_of(:), order(:)
+    call group_blocks(material, nnodes, nblock, starts, nodes_of, order)
+  end subroutine explicit_blocks_count
+
+  !> Group cells into blocks for block_forces: cells of equal (material, node count)
+  !> together in ascending cell order, cut into blocks of at most BLOCK_CELLS. Block b holds
+  !> cells order(starts(b):starts(b+1)-1), computed with nodes_of(b) nodes. The order of
+  !> computation does not change any result: every cell writes its own contributions and the
+  !> assembly order is fixed by the layout's plan.
+  subroutine group_blocks(material, nnodes, nblock, starts, nodes_of, order)
+    integer, intent(in) :: material(:)                !< (ncell) material of each cell
+    integer, intent(in) :: nnodes(:)                  !< (ncell) nodes of each cell
+    integer, intent(out) :: nblock                    !< blocks
+    integer, allocatable, intent(out) :: starts(:)    !< (nblock+1) offsets into order
+    integer, allocatable, intent(out) :: nodes_of(:)  !< (nblock) node count of each block
+    integer, allocatable, intent(out) :: order(:)     !< (ncell) cells, block by block
+    logical :: placed(size(material))
+    integer :: k, m, n, placed_count, key_material, key_nodes, in_block
+    n = size(material)
+    allocate(starts(n + 2), nodes_of(n + 1), order(n))
+    nblock = 0
+    starts(1) = 1
+    placed = .false.
+    placed_count = 0
+    do k = 1, n
+      if (placed(k)) cycle
+      key_material = material(k)
+      key_nodes = block_node_count(nnodes(k))
+      in_block = 0
+      do m = k, n
+        if (placed(m)) cycle
+        if (material(m) /= key_material .or. block_node_count(nnodes(m)) /= key_nodes) cycle
+        if (in_block == BLOCK_CELLS) then
+          nblock = nblock + 1
+          starts(nblock + 1) = placed_count + 1
+          nodes_of(nblock) = key_nodes
+          in_block = 0
+        end if
+        placed(m) = .true.
+        placed_count = placed_count + 1
+        order(placed_count) = m
+        in_block = in_block + 1
+      end do
+      nblock = nblock + 1
+      starts(nblock + 1) = placed_count + 1
+      nodes_of(nblock) = key_nodes
+    end do
+  end subroutine group_blocks
+
+  !> Fill the blocks (arena arrays sized by explicit_blocks_count): their cells, the cells'
+  !> gradients, metrics, volumes and virgin histories (unused entries zero).
   subroutine build_blocks(s, cells, w0)
     type(explicit_state_t), intent(inout) :: s        !< local state (cells set up)
     type(cells_t), intent(in) :: cells                !< all cells (gradients)
     real(wp), intent(in) :: w0(:,:,:)                 !< (3, 3, s%ncell) local cells' metrics
-    integer, allocatable :: starts(:), nodes_of(:)
-    integer :: b, k, l, i, c
-    allocate(s%block_cell(s%ncell), starts(s%ncell + 2), nodes_of(s%ncell + 1))
-    s%nblock = 0
-    starts(1) = 1
-    call group([(l, l = 1, s%ncell)])
+    integer, allocatable :: starts(:), nodes_of(:), order(:)
+    integer :: b, k, l, i, c, nblock
+    call group_blocks(s%material, s%nnodes, nblock, starts, nodes_of, order)
+    if (nblock /= s%nblock) call fatal('build_blocks: block count differs from the arena''s')
     s%block_start = starts(1:s%nblock + 1)
     s%block_nodes = nodes_of(1:s%nblock)
-    ! the cells' data in the blocks (unused entries zero), virgin histories
-    allocate(s%cell_block(s%ncell), s%cell_slot(s%ncell))
-    allocate(s%block_grad(BLOCK_CELLS, 3, CELL_MAX_NODES, s%nblock), &
-             s%block_w0(BLOCK_CELLS, 9, s%nblock), s%block_weight(BLOCK_CELLS, s%nblock), &
-             s%block_hist(BLOCK_CELLS, NHIST, s%nblock))
+    s%block_cell = order
     s%block_grad = 0.0_wp
     s%block_w0 = 0.0_wp
     s%block_weight = 0.0_wp
@@ -234,41 +425,6 @@ contains
         call material_state_init(s%block_hist(i, :, b))
       end do
     end do
-  contains
-
-    !> The blocks of a list of cells.
-    subroutine group(list)
-      integer, intent(in) :: list(:)                  !< local cells, ascending
-      logical :: placed(size(list))
-      integer :: k, m, placed_count, key_material, key_nodes, in_block
-      placed = .false.
-      placed_count = 0
-      do k = 1, size(list)
-        if (placed(k)) cycle
-        key_material = s%material(list(k))
-        key_nodes = block_node_count(s%nnodes(list(k)))
-        in_block = 0
-        do m = k, size(list)
-          if (placed(m)) cycle
-          if (s%material(list(m)) /= key_material .or. &
-              block_node_count(s%nnodes(list(m))) /= key_nodes) cycle
-          if (in_block == BLOCK_CELLS) then
-            s%nblock = s%nblock + 1
-            starts(s%nblock + 1) = placed_count + 1
-            nodes_of(s%nblock) = key_nodes
-            in_block = 0
-          end if
-          placed(m) = .true.
-          placed_count = placed_count + 1
-          s%block_cell(placed_count) = list(m)
-          in_block = in_block + 1
-        end do
-        s%nblock = s%nblock + 1
-        starts(s%nblock + 1) = placed_count + 1
-        nodes_of(s%nblock) = key_nodes
-      end do
-    end subroutine group
-
   end subroutine build_blocks
 
   !> Number of nodes a 3D cell is computed with in the blocks: an ME-FEM face cell (more than
@@ -291,10 +447,14 @@ contains
   !> the block (vectorised across cells; each cell's arithmetic is cell_forces', so the
   !> results are the same bits), and the forces, histories and step are scattered back. A
   !> cell whose material update fails is redone by cell_forces, which reports it.
-  subroutine block_forces(model, s, b)
+  subroutine block_forces(model, s, b, store_all)
     type(model_t), intent(in) :: model                !< resolved model
-    type(explicit_state_t), intent(inout) :: s        !< local state
+    type(explicit_state_t), intent(inout) :: s        !< local state, or a view of another
+                                                      !< rank's (blocks_shared_with_node)
     integer, intent(in) :: b                          !< block
+    logical, intent(in) :: store_all                  !< keep every contribution in the cell
+                                                      !< array (another rank's block: its
+                                                      !< owner adds the pushed ones)
     integer, parameter :: LD = BLOCK_CELLS
     real(wp) :: u(LD, 3, CELL_MAX_NODES), force(LD, 3, CELL_MAX_NODES)
     real(wp) :: f(LD, 9), adj(LD, 9), det(LD), tau(LD, 6), omega2(LD), dt_block(LD)
@@ -347,18 +507,26 @@ contains
           force(i, :, a) = s%cell_force(:, a, l)
         end do
       end if
-      do a = 1, s%nnodes(l)
-        node = s%push_node(a, l)
-        if (node > 0) then
-          s%f_int_new(1, node) = s%f_int_new(1, node) + force(i, 1, a)
-          s%f_int_new(2, node) = s%f_int_new(2, node) + force(i, 2, a)
-          s%f_int_new(3, node) = s%f_int_new(3, node) + force(i, 3, a)
-        else
+      if (store_all) then
+        do a = 1, s%nnodes(l)
           s%cell_force(1, a, l) = force(i, 1, a)
           s%cell_force(2, a, l) = force(i, 2, a)
           s%cell_force(3, a, l) = force(i, 3, a)
-        end if
-      end do
+        end do
+      else
+        do a = 1, s%nnodes(l)
+          node = s%push_node(a, l)
+          if (node > 0) then
+            s%f_int_new(1, node) = s%f_int_new(1, node) + force(i, 1, a)
+            s%f_int_new(2, node) = s%f_int_new(2, node) + force(i, 2, a)
+            s%f_int_new(3, node) = s%f_int_new(3, node) + force(i, 3, a)
+          else
+            s%cell_force(1, a, l) = force(i, 1, a)
+            s%cell_force(2, a, l) = force(i, 2, a)
+            s%cell_force(3, a, l) = force(i, 3, a)
+          end if
+        end do
+      end if
       if (.not. ok(i)) cycle
       if (.not. steps_at_once) then
         call take_cell_step(model, s, l, omega2(i))

@@ -61,9 +61,10 @@ module mefem_explicit_dynamics
   use mefem_history_output, only: rbdout_open, rbdout_write, rbdout_close, rcforc_open, &
                                   rcforc_write, rcforc_close
   use mefem_mortar_contact, only: mortar_contact_setup, mortar_contact_forces
-  use mefem_explicit_state, only: explicit_state_t, set_to_zero
+  use mefem_explicit_state, only: explicit_state_t, set_to_zero, state_arena_create
   use mefem_explicit_cell_forces, only: explicit_cells_set_up, explicit_cell_loop, &
-                                        block_cell_data
+                                        block_cell_data, explicit_blocks_count, &
+                                        explicit_steal_set_up, explicit_steal_tear_down
   use mefem_history_output, only: rwforc_open, rwforc_write, rwforc_close
   implicit none
   private
@@ -188,6 +189,7 @@ contains
     call close_histories()
     call progress_finish()
     call report_timing(model, s, cycle, timing, halo%assembly_wait, comm_wtime() - t_start)
+    call explicit_steal_tear_down(s)
   end subroutine explicit_dynamics_run
 
   !> What the explicit solver takes (anything else is reported before the run starts).
@@ -237,7 +239,7 @@ contains
     logical, allocatable :: fixed_global(:,:)
     real(wp) :: lambda, mu
     type(status_t) :: status
-    integer :: dim, n, g, l, c, e, nv, k, count_entries, pass, i
+    integer :: dim, n, g, l, c, e, nv, k, count_entries, pass, i, nblock
     integer, allocatable :: nodes(:)
 
     dim = cells%dim
@@ -269,12 +271,17 @@ contains
     s%owned = layout%node_owned
     s%active = s%mass > 0.0_wp
 
-    ! cells: local copies in the layout's order
-    allocate(s%cell_global(s%ncell), s%nnodes(s%ncell), s%weight(s%ncell), &
-             s%material(s%ncell), s%lame(2, s%ncell), s%cell_force(dim, CELL_MAX_NODES, s%ncell))
+    ! cells: local copies in the layout's order; the arrays of the cell loop (and the
+    ! displacements) in the node-shared arena, which needs the number of 3D blocks first
+    allocate(s%cell_global(s%ncell))
+    s%cell_global = layout%cell_global(1:s%ncell)
+    s%mass_scaling = model%controls%dt2ms < 0.0_wp
+    nblock = 0
+    if (dim == 3) call explicit_blocks_count(cells%material(s%cell_global), &
+                                             cells%nnodes(s%cell_global), nblock)
+    call state_arena_create(s, nblock)
     if (dim == 2) allocate(s%grad(dim, CELL_MAX_NODES, s%ncell), s%w0(dim, dim, s%ncell), &
                            s%hist(NHIST, s%ncell))      ! 3D: in the blocks (build_blocks)
-    s%cell_global = layout%cell_global(1:s%ncell)
     s%cell_element = cells%elements(1, s%cell_global)
     s%node_global = layout%node_global
     if (dim == 2) then                  ! 2D computes its outer cells first (3D: blocks)
@@ -301,10 +308,9 @@ contains
     end do
     s%cell_force = 0.0_wp
     if (dim == 3) call explicit_cells_set_up(s, cells, w0, halo)
-    s%mass_scaling = model%controls%dt2ms < 0.0_wp
     if (s%mass_scaling) then
-      allocate(s%added(1, CELL_MAX_NODES, s%ncell))
-      call move_alloc(share, s%share)
+      s%share = share
+      s%added = 0.0_wp
     end if
 
     ! essential conditions: fixed dofs and the prescribed motions of local mesh nodes
@@ -348,7 +354,7 @@ contains
     ! corners (the value of the linear field at the centroid, which the enrichment reproduces)
     allocate(v_global(dim, cells%n_mesh_nodes))
     call initial_velocities(model, v_global)
-    allocate(s%u(dim, s%nnode), s%v(dim, s%nnode), s%a(dim, s%nnode), &
+    allocate(s%v(dim, s%nnode), s%a(dim, s%nnode), &
              s%f_int(dim, s%nnode), s%f_int_new(dim, s%nnode), s%f_ext(dim, s%nnode), &
              s%f_ext_new(dim, s%nnode), s%f_con(dim, s%nnode), s%f_con_new(dim, s%nnode))
     s%f_con = 0.0_wp                   ! without loads or contact these stay zero: they are
@@ -444,6 +450,8 @@ contains
     ! (u^n, v^{n-1/2} and the velocities before the walls act: copied each cycle)
     if (s%nwall > 0) allocate(s%u_old(dim, s%nnode), s%v_old(dim, s%nnode), &
                               s%v_trial(dim, s%nnode))
+    ! the other ranks of this node, whose cell blocks this rank may compute (3D)
+    call explicit_steal_set_up(s)
   contains
 
     !> Body of local node l (0: none).
@@ -1001,13 +1009,13 @@ contains
     call comm_min(dt_min)
     my_element = huge(1)
     part = huge(1)
-    if (s%dt_cell > 0) then
-      if (s%dt_stable == dt_min) my_element = model%elements%id(s%cell_element(s%dt_cell))
+    if (s%dt_element > 0) then
+      if (s%dt_stable == dt_min) my_element = model%elements%id(s%dt_element)
     end if
     element = my_element
     call comm_min(element)
     if (my_element == element .and. element /= huge(1)) &
-      part = model%parts(model%elements%part(s%cell_element(s%dt_cell)))%id
+      part = model%parts(model%elements%part(s%dt_element))%id
     call comm_min(part)
     rec%controlled_by = trim(element_kind(s%dim))//' '//itoa(element)//' of part '//itoa(part)
     call glstat_write(rec)
@@ -1184,7 +1192,7 @@ contains
     type(timing_t), intent(in) :: timing              !< phase times (this rank)
     real(wp), intent(in) :: halo_wait                 !< time waiting in the halo assembly
     real(wp), intent(in) :: wall                      !< wall time of the whole analysis
-    real(wp) :: loop, counts(2), ranks, spread(2, 5)
+    real(wp) :: loop, counts(2), ranks, spread(2, 5), shared_blocks(3)
     integer :: k
     counts = [real(count(deformable_element(model)), wp), real(s%ncell, wp)]
     counts(2) = real(s%ncell, wp)
@@ -1217,6 +1225,14 @@ contains
           rtoa(spread(1, 3))//' / '//rtoa(spread(2, 3))//' s, time-step reduction '// &
           rtoa(spread(1, 4))//' / '//rtoa(spread(2, 4))//' s, nodal update '// &
           rtoa(spread(1, 5))//' / '//rtoa(spread(2, 5))//' s')
+      if (comm_size() > 1 .and. s%dim == 3) then
+        shared_blocks = [real(s%blocks_for_others, wp), real(s%blocks_by_others, wp), &
+                         real(s%nblock, wp)*cycle]
+        call comm_sum(shared_blocks)
+        call say('explicit: cell blocks computed by another rank of the node: '// &
+                 itoa(nint(shared_blocks(1)))//' of '//itoa(nint(shared_blocks(3)))//' ('// &
+                 rtoa(100.0_wp*shared_blocks(1)/max(shared_blocks(3), 1.0_wp))//' %)')
+      end if
       if (timing%contact > 0.0_wp) call say('explicit: contact '// &
           rtoa(timing%contact/cycle)//' s per cycle on rank 0')
     end if

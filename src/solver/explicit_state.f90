@@ -3,15 +3,21 @@
 !> nodes, then enriched nodes) and the cells this rank computes, in flat contiguous arrays;
 !> in 3D the cells' data live in blocks of BLOCK_CELLS cells in structure-of-arrays order.
 module mefem_explicit_state
-  use mefem_kinds, only: wp
+  use, intrinsic :: iso_c_binding, only: c_ptr, c_f_pointer
+  use mefem_kinds, only: wp, i8
   use mefem_cells, only: CELL_MAX_NODES
   use mefem_material_state, only: NHIST, BLOCK_CELLS => BLOCK_POINTS
   use mefem_mortar_contact, only: mortar_contact_t
   use mefem_rigid_bodies, only: rigid_bodies_t
+  use mefem_comm, only: comm_arena_t, comm_arena_create, comm_arena_array, &
+                        comm_arena_peer_array, comm_arena_on_node
   implicit none
   private
 
-  public :: set_to_zero
+  public :: set_to_zero, state_arena_create, state_peer_view
+
+  integer, parameter :: ARENA_SIZES = 5                !< sizes recorded in the arena's array 1
+  integer, parameter :: ARENA_ARRAYS = 20              !< arrays in the arena (state_arena_create)
 
   !> Local nodes one rigid wall tests.
   type, public :: node_list_t
@@ -20,13 +26,20 @@ module mefem_explicit_state
 
   !> One rank's share of the explicit model: local nodes (layout numbering: mesh nodes, then
   !> enriched nodes) and the cells it computes, in flat contiguous arrays.
+  !>
+  !> The arrays a cell's computation reads or writes (displacements, the cells' nodes, data,
+  !> histories and force contributions: the pointer components) live in the rank's segment of
+  !> a node-shared arena (state_arena_create), so that another rank of the same node can
+  !> compute some of this rank's cell blocks when it has run out of its own (the cell loop's
+  !> work stealing, mefem_explicit_cell_forces): it does so through a view of this state
+  !> (state_peer_view) whose pointers are this rank's arrays.
   type, public :: explicit_state_t
     integer :: dim = 3                         !< 2 (plane strain) or 3
     integer :: nnode = 0                       !< local nodes
     integer :: ncell = 0                       !< local cells
     ! nodes
     real(wp), allocatable :: x0(:,:)           !< (dim, nnode) reference coordinates
-    real(wp), allocatable :: u(:,:)            !< (dim, nnode) displacements u^n
+    real(wp), pointer, contiguous :: u(:,:) => null() !< (dim, nnode) displacements u^n
     real(wp), allocatable :: v(:,:)            !< (dim, nnode) velocities v^{n+1/2}
     real(wp), allocatable :: v_old(:,:)        !< (dim, nnode) velocities v^{n-1/2} (only with
                                                !< rigid walls, which read it)
@@ -65,43 +78,61 @@ module mefem_explicit_state
     ! blocks of the 3D cell loop: the cells grouped by (material, number of nodes) in
     ! ascending cell order and cut into at most BLOCK_CELLS
     integer :: nblock = 0                      !< blocks (3D; 0 in 2D)
-    integer, allocatable :: block_start(:)     !< (nblock+1) offsets into block_cell
-    integer, allocatable :: block_nodes(:)     !< (nblock) nodes its cells are computed with
+    integer, pointer, contiguous :: block_start(:) => null() !< (nblock+1) offsets into block_cell
+    integer, pointer, contiguous :: block_nodes(:) => null()
+                                               !< (nblock) nodes its cells are computed with
                                                !< (block_node_count)
-    integer, allocatable :: block_cell(:)      !< local cells, block by block
+    integer, pointer, contiguous :: block_cell(:) => null() !< local cells, block by block
     ! 3D: the cells' gradients, metric, volume and history live in the blocks, in the block
     ! kernels' structure-of-arrays layout (entry i of block b is cell block_cell(block_start(b)
     ! + i - 1)); grad, w0 and hist above are then not allocated
-    integer, allocatable :: cell_block(:)      !< (ncell) block of each local cell
-    integer, allocatable :: cell_slot(:)       !< (ncell) its entry in the block
-    real(wp), allocatable :: block_grad(:,:,:,:)  !< (BLOCK_CELLS, 3, CELL_MAX_NODES, nblock)
-    real(wp), allocatable :: block_w0(:,:,:)   !< (BLOCK_CELLS, 9, nblock) W0 by column
-    real(wp), allocatable :: block_weight(:,:) !< (BLOCK_CELLS, nblock) reference volumes
-    real(wp), allocatable :: block_hist(:,:,:) !< (BLOCK_CELLS, NHIST, nblock) histories
+    integer, pointer, contiguous :: cell_block(:) => null() !< (ncell) block of each local cell
+    integer, pointer, contiguous :: cell_slot(:) => null() !< (ncell) its entry in the block
+    real(wp), pointer, contiguous :: block_grad(:,:,:,:) => null()
+                                               !< (BLOCK_CELLS, 3, CELL_MAX_NODES, nblock)
+    real(wp), pointer, contiguous :: block_w0(:,:,:) => null()
+                                               !< (BLOCK_CELLS, 9, nblock) W0 by column
+    real(wp), pointer, contiguous :: block_weight(:,:) => null()
+                                               !< (BLOCK_CELLS, nblock) reference volumes
+    real(wp), pointer, contiguous :: block_hist(:,:,:) => null()
+                                               !< (BLOCK_CELLS, NHIST, nblock) histories
     integer, allocatable :: cell_global(:)     !< (ncell) global cell index
-    integer, allocatable :: cell_element(:)    !< (ncell) first model element of the cell
-    integer, allocatable :: nnodes(:)          !< (ncell) nodes of the cell
-    integer, allocatable :: nodes(:,:)         !< (CELL_MAX_NODES, ncell) local nodes
+    integer, pointer, contiguous :: cell_element(:) => null()
+                                               !< (ncell) first model element of the cell
+    integer, pointer, contiguous :: nnodes(:) => null() !< (ncell) nodes of the cell
+    integer, pointer, contiguous :: nodes(:,:) => null() !< (CELL_MAX_NODES, ncell) local nodes
     real(wp), allocatable :: grad(:,:,:)       !< (dim, CELL_MAX_NODES, ncell) gradients
-    real(wp), allocatable :: weight(:)         !< (ncell) reference area/volume
-    integer, allocatable :: material(:)        !< (ncell) material index
-    real(wp), allocatable :: lame(:,:)         !< (2, ncell) lambda, mu of the material
+    real(wp), pointer, contiguous :: weight(:) => null() !< (ncell) reference area/volume
+    integer, pointer, contiguous :: material(:) => null() !< (ncell) material index
+    real(wp), pointer, contiguous :: lame(:,:) => null() !< (2, ncell) lambda, mu of the material
     real(wp), allocatable :: w0(:,:,:)         !< (dim, dim, ncell) sum g g^T / m_share
-    real(wp), allocatable :: share(:,:)        !< (CELL_MAX_NODES, ncell) mass shares (only
+    real(wp), pointer, contiguous :: share(:,:) => null()
+                                               !< (CELL_MAX_NODES, ncell) mass shares (only
                                                !< with mass scaling, which reads them)
     real(wp), allocatable :: hist(:,:)         !< (NHIST, ncell) material history
-    real(wp), allocatable :: cell_force(:,:,:) !< (dim, CELL_MAX_NODES, ncell) contributions
+    real(wp), pointer, contiguous :: cell_force(:,:,:) => null()
+                                               !< (dim, CELL_MAX_NODES, ncell) contributions
                                                !< (3D: only those to nodes not pushed)
     integer, allocatable :: push_node(:,:)     !< (CELL_MAX_NODES, ncell) 3D: the local node
                                                !< a contribution is added to straight away
                                                !< (pushed assembly), 0: kept in cell_force
-    real(wp), allocatable :: added(:,:,:)      !< (1, CELL_MAX_NODES, ncell) added masses
+    real(wp), pointer, contiguous :: added(:,:,:) => null()
+                                               !< (1, CELL_MAX_NODES, ncell) added masses
     logical :: mass_scaling = .false.          !< DT2MS < 0 given
     ! time step of the last force evaluation
-    real(wp) :: dt_stable = huge(1.0_wp)       !< TSSFAC min 2/omega over local cells
-    integer :: dt_cell = 0                     !< local cell that set it
+    real(wp) :: dt_stable = huge(1.0_wp)       !< TSSFAC min 2/omega over the cells computed
+    integer :: dt_element = 0                  !< model element (first of its cell) that set it
     logical :: failed = .false.                !< a cell failed (message in failure)
     character(len=256) :: failure = ''
+    ! node-shared memory of the pointer components; blocks computed for other ranks
+    type(comm_arena_t) :: arena
+    type(explicit_state_t), allocatable :: peers(:)  !< 3D: views of the other ranks of this
+                                               !< node, whose blocks this rank may compute
+    integer, allocatable :: peer_rank(:)       !< (size(peers)) their world ranks
+    logical :: steal_test = .false.            !< MEFEM_STEAL_TEST=1: rank 0 leaves half of
+                                               !< its blocks to the others (tests)
+    integer(i8) :: blocks_for_others = 0       !< other ranks' blocks computed here (run)
+    integer(i8) :: blocks_by_others = 0        !< this rank's blocks computed by others (run)
     ! rigid bodies (replicated on every rank) and this rank's nodes of them
     type(rigid_bodies_t) :: bodies
     integer :: nrigid = 0                      !< local nodes of rigid bodies
@@ -134,5 +165,89 @@ contains
       a(k) = 0.0_wp
     end do
   end subroutine set_to_zero
+
+
+  !> Create the node-shared arena of the cell loop's arrays (collective over all ranks) and
+  !> point the state's pointer components at it: sizes from s%dim, s%nnode, s%ncell,
+  !> s%mass_scaling and nblock (3D blocks; 0 in 2D). The arrays are left undefined; the
+  !> first one records the sizes for the views of other ranks.
+  subroutine state_arena_create(s, nblock)
+    type(explicit_state_t), intent(inout) :: s        !< state (sizes set)
+    integer, intent(in) :: nblock                     !< 3D blocks (0 in 2D)
+    integer(i8) :: c, n, b, nscale, nblocked, dim
+    integer, pointer :: sizes(:)
+    integer :: k
+    dim = s%dim
+    c = s%ncell
+    n = s%nnode
+    b = nblock
+    nscale = 0
+    if (s%mass_scaling) nscale = c
+    nblocked = 0
+    if (nblock > 0) nblocked = c
+    call comm_arena_create(s%arena, [ARENA_SIZES*4_i8, dim*n*8, CELL_MAX_NODES*c*4, c*4, c*8, &
+        c*4, 2*c*8, c*4, dim*CELL_MAX_NODES*c*8, CELL_MAX_NODES*nscale*8, &
+        CELL_MAX_NODES*nscale*8, (b + 1)*4, b*4, nblocked*4, nblocked*4, nblocked*4, &
+        BLOCK_CELLS*3*CELL_MAX_NODES*b*8, BLOCK_CELLS*9*b*8, BLOCK_CELLS*b*8, &
+        BLOCK_CELLS*NHIST*b*8])
+    call c_f_pointer(comm_arena_array(s%arena, 1), sizes, [ARENA_SIZES])
+    sizes = [s%dim, s%nnode, s%ncell, nblock, merge(1, 0, s%mass_scaling)]
+    s%nblock = nblock
+    call associate_arrays(s, [(comm_arena_array(s%arena, k), k = 1, ARENA_ARRAYS)])
+  end subroutine state_arena_create
+
+  !> A view of the state of world rank `rank` (same node; its arena created and its sizes
+  !> written, e.g. after a barrier): the pointer components and sizes of `view` are that
+  !> rank's, everything else is empty. ok = .false. when the rank is on another node.
+  subroutine state_peer_view(s, rank, view, ok)
+    type(explicit_state_t), intent(in), target :: s   !< this rank's state (its arena)
+    integer, intent(in) :: rank                       !< the other rank (world, 0-based)
+    type(explicit_state_t), intent(out) :: view       !< its view
+    logical, intent(out) :: ok                        !< a view was made
+    integer, pointer :: sizes(:)
+    integer :: k
+    ok = comm_arena_on_node(s%arena, rank)
+    if (.not. ok) return
+    call c_f_pointer(comm_arena_peer_array(s%arena, rank, 1), sizes, [ARENA_SIZES])
+    view%dim = sizes(1)
+    view%nnode = sizes(2)
+    view%ncell = sizes(3)
+    view%nblock = sizes(4)
+    view%mass_scaling = sizes(5) == 1
+    call associate_arrays(view, [(comm_arena_peer_array(s%arena, rank, k), k = 1, ARENA_ARRAYS)])
+  end subroutine state_peer_view
+
+  !> Point the arena's arrays (in the order of state_arena_create) at the addresses given,
+  !> with the shapes from the sizes in `s`.
+  subroutine associate_arrays(s, address_of)
+    type(explicit_state_t), intent(inout) :: s        !< state or view (sizes set)
+    type(c_ptr), intent(in) :: address_of(ARENA_ARRAYS)  !< address of each array
+    integer :: c, nscale, nblocked, b
+    c = s%ncell
+    b = s%nblock
+    nscale = 0
+    if (s%mass_scaling) nscale = c
+    nblocked = 0
+    if (b > 0) nblocked = c
+    call c_f_pointer(address_of(2), s%u, [s%dim, s%nnode])
+    call c_f_pointer(address_of(3), s%nodes, [CELL_MAX_NODES, c])
+    call c_f_pointer(address_of(4), s%nnodes, [c])
+    call c_f_pointer(address_of(5), s%weight, [c])
+    call c_f_pointer(address_of(6), s%material, [c])
+    call c_f_pointer(address_of(7), s%lame, [2, c])
+    call c_f_pointer(address_of(8), s%cell_element, [c])
+    call c_f_pointer(address_of(9), s%cell_force, [s%dim, CELL_MAX_NODES, c])
+    call c_f_pointer(address_of(10), s%added, [1, CELL_MAX_NODES, nscale])
+    call c_f_pointer(address_of(11), s%share, [CELL_MAX_NODES, nscale])
+    call c_f_pointer(address_of(12), s%block_start, [b + 1])
+    call c_f_pointer(address_of(13), s%block_nodes, [b])
+    call c_f_pointer(address_of(14), s%block_cell, [nblocked])
+    call c_f_pointer(address_of(15), s%cell_block, [nblocked])
+    call c_f_pointer(address_of(16), s%cell_slot, [nblocked])
+    call c_f_pointer(address_of(17), s%block_grad, [BLOCK_CELLS, 3, CELL_MAX_NODES, b])
+    call c_f_pointer(address_of(18), s%block_w0, [BLOCK_CELLS, 9, b])
+    call c_f_pointer(address_of(19), s%block_weight, [BLOCK_CELLS, b])
+    call c_f_pointer(address_of(20), s%block_hist, [BLOCK_CELLS, NHIST, b])
+  end subroutine associate_arrays
 
 end module mefem_explicit_state

@@ -178,6 +178,36 @@ if 1 in parts:
                  'plastic strain %.2e, velocity at 150 mm %.1f' % (eps.max(), n['x-vel'][-1, 2]))
 check_same_bits(parts, 'four parts, ')
 
+# ---- 2c. work stealing between the ranks of a node -----------------------------------------
+# The ranks of one node compute each other's cell blocks when they run out of their own
+# (doc/theory.md 6). With MEFEM_STEAL_TEST=1 rank 0 first takes half of its blocks, then the
+# others', then what is left of its own, so that its second half goes to the other ranks:
+# the four-part bar on 2-4 ranks must then report blocks computed by another rank and keep
+# the bits of the 1-rank run.
+os.environ['MEFEM_STEAL_TEST'] = '1'
+stolen = {}
+for ranks in (2, 3, 4):
+    rc, text, out = run_case('four_parts_steal%d' % ranks, four_part_deck(4.0e-5), ranks=ranks)
+    checks.check(rc == 0, 'work stealing on %d ranks: run succeeds' % ranks, text[-600:])
+    m = re.search(r'cell blocks computed by another rank of the node: (\d+) of (\d+)', text)
+    stolen[ranks] = int(m.group(1)) if m else 0
+    checks.check(stolen[ranks] > 0, 'work stealing on %d ranks: blocks computed by another '
+                 'rank' % ranks, 'line: %s' % (m.group(0) if m else 'missing'))
+    if rc == 0 and 1 in parts:
+        n = nodout(out)
+        with h5py.File(os.path.join(out, 'four_parts_steal%d.h5' % ranks)) as f:
+            last = sorted(f['states'].keys())[-1]
+            ids = f['mesh/node_ids'][()]
+            disp = f['states/%s/point/displacement' % last][()][np.argsort(ids)]
+        hist = np.stack([n[c] for c in ('x-disp', 'x-vel', 'x-accl')])
+        checks.check(np.array_equal(parts[1][0], hist) and np.array_equal(parts[1][1], disp),
+                     'work stealing on %d ranks: histories and displacements identical to '
+                     '1 rank (bit for bit)' % ranks,
+                     'max difference %.3e' % np.max(abs(parts[1][1] - disp)))
+del os.environ['MEFEM_STEAL_TEST']
+print('    work stealing: blocks computed by another rank on 2, 3, 4 ranks: %s'
+      % ', '.join(str(stolen[r]) for r in (2, 3, 4)))
+
 # ---- 3. a free-flying, spinning body: momentum, angular motion, objectivity ----------------
 # Box 20 x 20 x 5 mm, 4 x 4 x 1 hexahedra of 6 tets, initial velocity v + omega e_z x (x - c)
 # about its centre, no supports. omega R / c_d = 0.01 so that the centrifugal stress
