@@ -87,6 +87,7 @@ module mefem_comm
   integer, parameter :: ARENA_HEADER_BYTES = 64       !< claim word, done word, item count
   integer(MPI_ADDRESS_KIND), parameter :: WORD_CLAIM = 0, WORD_DONE = 1, WORD_ITEMS = 2
   integer(i8), parameter :: BACK_UNIT = 2_i8**32      !< one item taken from the back
+  integer(MPI_ADDRESS_KIND), parameter :: WORD_BYTES = storage_size(0_i8)/8  !< header word
   type(MPI_Comm) :: node_comm                         !< the ranks sharing this node's memory
   logical :: have_node_comm = .false.
 
@@ -583,7 +584,8 @@ contains
     integer(i8), intent(in) :: value                  !< added (0: an atomic read)
     integer(i8) :: old
     integer :: ierr
-    call MPI_Fetch_and_op(value, old, MPI_INTEGER8, node_rank, word*8, MPI_SUM, arena%win, ierr)
+    call MPI_Fetch_and_op(value, old, MPI_INTEGER8, node_rank, word*WORD_BYTES, MPI_SUM, &
+                          arena%win, ierr)
     call MPI_Win_flush(node_rank, arena%win, ierr)
   end function add_word
 
@@ -595,8 +597,8 @@ contains
     integer(i8), intent(in) :: value                  !< the new value
     integer(i8) :: old
     integer :: ierr
-    call MPI_Fetch_and_op(value, old, MPI_INTEGER8, node_rank, word*8, MPI_REPLACE, arena%win, &
-                          ierr)
+    call MPI_Fetch_and_op(value, old, MPI_INTEGER8, node_rank, word*WORD_BYTES, MPI_REPLACE, &
+                          arena%win, ierr)
     call MPI_Win_flush(node_rank, arena%win, ierr)
   end subroutine put_word
 

@@ -18,6 +18,8 @@ module mefem_explicit_state
 
   integer, parameter :: ARENA_SIZES = 5                !< sizes recorded in the arena's array 1
   integer, parameter :: ARENA_ARRAYS = 20              !< arrays in the arena (state_arena_create)
+  integer(i8), parameter :: INT_BYTES = storage_size(0)/8       !< bytes of a default integer
+  integer(i8), parameter :: REAL_BYTES = storage_size(1.0_wp)/8 !< bytes of a real(wp)
 
   !> Local nodes one rigid wall tests.
   type, public :: node_list_t
@@ -185,11 +187,13 @@ contains
     if (s%mass_scaling) nscale = c
     nblocked = 0
     if (nblock > 0) nblocked = c
-    call comm_arena_create(s%arena, [ARENA_SIZES*4_i8, dim*n*8, CELL_MAX_NODES*c*4, c*4, c*8, &
-        c*4, 2*c*8, c*4, dim*CELL_MAX_NODES*c*8, CELL_MAX_NODES*nscale*8, &
-        CELL_MAX_NODES*nscale*8, (b + 1)*4, b*4, nblocked*4, nblocked*4, nblocked*4, &
-        BLOCK_CELLS*3*CELL_MAX_NODES*b*8, BLOCK_CELLS*9*b*8, BLOCK_CELLS*b*8, &
-        BLOCK_CELLS*NHIST*b*8])
+    ! bytes of each array, in the order (and with the shapes) of associate_arrays
+    call comm_arena_create(s%arena, [ARENA_SIZES*INT_BYTES, dim*n*REAL_BYTES, &
+        CELL_MAX_NODES*c*INT_BYTES, c*INT_BYTES, c*REAL_BYTES, c*INT_BYTES, 2*c*REAL_BYTES, &
+        c*INT_BYTES, dim*CELL_MAX_NODES*c*REAL_BYTES, CELL_MAX_NODES*nscale*REAL_BYTES, &
+        CELL_MAX_NODES*nscale*REAL_BYTES, (b + 1)*INT_BYTES, b*INT_BYTES, nblocked*INT_BYTES, &
+        nblocked*INT_BYTES, nblocked*INT_BYTES, BLOCK_CELLS*3*CELL_MAX_NODES*b*REAL_BYTES, &
+        BLOCK_CELLS*9*b*REAL_BYTES, BLOCK_CELLS*b*REAL_BYTES, BLOCK_CELLS*NHIST*b*REAL_BYTES])
     call c_f_pointer(comm_arena_array(s%arena, 1), sizes, [ARENA_SIZES])
     sizes = [s%dim, s%nnode, s%ncell, nblock, merge(1, 0, s%mass_scaling)]
     s%nblock = nblock
@@ -200,7 +204,7 @@ contains
   !> written, e.g. after a barrier): the pointer components and sizes of `view` are that
   !> rank's, everything else is empty. ok = .false. when the rank is on another node.
   subroutine state_peer_view(s, rank, view, ok)
-    type(explicit_state_t), intent(in), target :: s   !< this rank's state (its arena)
+    type(explicit_state_t), intent(in) :: s           !< this rank's state (its arena)
     integer, intent(in) :: rank                       !< the other rank (world, 0-based)
     type(explicit_state_t), intent(out) :: view       !< its view
     logical, intent(out) :: ok                        !< a view was made
@@ -217,8 +221,8 @@ contains
     call associate_arrays(view, [(comm_arena_peer_array(s%arena, rank, k), k = 1, ARENA_ARRAYS)])
   end subroutine state_peer_view
 
-  !> Point the arena's arrays (in the order of state_arena_create) at the addresses given,
-  !> with the shapes from the sizes in `s`.
+  !> Point the arena's arrays (in the order of state_arena_create, whose byte sizes must
+  !> match these shapes) at the addresses given, with the shapes from the sizes in `s`.
   subroutine associate_arrays(s, address_of)
     type(explicit_state_t), intent(inout) :: s        !< state or view (sizes set)
     type(c_ptr), intent(in) :: address_of(ARENA_ARRAYS)  !< address of each array
