@@ -583,10 +583,7 @@ contains
     integer(MPI_ADDRESS_KIND), intent(in) :: word     !< word index in the header
     integer(i8), intent(in) :: value                  !< added (0: an atomic read)
     integer(i8) :: old
-    integer :: ierr
-    call MPI_Fetch_and_op(value, old, MPI_INTEGER8, node_rank, word*WORD_BYTES, MPI_SUM, &
-                          arena%win, ierr)
-    call MPI_Win_flush(node_rank, arena%win, ierr)
+    old = word_operation(arena, node_rank, word, value, MPI_SUM)
   end function add_word
 
   !> Atomically set header word `word` of node rank `node_rank`.
@@ -596,11 +593,22 @@ contains
     integer(MPI_ADDRESS_KIND), intent(in) :: word     !< word index in the header
     integer(i8), intent(in) :: value                  !< the new value
     integer(i8) :: old
+    old = word_operation(arena, node_rank, word, value, MPI_REPLACE)
+  end subroutine put_word
+
+  !> One atomic operation (MPI_SUM or MPI_REPLACE) on a header word, completed; the old value.
+  function word_operation(arena, node_rank, word, value, operation) result(old)
+    type(comm_arena_t), intent(inout) :: arena        !< the arena
+    integer, intent(in) :: node_rank                  !< whose header
+    integer(MPI_ADDRESS_KIND), intent(in) :: word     !< word index in the header
+    integer(i8), intent(in) :: value                  !< operand
+    type(MPI_Op), intent(in) :: operation             !< MPI_SUM or MPI_REPLACE
+    integer(i8) :: old
     integer :: ierr
-    call MPI_Fetch_and_op(value, old, MPI_INTEGER8, node_rank, word*WORD_BYTES, MPI_REPLACE, &
+    call MPI_Fetch_and_op(value, old, MPI_INTEGER8, node_rank, word*WORD_BYTES, operation, &
                           arena%win, ierr)
     call MPI_Win_flush(node_rank, arena%win, ierr)
-  end subroutine put_word
+  end function word_operation
 
   !> A C address as an integer.
   integer(MPI_ADDRESS_KIND) function address_of(base)
