@@ -4,7 +4,7 @@
 !> directly. A serial run is the same code on one rank. Libraries that need the
 !> communicator (MUMPS, HDF5) get the Fortran integer handle from comm_fortran_handle().
 module mefem_comm
-  use, intrinsic :: iso_c_binding, only: c_ptr, c_null_ptr
+  use, intrinsic :: iso_c_binding, only: c_ptr, c_null_ptr, c_loc, c_f_pointer
   use mpi_f08
   use mefem_kinds, only: wp, i8
   implicit none
@@ -71,7 +71,11 @@ module mefem_comm
   type :: comm_arena_t
     private
     logical :: active = .false.                       !< created, not yet freed
+    logical :: shared = .false.                       !< in a shared window (else, alone on
+                                                      !< its node, in private memory)
     type(MPI_Win) :: win                              !< the node's shared window
+    character(len=1), pointer, contiguous :: private_memory(:) => null()  !< the segment of a
+                                                      !< rank alone on its node
     integer :: narray = 0                             !< arrays per segment
     integer :: node_size = 1                          !< ranks on this node
     integer, allocatable :: node_rank_of(:)           !< (world size) node rank of a world
@@ -428,7 +432,15 @@ contains
     do r = 1, arena%node_size
       arena%node_rank_of(world_of(r) + 1) = r - 1
     end do
-    call MPI_Win_allocate_shared(total, 1, MPI_INFO_NULL, node_comm, base, arena%win, ierr)
+    ! a rank alone on its node keeps its segment in private memory: a shared window is backed
+    ! by a file in /dev/shm, which a container may keep small, and nobody would share it
+    arena%shared = arena%node_size > 1
+    if (arena%shared) then
+      call MPI_Win_allocate_shared(total, 1, MPI_INFO_NULL, node_comm, base, arena%win, ierr)
+    else
+      allocate(arena%private_memory(total))
+      base = c_loc(arena%private_memory(1))
+    end if
     mine(1) = ARENA_HEADER_BYTES + modulo(-address_of(base) - ARENA_HEADER_BYTES, &
                                           int(ARENA_ALIGN, MPI_ADDRESS_KIND))
     do k = 2, arena%narray
@@ -437,14 +449,19 @@ contains
     end do
     call MPI_Allgather(mine, arena%narray, MPI_AINT, arena%offset, arena%narray, MPI_AINT, &
                        node_comm, ierr)
-    do r = 1, arena%node_size
-      call MPI_Win_shared_query(arena%win, r - 1, peer_size, disp_unit, arena%segment(r), ierr)
-    end do
-    call MPI_Win_lock_all(MPI_MODE_NOCHECK, arena%win, ierr)
+    if (arena%shared) then
+      do r = 1, arena%node_size
+        call MPI_Win_shared_query(arena%win, r - 1, peer_size, disp_unit, arena%segment(r), &
+                                  ierr)
+      end do
+      call MPI_Win_lock_all(MPI_MODE_NOCHECK, arena%win, ierr)
+    else
+      arena%segment(1) = base
+    end if
     call put_word(arena, node_rank, WORD_CLAIM, 0_i8)
     call put_word(arena, node_rank, WORD_DONE, 0_i8)
     call put_word(arena, node_rank, WORD_ITEMS, 0_i8)
-    call MPI_Win_sync(arena%win, ierr)
+    call comm_arena_sync(arena)
     call MPI_Barrier(node_comm, ierr)
     arena%active = .true.
   end subroutine comm_arena_create
@@ -454,8 +471,12 @@ contains
     type(comm_arena_t), intent(inout) :: arena        !< the arena
     integer :: ierr
     if (.not. arena%active) return
-    call MPI_Win_unlock_all(arena%win, ierr)
-    call MPI_Win_free(arena%win, ierr)
+    if (arena%shared) then
+      call MPI_Win_unlock_all(arena%win, ierr)
+      call MPI_Win_free(arena%win, ierr)
+    else
+      deallocate(arena%private_memory)
+    end if
     arena%active = .false.
   end subroutine comm_arena_free
 
@@ -494,7 +515,7 @@ contains
   subroutine comm_arena_sync(arena)
     type(comm_arena_t), intent(inout) :: arena        !< the arena
     integer :: ierr
-    if (arena%active) call MPI_Win_sync(arena%win, ierr)
+    if (arena%shared) call MPI_Win_sync(arena%win, ierr)
   end subroutine comm_arena_sync
 
   !> Owner: start a round of n work items, claimed `chunk` at a time. Call after the data the
@@ -503,11 +524,11 @@ contains
     type(comm_arena_t), intent(inout) :: arena        !< the arena
     integer, intent(in) :: n                          !< work items of this round
     integer, intent(in) :: chunk                      !< items per claim (>= 1)
-    integer :: node_rank, ierr
+    integer :: node_rank
     node_rank = arena%node_rank_of(my_rank + 1)
     arena%items = int(n, i8)
     arena%chunk = int(max(chunk, 1), i8)
-    call MPI_Win_sync(arena%win, ierr)
+    call comm_arena_sync(arena)
     call put_word(arena, node_rank, WORD_DONE, 0_i8)
     call put_word(arena, node_rank, WORD_ITEMS, arena%items)
     call put_word(arena, node_rank, WORD_CLAIM, 0_i8)
@@ -535,7 +556,7 @@ contains
     integer, intent(in) :: chunk                      !< items per claim (>= 1)
     integer, intent(out) :: first, last               !< the items taken
     integer(i8) :: old, front, back, items
-    integer :: node_rank, ierr
+    integer :: node_rank
     first = 1
     last = 0
     node_rank = arena%node_rank_of(rank + 1)
@@ -546,7 +567,7 @@ contains
     back = old/BACK_UNIT
     last = int(items - back)
     first = int(max(items - back - int(max(chunk, 1), i8) + 1, front + 1))
-    call MPI_Win_sync(arena%win, ierr)
+    call comm_arena_sync(arena)
   end subroutine comm_work_steal
 
   !> Thief: count items of world rank `rank` done (their results written before this call).
@@ -555,8 +576,7 @@ contains
     integer, intent(in) :: rank                       !< the owner (world rank, 0-based)
     integer, intent(in) :: count                      !< items finished
     integer(i8) :: old
-    integer :: ierr
-    call MPI_Win_sync(arena%win, ierr)
+    call comm_arena_sync(arena)
     old = add_word(arena, arena%node_rank_of(rank + 1), WORD_DONE, int(count, i8))
   end subroutine comm_work_finished
 
@@ -573,7 +593,7 @@ contains
       call MPI_Iprobe(MPI_ANY_SOURCE, MPI_ANY_TAG, MPI_COMM_WORLD, arrived, MPI_STATUS_IGNORE, &
                       ierr)
     end do
-    call MPI_Win_sync(arena%win, ierr)
+    call comm_arena_sync(arena)
   end subroutine comm_work_wait
 
   !> Atomically add `value` to header word `word` of node rank `node_rank`; the old value.
@@ -604,10 +624,21 @@ contains
     integer(i8), intent(in) :: value                  !< operand
     type(MPI_Op), intent(in) :: operation             !< MPI_SUM or MPI_REPLACE
     integer(i8) :: old
+    integer(i8), pointer :: words(:)
     integer :: ierr
-    call MPI_Fetch_and_op(value, old, MPI_INTEGER8, node_rank, word*WORD_BYTES, operation, &
-                          arena%win, ierr)
-    call MPI_Win_flush(node_rank, arena%win, ierr)
+    if (arena%shared) then
+      call MPI_Fetch_and_op(value, old, MPI_INTEGER8, node_rank, word*WORD_BYTES, operation, &
+                            arena%win, ierr)
+      call MPI_Win_flush(node_rank, arena%win, ierr)
+    else                                  ! alone on the node: plain memory
+      call c_f_pointer(arena%segment(1), words, [3])
+      old = words(word + 1)
+      if (operation == MPI_SUM) then
+        words(word + 1) = old + value
+      else
+        words(word + 1) = value
+      end if
+    end if
   end function word_operation
 
   !> A C address as an integer.
