@@ -646,21 +646,12 @@ contains
     type(c_ptr), intent(in) :: base                   !< the address
     integer :: ierr
     character(len=1), pointer :: memory(:)
-    call c_f_pointer_bytes(base, memory)
+    call c_f_pointer(base, memory, [1])
     call MPI_Get_address(memory(1), address_of, ierr)
   end function address_of
 
-  !> The memory at `base` as bytes (one, enough to take its address).
-  subroutine c_f_pointer_bytes(base, memory)
-    use, intrinsic :: iso_c_binding, only: c_f_pointer
-    type(c_ptr), intent(in) :: base                   !< the address
-    character(len=1), pointer, intent(out) :: memory(:)  !< one byte there
-    call c_f_pointer(base, memory, [1])
-  end subroutine c_f_pointer_bytes
-
   !> The address `bytes` past `base`.
   function byte_offset(base, bytes) result(address)
-    use, intrinsic :: iso_c_binding, only: c_f_pointer, c_loc
     type(c_ptr), intent(in) :: base                   !< start address
     integer(MPI_ADDRESS_KIND), intent(in) :: bytes    !< offset
     type(c_ptr) :: address

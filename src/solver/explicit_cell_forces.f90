@@ -13,7 +13,7 @@
 !> are stored per cell and summed by mefem_halo's order-fixed plan, with other ranks' ones.
 module mefem_explicit_cell_forces
   use mefem_kinds, only: wp
-  use mefem_errors, only: status_t, fatal
+  use mefem_errors, only: status_t
   use mefem_strings, only: itoa
   use mefem_model, only: model_t
   use mefem_halo, only: halo_t, halo_assemble_start, halo_assembly_push_nodes
@@ -31,19 +31,20 @@ module mefem_explicit_cell_forces
   implicit none
   private
 
-  public :: explicit_cells_set_up, explicit_cell_loop, block_cell_data, explicit_blocks_count
+  public :: explicit_cells_set_up, explicit_cell_loop, block_cell_data, explicit_blocks_group
   public :: explicit_steal_set_up, explicit_steal_tear_down
 
 contains
 
   !> 3D: group the local cells into blocks (with their gradients, metrics, volumes and
   !> virgin histories) and plan the pushed assembly (telling the halo which nodes it is).
-  subroutine explicit_cells_set_up(s, cells, w0, halo)
+  subroutine explicit_cells_set_up(s, cells, w0, halo, starts, nodes_of, order)
     type(explicit_state_t), intent(inout) :: s        !< local state (cells set up)
     type(cells_t), intent(in) :: cells                !< all cells (gradients)
     real(wp), intent(in) :: w0(:,:,:)                 !< (3, 3, s%ncell) local cells' metrics
     type(halo_t), intent(inout) :: halo               !< force exchange
-    call build_blocks(s, cells, w0)
+    integer, intent(in) :: starts(:), nodes_of(:), order(:)  !< explicit_blocks_group's
+    call build_blocks(s, cells, w0, starts, nodes_of, order)
     call plan_pushed_assembly(s, halo)
   end subroutine explicit_cells_set_up
 
@@ -191,10 +192,7 @@ contains
         ranks(n) = r
       end do
     end if
-    allocate(s%peers(n))
-    do r = 1, n
-      call state_peer_view(s, ranks(r), s%peers(r), ok)
-    end do
+    s%peers = views(1:n)                              ! (pointer components: the same arrays)
     s%peer_rank = ranks(1:n)
     call get_environment_variable('MEFEM_STEAL_TEST', value, length, status)
     s%steal_test = status == 0 .and. trim(value) == '1' .and. comm_rank() == 0 .and. n > 0
@@ -207,18 +205,19 @@ contains
     call comm_arena_free(s%arena)
   end subroutine explicit_steal_tear_down
 
-  !> Keep a step found in another rank's cells if smaller than this rank's (equal: the lower
-  !> element id), as keep_smallest_step does cell by cell.
+  !> Keep a step (of one cell, or the smallest of another rank's cells computed here) if it
+  !> is smaller than the smallest so far; among equal steps, the lower element id.
   subroutine keep_smaller_step(model, s, dt, element)
     type(model_t), intent(in) :: model                !< resolved model
     type(explicit_state_t), intent(inout) :: s        !< local state
-    real(wp), intent(in) :: dt                        !< the other cells' smallest step
+    real(wp), intent(in) :: dt                        !< the step
     integer, intent(in) :: element                    !< its element (0: none)
     if (element == 0) return
-    if (dt < s%dt_stable .or. (dt == s%dt_stable .and. s%dt_element > 0 .and. &
-        model%elements%id(element) < model%elements%id(max(s%dt_element, 1)))) then
+    if (dt < s%dt_stable) then
       s%dt_stable = dt
       s%dt_element = element
+    else if (dt == s%dt_stable .and. s%dt_element > 0) then
+      if (model%elements%id(element) < model%elements%id(s%dt_element)) s%dt_element = element
     end if
   end subroutine keep_smaller_step
 
@@ -331,39 +330,23 @@ contains
     type(explicit_state_t), intent(inout) :: s        !< local state
     integer, intent(in) :: l                          !< local cell
     real(wp), intent(in) :: dt_cell                   !< its step (TSSFAC applied)
-    if (dt_cell < s%dt_stable) then
-      s%dt_stable = dt_cell
-      s%dt_element = s%cell_element(l)
-    else if (dt_cell == s%dt_stable .and. s%dt_element > 0) then
-      if (model%elements%id(s%cell_element(l)) < model%elements%id(s%dt_element)) &
-        s%dt_element = s%cell_element(l)
-    end if
+    call keep_smaller_step(model, s, dt_cell, s%cell_element(l))
   end subroutine keep_smallest_step
 
-  !> Number of blocks the local cells form (group_blocks), for sizing the arena before the
-  !> blocks are filled.
-  subroutine explicit_blocks_count(material, nnodes, nblock)
-    integer, intent(in) :: material(:)                !< (ncell) material of each local cell
-    integer, intent(in) :: nnodes(:)                  !< (ncell) nodes of each local cell
-    integer, intent(out) :: nblock                    !< blocks
-    integer, allocatable :: starts(:), nodes_of(:), order(:)
-    call group_blocks(material, nnodes, nblock, starts, nodes_of, order)
-  end subroutine explicit_blocks_count
-
-  !> Group cells into blocks for block_forces: cells of equal (material, node count)
-  !> together in ascending cell order, cut into blocks of at most BLOCK_CELLS. Block b holds
-  !> cells order(starts(b):starts(b+1)-1), computed with nodes_of(b) nodes. The order of
-  !> computation does not change any result: every cell writes its own contributions and the
-  !> assembly order is fixed by the layout's plan.
-  subroutine group_blocks(material, nnodes, nblock, starts, nodes_of, order)
+  !> Group the local cells into blocks for block_forces (3D; before the arena, which they
+  !> size): cells of equal (material, node count) together in ascending cell order, cut into
+  !> blocks of at most BLOCK_CELLS. Block b holds cells order(starts(b):starts(b+1)-1),
+  !> computed with nodes_of(b) nodes (size(nodes_of) blocks). The order of computation does
+  !> not change any result: every cell writes its own contributions and the assembly order
+  !> is fixed by the layout's plan.
+  subroutine explicit_blocks_group(material, nnodes, starts, nodes_of, order)
     integer, intent(in) :: material(:)                !< (ncell) material of each cell
     integer, intent(in) :: nnodes(:)                  !< (ncell) nodes of each cell
-    integer, intent(out) :: nblock                    !< blocks
     integer, allocatable, intent(out) :: starts(:)    !< (nblock+1) offsets into order
     integer, allocatable, intent(out) :: nodes_of(:)  !< (nblock) node count of each block
     integer, allocatable, intent(out) :: order(:)     !< (ncell) cells, block by block
     logical :: placed(size(material))
-    integer :: k, m, n, placed_count, key_material, key_nodes, in_block
+    integer :: k, m, n, placed_count, key_material, key_nodes, in_block, nblock
     n = size(material)
     allocate(starts(n + 2), nodes_of(n + 1), order(n))
     nblock = 0
@@ -393,20 +376,20 @@ contains
       starts(nblock + 1) = placed_count + 1
       nodes_of(nblock) = key_nodes
     end do
-  end subroutine group_blocks
+    starts = starts(1:nblock + 1)
+    nodes_of = nodes_of(1:nblock)
+  end subroutine explicit_blocks_group
 
-  !> Fill the blocks (arena arrays sized by explicit_blocks_count): their cells, the cells'
-  !> gradients, metrics, volumes and virgin histories (unused entries zero).
-  subroutine build_blocks(s, cells, w0)
+  !> Fill the blocks (arena arrays sized by explicit_blocks_group's grouping): their cells,
+  !> the cells' gradients, metrics, volumes and virgin histories (unused entries zero).
+  subroutine build_blocks(s, cells, w0, starts, nodes_of, order)
     type(explicit_state_t), intent(inout) :: s        !< local state (cells set up)
     type(cells_t), intent(in) :: cells                !< all cells (gradients)
     real(wp), intent(in) :: w0(:,:,:)                 !< (3, 3, s%ncell) local cells' metrics
-    integer, allocatable :: starts(:), nodes_of(:), order(:)
-    integer :: b, k, l, i, c, nblock
-    call group_blocks(s%material, s%nnodes, nblock, starts, nodes_of, order)
-    if (nblock /= s%nblock) call fatal('build_blocks: block count differs from the arena''s')
-    s%block_start = starts(1:s%nblock + 1)
-    s%block_nodes = nodes_of(1:s%nblock)
+    integer, intent(in) :: starts(:), nodes_of(:), order(:)  !< explicit_blocks_group's
+    integer :: b, k, l, i, c
+    s%block_start = starts
+    s%block_nodes = nodes_of
     s%block_cell = order
     s%block_grad = 0.0_wp
     s%block_w0 = 0.0_wp

@@ -63,7 +63,7 @@ module mefem_explicit_dynamics
   use mefem_mortar_contact, only: mortar_contact_setup, mortar_contact_forces
   use mefem_explicit_state, only: explicit_state_t, set_to_zero, state_arena_create
   use mefem_explicit_cell_forces, only: explicit_cells_set_up, explicit_cell_loop, &
-                                        block_cell_data, explicit_blocks_count, &
+                                        block_cell_data, explicit_blocks_group, &
                                         explicit_steal_set_up, explicit_steal_tear_down
   use mefem_history_output, only: rwforc_open, rwforc_write, rwforc_close
   implicit none
@@ -240,7 +240,7 @@ contains
     real(wp) :: lambda, mu
     type(status_t) :: status
     integer :: dim, n, g, l, c, e, nv, k, count_entries, pass, i, nblock
-    integer, allocatable :: nodes(:)
+    integer, allocatable :: nodes(:), block_starts(:), block_nodes_of(:), block_order(:)
 
     dim = cells%dim
     s%dim = dim
@@ -277,8 +277,11 @@ contains
     s%cell_global = layout%cell_global(1:s%ncell)
     s%mass_scaling = model%controls%dt2ms < 0.0_wp
     nblock = 0
-    if (dim == 3) call explicit_blocks_count(cells%material(s%cell_global), &
-                                             cells%nnodes(s%cell_global), nblock)
+    if (dim == 3) then
+      call explicit_blocks_group(cells%material(s%cell_global), cells%nnodes(s%cell_global), &
+                                 block_starts, block_nodes_of, block_order)
+      nblock = size(block_nodes_of)
+    end if
     call state_arena_create(s, nblock)
     if (dim == 2) allocate(s%grad(dim, CELL_MAX_NODES, s%ncell), s%w0(dim, dim, s%ncell), &
                            s%hist(NHIST, s%ncell))      ! 3D: in the blocks (build_blocks)
@@ -307,7 +310,8 @@ contains
       end if
     end do
     s%cell_force = 0.0_wp
-    if (dim == 3) call explicit_cells_set_up(s, cells, w0, halo)
+    if (dim == 3) call explicit_cells_set_up(s, cells, w0, halo, block_starts, block_nodes_of, &
+                                             block_order)
     if (s%mass_scaling) then
       s%share = share
       s%added = 0.0_wp

@@ -17,7 +17,11 @@ module mefem_explicit_state
   public :: set_to_zero, state_arena_create, state_peer_view
 
   integer, parameter :: ARENA_SIZES = 5                !< sizes recorded in the arena's array 1
-  integer, parameter :: ARENA_ARRAYS = 20              !< arrays in the arena (state_arena_create)
+  integer, parameter :: ARENA_ARRAYS = 20              !< arrays in the arena (arena_shapes)
+  !> which of them hold reals (the others default integers)
+  logical, parameter :: ARENA_REAL(ARENA_ARRAYS) = [.false., .true., .false., .false., .true., &
+      .false., .true., .false., .true., .true., .true., .false., .false., .false., .false., &
+      .false., .true., .true., .true., .true.]
   integer(i8), parameter :: INT_BYTES = storage_size(0)/8       !< bytes of a default integer
   integer(i8), parameter :: REAL_BYTES = storage_size(1.0_wp)/8 !< bytes of a real(wp)
 
@@ -176,27 +180,16 @@ contains
   subroutine state_arena_create(s, nblock)
     type(explicit_state_t), intent(inout) :: s        !< state (sizes set)
     integer, intent(in) :: nblock                     !< 3D blocks (0 in 2D)
-    integer(i8) :: c, n, b, nscale, nblocked, dim
+    integer(i8) :: shapes(4, ARENA_ARRAYS)
     integer, pointer :: sizes(:)
     integer :: k
-    dim = s%dim
-    c = s%ncell
-    n = s%nnode
-    b = nblock
-    nscale = 0
-    if (s%mass_scaling) nscale = c
-    nblocked = 0
-    if (nblock > 0) nblocked = c
-    ! bytes of each array, in the order (and with the shapes) of associate_arrays
-    call comm_arena_create(s%arena, [ARENA_SIZES*INT_BYTES, dim*n*REAL_BYTES, &
-        CELL_MAX_NODES*c*INT_BYTES, c*INT_BYTES, c*REAL_BYTES, c*INT_BYTES, 2*c*REAL_BYTES, &
-        c*INT_BYTES, dim*CELL_MAX_NODES*c*REAL_BYTES, CELL_MAX_NODES*nscale*REAL_BYTES, &
-        CELL_MAX_NODES*nscale*REAL_BYTES, (b + 1)*INT_BYTES, b*INT_BYTES, nblocked*INT_BYTES, &
-        nblocked*INT_BYTES, nblocked*INT_BYTES, BLOCK_CELLS*3*CELL_MAX_NODES*b*REAL_BYTES, &
-        BLOCK_CELLS*9*b*REAL_BYTES, BLOCK_CELLS*b*REAL_BYTES, BLOCK_CELLS*NHIST*b*REAL_BYTES])
+    s%nblock = nblock
+    shapes = arena_shapes(s)
+    call comm_arena_create(s%arena, [(product(shapes(:, k))* &
+                                      merge(REAL_BYTES, INT_BYTES, ARENA_REAL(k)), &
+                                      k = 1, ARENA_ARRAYS)])
     call c_f_pointer(comm_arena_array(s%arena, 1), sizes, [ARENA_SIZES])
     sizes = [s%dim, s%nnode, s%ncell, nblock, merge(1, 0, s%mass_scaling)]
-    s%nblock = nblock
     call associate_arrays(s, [(comm_arena_array(s%arena, k), k = 1, ARENA_ARRAYS)])
   end subroutine state_arena_create
 
@@ -221,37 +214,63 @@ contains
     call associate_arrays(view, [(comm_arena_peer_array(s%arena, rank, k), k = 1, ARENA_ARRAYS)])
   end subroutine state_peer_view
 
-  !> Point the arena's arrays (in the order of state_arena_create, whose byte sizes must
-  !> match these shapes) at the addresses given, with the shapes from the sizes in `s`.
-  subroutine associate_arrays(s, address_of)
-    type(explicit_state_t), intent(inout) :: s        !< state or view (sizes set)
-    type(c_ptr), intent(in) :: address_of(ARENA_ARRAYS)  !< address of each array
-    integer :: c, nscale, nblocked, b
+  !> Shapes of the arena's arrays (unused trailing extents 1), from the sizes in `s`: array 1
+  !> the sizes themselves, then those associate_arrays points at, in its order.
+  pure function arena_shapes(s) result(shapes)
+    type(explicit_state_t), intent(in) :: s           !< state or view (sizes set)
+    integer(i8) :: shapes(4, ARENA_ARRAYS)
+    integer(i8) :: c, b, nscale, nblocked
     c = s%ncell
     b = s%nblock
     nscale = 0
     if (s%mass_scaling) nscale = c
     nblocked = 0
     if (b > 0) nblocked = c
-    call c_f_pointer(address_of(2), s%u, [s%dim, s%nnode])
-    call c_f_pointer(address_of(3), s%nodes, [CELL_MAX_NODES, c])
-    call c_f_pointer(address_of(4), s%nnodes, [c])
-    call c_f_pointer(address_of(5), s%weight, [c])
-    call c_f_pointer(address_of(6), s%material, [c])
-    call c_f_pointer(address_of(7), s%lame, [2, c])
-    call c_f_pointer(address_of(8), s%cell_element, [c])
-    call c_f_pointer(address_of(9), s%cell_force, [s%dim, CELL_MAX_NODES, c])
-    call c_f_pointer(address_of(10), s%added, [1, CELL_MAX_NODES, nscale])
-    call c_f_pointer(address_of(11), s%share, [CELL_MAX_NODES, nscale])
-    call c_f_pointer(address_of(12), s%block_start, [b + 1])
-    call c_f_pointer(address_of(13), s%block_nodes, [b])
-    call c_f_pointer(address_of(14), s%block_cell, [nblocked])
-    call c_f_pointer(address_of(15), s%cell_block, [nblocked])
-    call c_f_pointer(address_of(16), s%cell_slot, [nblocked])
-    call c_f_pointer(address_of(17), s%block_grad, [BLOCK_CELLS, 3, CELL_MAX_NODES, b])
-    call c_f_pointer(address_of(18), s%block_w0, [BLOCK_CELLS, 9, b])
-    call c_f_pointer(address_of(19), s%block_weight, [BLOCK_CELLS, b])
-    call c_f_pointer(address_of(20), s%block_hist, [BLOCK_CELLS, NHIST, b])
+    shapes = 1
+    shapes(1, 1) = ARENA_SIZES
+    shapes(1:2, 2) = [int(s%dim, i8), int(s%nnode, i8)]             ! u
+    shapes(1:2, 3) = [int(CELL_MAX_NODES, i8), c]                    ! nodes
+    shapes(1, 4:6) = c                                               ! nnodes, weight, material
+    shapes(1:2, 7) = [2_i8, c]                                       ! lame
+    shapes(1, 8) = c                                                 ! cell_element
+    shapes(1:3, 9) = [int(s%dim, i8), int(CELL_MAX_NODES, i8), c]    ! cell_force
+    shapes(1:3, 10) = [1_i8, int(CELL_MAX_NODES, i8), nscale]        ! added
+    shapes(1:2, 11) = [int(CELL_MAX_NODES, i8), nscale]              ! share
+    shapes(1, 12) = b + 1                                            ! block_start
+    shapes(1, 13) = b                                                ! block_nodes
+    shapes(1, 14:16) = nblocked                                      ! block_cell, cell_block,
+                                                                     ! cell_slot
+    shapes(:, 17) = [int(BLOCK_CELLS, i8), 3_i8, int(CELL_MAX_NODES, i8), b]   ! block_grad
+    shapes(1:3, 18) = [int(BLOCK_CELLS, i8), 9_i8, b]                ! block_w0
+    shapes(1:2, 19) = [int(BLOCK_CELLS, i8), b]                      ! block_weight
+    shapes(1:3, 20) = [int(BLOCK_CELLS, i8), int(NHIST, i8), b]      ! block_hist
+  end function arena_shapes
+
+  !> Point the arena's arrays at the addresses given, with arena_shapes' shapes.
+  subroutine associate_arrays(s, address_of)
+    type(explicit_state_t), intent(inout) :: s        !< state or view (sizes set)
+    type(c_ptr), intent(in) :: address_of(ARENA_ARRAYS)  !< address of each array
+    integer(i8) :: shapes(4, ARENA_ARRAYS)
+    shapes = arena_shapes(s)
+    call c_f_pointer(address_of(2), s%u, shapes(1:2, 2))
+    call c_f_pointer(address_of(3), s%nodes, shapes(1:2, 3))
+    call c_f_pointer(address_of(4), s%nnodes, shapes(1:1, 4))
+    call c_f_pointer(address_of(5), s%weight, shapes(1:1, 5))
+    call c_f_pointer(address_of(6), s%material, shapes(1:1, 6))
+    call c_f_pointer(address_of(7), s%lame, shapes(1:2, 7))
+    call c_f_pointer(address_of(8), s%cell_element, shapes(1:1, 8))
+    call c_f_pointer(address_of(9), s%cell_force, shapes(1:3, 9))
+    call c_f_pointer(address_of(10), s%added, shapes(1:3, 10))
+    call c_f_pointer(address_of(11), s%share, shapes(1:2, 11))
+    call c_f_pointer(address_of(12), s%block_start, shapes(1:1, 12))
+    call c_f_pointer(address_of(13), s%block_nodes, shapes(1:1, 13))
+    call c_f_pointer(address_of(14), s%block_cell, shapes(1:1, 14))
+    call c_f_pointer(address_of(15), s%cell_block, shapes(1:1, 15))
+    call c_f_pointer(address_of(16), s%cell_slot, shapes(1:1, 16))
+    call c_f_pointer(address_of(17), s%block_grad, shapes(1:4, 17))
+    call c_f_pointer(address_of(18), s%block_w0, shapes(1:3, 18))
+    call c_f_pointer(address_of(19), s%block_weight, shapes(1:2, 19))
+    call c_f_pointer(address_of(20), s%block_hist, shapes(1:3, 20))
   end subroutine associate_arrays
 
 end module mefem_explicit_state
