@@ -36,8 +36,10 @@ module mefem_halo
 
   public :: halo_build, halo_sum, halo_sum_start, halo_sum_finish
   public :: halo_assemble, halo_assemble_start, halo_assemble_finish, halo_assembly_push_nodes
+  public :: halo_gather_cell_results
 
   integer, parameter :: DEFAULT_TAG = 7100     !< message tag when none is given
+  integer, parameter :: RESULT_TAG = 7300      !< tag of halo_gather_cell_results' messages
 
   !> Neighbours, shared nodes, summation plans and buffers of one halo (read-only for users).
   type, public :: halo_t
@@ -613,5 +615,46 @@ contains
       call fatal_local(text)
     end if
   end subroutine check_cells
+
+  !> The results of the cells this rank's output piece reads (layout%result_cell, ascending)
+  !> from every rank's results of the cells it computes: this rank's own are copied, the
+  !> others' sent by the ranks that compute them (the layout's output plan). Collective over
+  !> the ranks that exchange results.
+  subroutine halo_gather_cell_results(layout, local_values, values)
+    type(explicit_layout_t), intent(in) :: layout            !< this rank's layout
+    real(wp), intent(in) :: local_values(:,:)                !< (ncomp, ncell_local) results
+    real(wp), allocatable, intent(out) :: values(:,:)        !< (ncomp, size(result_cell))
+    real(wp), allocatable, asynchronous :: send(:), receive(:)
+    type(comm_requests_t) :: requests
+    integer :: ncomp, r, first, last, k, source
+    ncomp = size(local_values, 1)
+    allocate(send(ncomp*layout%result_send_start(layout%nranks)), &
+             receive(ncomp*layout%result_receive_start(layout%nranks)))
+    do r = 0, layout%nranks - 1
+      first = layout%result_receive_start(r)
+      last = layout%result_receive_start(r + 1)
+      if (last > first) call comm_irecv_real(receive(ncomp*first + 1:ncomp*last), r, &
+                                             RESULT_TAG, requests)
+    end do
+    do r = 0, layout%nranks - 1
+      first = layout%result_send_start(r)
+      last = layout%result_send_start(r + 1)
+      if (last == first) cycle
+      do k = first + 1, last
+        send(ncomp*(k - 1) + 1:ncomp*k) = local_values(:, layout%result_send_cell(k))
+      end do
+      call comm_isend_real(send(ncomp*first + 1:ncomp*last), r, RESULT_TAG, requests)
+    end do
+    call comm_waitall(requests)
+    allocate(values(ncomp, size(layout%result_cell)))
+    do k = 1, size(layout%result_cell)
+      source = layout%result_source(k)
+      if (source > 0) then
+        values(:, k) = local_values(:, source)
+      else
+        values(:, k) = receive(ncomp*(-source - 1) + 1:ncomp*(-source))
+      end if
+    end do
+  end subroutine halo_gather_cell_results
 
 end module mefem_halo

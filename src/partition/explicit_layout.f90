@@ -77,6 +77,19 @@ module mefem_explicit_layout
                                                   !< (same encoding as a positive source)
     integer, allocatable :: receive_start(:)      !< (nneighbour+1) neighbour k's contributions
                                                   !< are receive_start(k):receive_start(k+1)-1
+    ! output plan: the cell results the means of this rank's output piece read (the cells of
+    ! its elements and the cells touching its elements' nodes), gathered from the ranks that
+    ! compute them (mefem_halo's halo_gather_cell_results)
+    integer, allocatable :: result_cell(:)        !< global cells the piece reads, ascending
+    integer, allocatable :: result_source(:)      !< (size(result_cell)) > 0: local cell; < 0:
+                                                  !< -(position in the received results)
+    integer, allocatable :: result_send_start(:)  !< (0:nranks) rank r's cells are result_send_
+                                                  !< cell(result_send_start(r)+1:result_send_
+                                                  !< start(r+1))
+    integer, allocatable :: result_send_cell(:)   !< local cells sent, ascending per rank
+    integer, allocatable :: result_receive_start(:) !< (0:nranks) rank r's results are positions
+                                                  !< result_receive_start(r)+1 .. (r+1) of the
+                                                  !< received results
   end type explicit_layout_t
 
 contains
@@ -121,6 +134,9 @@ contains
     call build_shared_lists(layout, node_rank_start, node_ranks)
     call select_local_cells(layout, cells, cell_rank, node_rank_start, global_to_local)
     call build_assembly_plan(layout, cells, cell_rank)
+    call collect_node_ranks(layout, elem_part, elem_start, elem_nodes, cells, cell_rank, &
+                            node_rank_start, node_ranks, with_cells=.false.)
+    call build_result_plan(layout, elem_part, cells, cell_rank, node_rank_start, node_ranks)
   end subroutine explicit_layout_build
 
   !> Local index of global node `global` (mesh or enriched numbering), 0 if not local.
@@ -215,7 +231,7 @@ contains
   !> node n's ranks are node_ranks(node_rank_start(n):node_rank_start(n+1)-1). Ranks are
   !> visited in ascending order, one pass to count and one to fill.
   subroutine collect_node_ranks(layout, elem_part, elem_start, elem_nodes, cells, cell_rank, &
-                                node_rank_start, node_ranks)
+                                node_rank_start, node_ranks, with_cells)
     type(explicit_layout_t), intent(in) :: layout         !< sizes
     integer, intent(in) :: elem_part(:)                   !< rank of every element
     integer, intent(in) :: elem_start(:)                  !< element starts
@@ -224,15 +240,24 @@ contains
     integer, intent(in) :: cell_rank(:)                   !< rank computing each cell
     integer, allocatable, intent(out) :: node_rank_start(:) !< (nnode_global+1) offsets
     integer, allocatable, intent(out) :: node_ranks(:)    !< ranks holding each node
+    logical, intent(in), optional :: with_cells           !< .false.: only the ranks whose
+                                                          !< elements touch it (output pieces)
     integer, allocatable :: elem_bucket_start(:), elem_bucket(:), cell_bucket_start(:)
     integer, allocatable :: cell_bucket(:), last_rank(:), next(:)
     logical, allocatable :: touched(:)
+    logical :: count_cells
     integer :: nelem, nall, pass, r, k, e, c, j, n
 
     nelem = size(cells%enriched_of)
     nall = layout%nnode_global
     call bucket_by_rank(layout%nranks, elem_part(1:nelem), elem_bucket_start, elem_bucket)
-    call bucket_by_rank(layout%nranks, cell_rank, cell_bucket_start, cell_bucket)
+    count_cells = .true.
+    if (present(with_cells)) count_cells = with_cells
+    if (count_cells) then
+      call bucket_by_rank(layout%nranks, cell_rank, cell_bucket_start, cell_bucket)
+    else
+      call bucket_by_rank(layout%nranks, [integer ::], cell_bucket_start, cell_bucket)
+    end if
     allocate(touched(layout%n_mesh_nodes))
     touched = .false.
     touched(elem_nodes(1:elem_start(nelem + 1) - 1)) = .true.
@@ -516,5 +541,106 @@ contains
       end do
     end do
   end subroutine build_assembly_plan
+
+  !> The output plan (layout%result_*): a cell's results go to the ranks of its elements and
+  !> to every rank whose elements touch one of its mesh nodes (node_ranks without the cells'
+  !> ranks), the ranks whose output piece's means read it. Every rank applies this rule to the
+  !> same global data, so what one sends is what the other expects; both lists are in
+  !> ascending global cell order.
+  subroutine build_result_plan(layout, elem_part, cells, cell_rank, node_rank_start, node_ranks)
+    type(explicit_layout_t), intent(inout) :: layout      !< local cells in, output plan out
+    integer, intent(in) :: elem_part(:)                   !< rank of every element
+    type(cells_t), intent(in) :: cells                    !< all cells
+    integer, intent(in) :: cell_rank(:)                   !< rank computing each cell
+    integer, intent(in) :: node_rank_start(:)             !< (nnode_global+1) offsets
+    integer, intent(in) :: node_ranks(:)                  !< ranks whose elements touch a node
+    integer, allocatable :: readers(:), send_next(:), receive_next(:)
+    logical, allocatable :: listed(:)
+    integer :: nranks, nreaders, c, l, k, pass, r, nresult
+    nranks = layout%nranks
+    allocate(listed(0:nranks - 1), readers(nranks), send_next(0:nranks - 1), &
+             receive_next(0:nranks - 1))
+    listed = .false.
+    allocate(layout%result_send_start(0:nranks), layout%result_receive_start(0:nranks))
+    do pass = 1, 2
+      ! this rank's cells, to the other ranks that read them
+      if (pass == 1) then
+        send_next = 0
+      else
+        layout%result_send_start(0) = 0
+        do r = 0, nranks - 1
+          layout%result_send_start(r + 1) = layout%result_send_start(r) + send_next(r)
+        end do
+        allocate(layout%result_send_cell(layout%result_send_start(nranks)))
+        send_next = layout%result_send_start(0:nranks - 1)
+      end if
+      do l = 1, layout%ncell_local
+        call cell_readers(layout%cell_global(l))
+        do k = 1, nreaders
+          r = readers(k)
+          if (r == layout%rank) cycle
+          send_next(r) = send_next(r) + 1
+          if (pass == 2) layout%result_send_cell(send_next(r)) = l
+        end do
+      end do
+      ! the cells this rank reads, from the ranks that compute them
+      if (pass == 1) then
+        receive_next = 0
+      else
+        layout%result_receive_start(0) = 0
+        do r = 0, nranks - 1
+          layout%result_receive_start(r + 1) = layout%result_receive_start(r) + receive_next(r)
+        end do
+        allocate(layout%result_cell(nresult), layout%result_source(nresult))
+        receive_next = layout%result_receive_start(0:nranks - 1)
+      end if
+      nresult = 0
+      l = 0
+      do c = 1, cells%n
+        if (cell_rank(c) == layout%rank) l = l + 1
+        call cell_readers(c)
+        if (.not. any(readers(1:nreaders) == layout%rank)) cycle
+        nresult = nresult + 1
+        r = cell_rank(c)
+        if (r /= layout%rank) receive_next(r) = receive_next(r) + 1
+        if (pass == 1) cycle
+        layout%result_cell(nresult) = c
+        if (r == layout%rank) then
+          layout%result_source(nresult) = l
+        else
+          layout%result_source(nresult) = -receive_next(r)
+        end if
+      end do
+    end do
+  contains
+
+    !> readers(1:nreaders): the ranks that read cell c's results, without repeats.
+    subroutine cell_readers(c)
+      integer, intent(in) :: c                    !< global cell
+      integer :: slot, j, n, m
+      nreaders = 0
+      do slot = 1, 2
+        if (cells%elements(slot, c) > 0) call add(elem_part(cells%elements(slot, c)))
+      end do
+      do j = 1, cells%nnodes(c)
+        n = cells%nodes(j, c)
+        if (n > cells%n_mesh_nodes) cycle
+        do m = node_rank_start(n), node_rank_start(n + 1) - 1
+          call add(node_ranks(m))
+        end do
+      end do
+      listed(readers(1:nreaders)) = .false.
+    end subroutine cell_readers
+
+    !> Add rank r to readers once.
+    subroutine add(r)
+      integer, intent(in) :: r                    !< rank
+      if (listed(r)) return
+      listed(r) = .true.
+      nreaders = nreaders + 1
+      readers(nreaders) = r
+    end subroutine add
+
+  end subroutine build_result_plan
 
 end module mefem_explicit_layout

@@ -37,7 +37,8 @@ module mefem_explicit_dynamics
   use mefem_model_partition, only: element_csr
   use mefem_explicit_layout, only: explicit_layout_t, explicit_layout_build, &
                                    explicit_layout_local_node
-  use mefem_halo, only: halo_t, halo_build, halo_assemble_finish, halo_assemble
+  use mefem_halo, only: halo_t, halo_build, halo_assemble_finish, halo_assemble, &
+                        halo_gather_cell_results
   use mefem_cells, only: cells_t, cells_build, cells_summary, CELL_MAX_NODES
   use mefem_cell_finite_strain, only: cell_deformation_gradient, inverse_3x3
   use mefem_lumped_mass, only: lumped_mass
@@ -879,7 +880,8 @@ contains
   end function due
 
   !> One result state: displacement and velocity at the nodes; stress, pressure, von Mises
-  !> and plastic strain at nodes and elements (cells gathered on every rank at output only).
+  !> and plastic strain at nodes and elements (each rank evaluates its cells; the output
+  !> piece's means read the cells the layout's output plan gathers).
   subroutine write_state(model, decomp, cells, layout, s, state, t, dt)
     type(model_t), intent(in) :: model                !< resolved model
     type(decomposition_t), intent(in) :: decomp       !< this rank's output piece
@@ -890,16 +892,14 @@ contains
     real(wp), intent(in) :: t, dt                     !< time, the step that reached it
     type(output_field_t), allocatable :: point_fields(:)
     type(output_field_t) :: cell_fields(4)
-    real(wp), allocatable :: stress(:,:), alpha(:)
+    real(wp), allocatable :: results(:,:), gathered(:,:)
     real(wp) :: ue(3, CELL_MAX_NODES), f(3, 3), tau(3, 3), scratch(NHIST), sound, finv(3, 3), det
     real(wp) :: grad(3, CELL_MAX_NODES), w0(3, 3), hist(NHIST)
     type(status_t) :: status
-    integer :: l, c, nn, k, local
-    allocate(stress(6, cells%n), alpha(cells%n))
-    stress = 0.0_wp
-    alpha = 0.0_wp
+    integer :: l, nn, k, local
+    allocate(results(7, s%ncell))            ! Cauchy stress (Voigt), equivalent plastic strain
+    results = 0.0_wp
     do l = 1, s%ncell
-      c = s%cell_global(l)
       nn = s%nnodes(l)
       ue(1:s%dim, 1:nn) = s%u(:, s%nodes(1:nn, l))
       if (s%nblock > 0) then
@@ -914,11 +914,10 @@ contains
                            scratch, tau, sound_speed=sound, status=status)
       if (.not. status%ok) cycle
       call inverse_3x3(f, finv, det)
-      stress(:, c) = [tau(1, 1), tau(2, 2), tau(3, 3), tau(1, 2), tau(2, 3), tau(3, 1)]/det
-      alpha(c) = hist(HIST_ALPHA)
+      results(1:6, l) = [tau(1, 1), tau(2, 2), tau(3, 3), tau(1, 2), tau(2, 3), tau(3, 1)]/det
+      results(7, l) = hist(HIST_ALPHA)
     end do
-    call comm_sum(stress)
-    call comm_sum(alpha)
+    call halo_gather_cell_results(layout, results, gathered)
     allocate(point_fields(merge(8, 6, s%contact%n > 0)))
     do k = 1, 2
       point_fields(k)%ncomp = 3
@@ -933,7 +932,8 @@ contains
       point_fields(1)%values(1:s%dim, k) = s%u(:, local)
       point_fields(2)%values(1:s%dim, k) = s%v(:, local) + 0.5_wp*dt*s%a(:, local)
     end do
-    call cell_result_fields(model, decomp, cells, stress, alpha, point_fields(3:6), cell_fields)
+    call cell_result_fields(model, decomp, cells, gathered(1:6, :), gathered(7, :), &
+                            point_fields(3:6), cell_fields, layout%result_cell)
     if (s%contact%n > 0) then             ! contact data are replicated: any rank fills any node
       point_fields(7)%name = 'contact_pressure'
       point_fields(8)%name = 'contact_gap'

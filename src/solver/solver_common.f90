@@ -62,55 +62,66 @@ contains
     end do
   end subroutine stress_fields
 
-  !> Output fields of the cells' Cauchy stress and plastic strain (global arrays, the same on
-  !> every rank): at this rank's nodes the cell-weight means of the cells touching the node
-  !> ('stress', 'pressure', 'von_mises', 'plastic_strain'), at its elements the plain means
-  !> of the element's cells (same names).
-  subroutine cell_result_fields(model, decomp, cells, stress, alpha, point_fields, cell_fields)
+  !> Output fields of the cells' Cauchy stress and plastic strain: at this rank's nodes the
+  !> cell-weight means of the cells touching the node ('stress', 'pressure', 'von_mises',
+  !> 'plastic_strain'), at its elements the plain means of the element's cells (same names).
+  !> The entries are every cell's (cell k at entry k) or those of cell_list, which must hold
+  !> every cell of the piece's elements and every cell touching their nodes, ascending (each
+  !> mean then adds its cells in the same order whatever the list: the same bits).
+  subroutine cell_result_fields(model, decomp, cells, stress, alpha, point_fields, cell_fields, &
+                                cell_list)
     type(model_t), intent(in) :: model                    !< resolved model
     type(decomposition_t), intent(in) :: decomp           !< this rank's output piece
     type(cells_t), intent(in) :: cells                    !< all cells
-    real(wp), intent(in) :: stress(:,:)                   !< (6, cells) Cauchy stress (Voigt)
-    real(wp), intent(in) :: alpha(:)                      !< (cells) equivalent plastic strain
+    real(wp), intent(in) :: stress(:,:)                   !< (6, entries) Cauchy stress (Voigt)
+    real(wp), intent(in) :: alpha(:)                      !< (entries) equivalent plastic strain
     type(output_field_t), intent(inout) :: point_fields(4) !< nodal fields
     type(output_field_t), intent(inout) :: cell_fields(4)  !< element fields
+    integer, intent(in), optional :: cell_list(:)         !< global cell of each entry
     real(wp), allocatable :: es(:,:), ew(:), ns(:,:), nw(:), alpha_e(:), alpha_n(:)
-    integer, allocatable :: nodes(:), elements(:)
-    integer :: c, a, node, slot, e
-    allocate(es(6, model%elements%n), ew(model%elements%n), ns(6, cells%n_mesh_nodes), &
-             nw(cells%n_mesh_nodes), alpha_e(model%elements%n), alpha_n(cells%n_mesh_nodes))
+    integer, allocatable :: node_local(:), element_local(:)
+    integer :: k, c, a, node, slot, e
+    allocate(es(6, decomp%nelem_local), ew(decomp%nelem_local), ns(6, decomp%nnode_local), &
+             nw(decomp%nnode_local), alpha_e(decomp%nelem_local), alpha_n(decomp%nnode_local))
+    allocate(node_local(cells%n_mesh_nodes), element_local(model%elements%n))
+    node_local = 0
+    node_local(decomp%node_global(1:decomp%nnode_local)) = [(k, k = 1, decomp%nnode_local)]
+    element_local = 0
+    element_local(decomp%elem_global(1:decomp%nelem_local)) = [(k, k = 1, decomp%nelem_local)]
     es = 0.0_wp
     ew = 0.0_wp
     ns = 0.0_wp
     nw = 0.0_wp
     alpha_e = 0.0_wp
     alpha_n = 0.0_wp
-    do c = 1, cells%n
+    do k = 1, size(alpha)
+      c = k
+      if (present(cell_list)) c = cell_list(k)
       do slot = 1, 2
-        e = cells%elements(slot, c)
+        if (cells%elements(slot, c) == 0) cycle
+        e = element_local(cells%elements(slot, c))
         if (e == 0) cycle
-        es(:, e) = es(:, e) + stress(:, c)
+        es(:, e) = es(:, e) + stress(:, k)
         ew(e) = ew(e) + 1.0_wp
-        alpha_e(e) = alpha_e(e) + alpha(c)
+        alpha_e(e) = alpha_e(e) + alpha(k)
       end do
       do a = 1, cells%nnodes(c)
-        node = cells%nodes(a, c)
-        if (node > cells%n_mesh_nodes) cycle
-        ns(:, node) = ns(:, node) + cells%weight(c)*stress(:, c)
+        if (cells%nodes(a, c) > cells%n_mesh_nodes) cycle
+        node = node_local(cells%nodes(a, c))
+        if (node == 0) cycle
+        ns(:, node) = ns(:, node) + cells%weight(c)*stress(:, k)
         nw(node) = nw(node) + cells%weight(c)
-        alpha_n(node) = alpha_n(node) + cells%weight(c)*alpha(c)
+        alpha_n(node) = alpha_n(node) + cells%weight(c)*alpha(k)
       end do
     end do
-    nodes = decomp%node_global(1:decomp%nnode_local)
-    elements = decomp%elem_global(1:decomp%nelem_local)
-    call stress_fields(ns(:, nodes), nw(nodes), point_fields(1:3))
+    call stress_fields(ns, nw, point_fields(1:3))
     point_fields(4)%name = 'plastic_strain'
-    point_fields(4)%values = reshape(merge(alpha_n(nodes)/max(nw(nodes), tiny(1.0_wp)), &
-        0.0_wp, nw(nodes) > 0.0_wp), [1, size(nodes)])
-    call stress_fields(es(:, elements), ew(elements), cell_fields(1:3))
+    point_fields(4)%values = reshape(merge(alpha_n/max(nw, tiny(1.0_wp)), 0.0_wp, &
+                                           nw > 0.0_wp), [1, decomp%nnode_local])
+    call stress_fields(es, ew, cell_fields(1:3))
     cell_fields(4)%name = 'plastic_strain'
-    cell_fields(4)%values = reshape(merge(alpha_e(elements)/max(ew(elements), tiny(1.0_wp)), &
-        0.0_wp, ew(elements) > 0.0_wp), [1, size(elements)])
+    cell_fields(4)%values = reshape(merge(alpha_e/max(ew, tiny(1.0_wp)), 0.0_wp, &
+                                          ew > 0.0_wp), [1, decomp%nelem_local])
   end subroutine cell_result_fields
 
 end module mefem_solver_common

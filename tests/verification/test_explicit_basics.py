@@ -101,7 +101,8 @@ if rc == 0:
 # displacements must be the same bits (order-fixed assembly of the cell forces).
 def runs_on_ranks(name, blocks, label):
     """Run blocks on 1-4 ranks; per rank count that ran: (nodout histories of the probes,
-    final displacements in node-id order, last state's plastic strain per cell, nodout)."""
+    final displacements in node-id order, last state's plastic strain per cell, nodout, the
+    last state's stress and plastic strain at nodes and elements in id order)."""
     found = {}
     for ranks in (1, 2, 3, 4):
         rc, text, out = run_case('%s_ranks%d' % (name, ranks), blocks, ranks=ranks)
@@ -114,7 +115,14 @@ def runs_on_ranks(name, blocks, label):
             ids = f['mesh/node_ids'][()]
             disp = f['states/%s/point/displacement' % last][()][np.argsort(ids)]
             eps = f['states/%s/cell/plastic_strain' % last][()]
-        found[ranks] = (np.stack([n[c] for c in ('x-disp', 'x-vel', 'x-accl')]), disp, eps, n)
+            cell_order = np.argsort(f['mesh/cell_ids'][()])
+            means = np.concatenate(
+                [f['states/%s/point/%s' % (last, k)][()].reshape(len(ids), -1)[np.argsort(ids)]
+                 .ravel() for k in ('stress', 'plastic_strain')] +
+                [f['states/%s/cell/%s' % (last, k)][()].reshape(len(cell_order), -1)[cell_order]
+                 .ravel() for k in ('stress', 'plastic_strain')])
+        found[ranks] = (np.stack([n[c] for c in ('x-disp', 'x-vel', 'x-accl')]), disp, eps, n,
+                        means)
     return found
 
 
@@ -131,6 +139,11 @@ def check_same_bits(found, label):
         checks.check(same_hist and same_disp, '%s%d ranks: histories and displacements '
                      'identical to 1 rank (bit for bit)' % (label, ranks),
                      'max difference %.3e' % diff)
+        # the output's means read cells computed on other ranks (the layout's output plan)
+        same_means = np.array_equal(found[1][4], found[ranks][4])
+        checks.check(same_means, '%s%d ranks: stress and plastic strain at nodes and elements '
+                     'identical to 1 rank (bit for bit)' % (label, ranks),
+                     'max difference %.3e' % np.max(abs(found[1][4] - found[ranks][4])))
 
 
 short = 1.0e-5
