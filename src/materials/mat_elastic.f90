@@ -22,7 +22,7 @@ module mefem_mat_elastic
   use mefem_strings, only: itoa, rtoa
   use mefem_tensor_algebra, only: IDENTITY, determinant, add_outer_product, &
                                   add_symmetric_identity
-  use mefem_material_state, only: NHIST, HIST_F, HIST_BE
+  use mefem_material_state, only: NHIST
   implicit none
   private
 
@@ -49,7 +49,7 @@ contains
     real(wp), intent(out) :: sound_speed                !< dilatational wave speed
     type(status_t), intent(out) :: status               !< fails for det F <= 0
     real(wp), intent(out), optional :: c_tau(3,3,3,3)   !< spatial tangent of tau
-    real(wp) :: lambda, mu, j, log_j, b(3,3), modulus, pressure, b_scale
+    real(wp) :: lambda, mu, j, log_j, b(3,3), modulus, pressure
     integer :: a, k
     hist_new = hist_old
     sound_speed = 0.0_wp
@@ -76,13 +76,6 @@ contains
     do k = 1, 3
       tau(k, k) = mu*(b(k, k) - 1.0_wp) + pressure
     end do
-    ! history through the offsets of mefem_material_state: F column by column, then
-    ! b_bar = J^(-2/3) b (J^(-2/3) = exp(-2/3 ln J)) in Voigt order xx yy zz xy yz zx
-    do k = 1, 3
-      hist_new(HIST_F + 3*(k - 1):HIST_F + 3*k - 1) = f_new(:, k)
-    end do
-    b_scale = exp(-2.0_wp/3.0_wp*log_j)
-    hist_new(HIST_BE:HIST_BE + 5) = b_scale*[b(1, 1), b(2, 2), b(3, 3), b(1, 2), b(2, 3), b(3, 1)]
     modulus = lambda + 2.0_wp*mu + 2.0_wp*lambda*max(0.0_wp, -log_j)
     sound_speed = sqrt(modulus/mat%density)
     if (present(c_tau)) then

@@ -6,9 +6,10 @@
 !> Free energy: W = U(J) + mu/2 (tr be_bar - 3), U(J) = kappa/2 (1/2 (J^2 - 1) - ln J),
 !> mu = E/(2(1+nu)), kappa = E/(3(1-2nu)). Yield function |s| - sqrt(2/3) K(alpha) on the
 !> Kirchhoff deviator s (so the von Mises value of tau equals K). Steps, with F = F_{n+1}:
-!>   1 f = F F_n^{-1};  f_bar = det(f)^{-1/3} f
-!>   2 be_tr = f_bar be_bar_n f_bar^T;  s_tr = mu dev(be_tr);  I_bar = tr(be_tr)/3;
-!>     mu_bar = mu I_bar
+!>   1-2 be_tr = J^{-2/3} F Cbar_p,n^{-1} F^T (= f_bar be_bar_n f_bar^T with f = F F_n^{-1},
+!>     f_bar = det(f)^{-1/3} f, as Cbar_p,n^{-1} = J_n^{2/3} F_n^{-1} be_bar_n F_n^{-T} is
+!>     what the history keeps: mefem_material_state); s_tr = mu dev(be_tr);
+!>     I_bar = tr(be_tr)/3; mu_bar = mu I_bar
 !>   3 f_tr = |s_tr| - sqrt(2/3) K(alpha_n)
 !>   4 f_tr <= 0: elastic, s = s_tr. Else n = s_tr/|s_tr| and dgamma solves
 !>     r = |s_tr| - 2 mu_bar dgamma - sqrt(2/3) K(alpha_n + sqrt(2/3) dgamma) = 0
@@ -18,6 +19,8 @@
 !>     det be_bar = 1 holds to round-off at every step (plastic flow exactly isochoric; S&H's
 !>     x = I_bar keeps it only to first order). The stress of this step does not depend on x.
 !>   6 tau = J U'(J) 1 + s = kappa/2 (J^2 - 1) 1 + s
+!>   7 history: Cbar_p^{-1} = J^{2/3} F^{-1} be_bar_{n+1} F^{-T} = J^{-4/3} adj(F) be_bar adj(F)^T
+!>     (det = 1 as det be_bar = 1), alpha_{n+1}
 !> Tangent (c of L_v tau = c : d, derived for this algorithm; it is S&H Box 9.2):
 !>   c = kappa J^2 1(x)1 - kappa (J^2 - 1) I + (1 - beta1) c_tr
 !>       - 2 mu_bar beta3 n(x)n - 2 mu_bar beta4 n(x)dev(n^2)
@@ -37,7 +40,7 @@ module mefem_mat_j2_plasticity
   use mefem_errors, only: status_t
   use mefem_strings, only: itoa, rtoa
   use mefem_tensor_algebra, only: IDENTITY, deviator, add_outer_product, add_symmetric_identity
-  use mefem_material_state, only: NHIST, HIST_F, HIST_BE, HIST_ALPHA, BLOCK_POINTS
+  use mefem_material_state, only: NHIST, HIST_CP, HIST_ALPHA, BLOCK_POINTS
   use mefem_hardening, only: hardening_yield, hardening_yield_block
   implicit none
   private
@@ -50,8 +53,9 @@ module mefem_mat_j2_plasticity
   integer, parameter :: MAX_RETURN_ITERATIONS = 100       !< Newton/bisection steps
   !> |det - 1| of the unimodular shift's cubic taken as round-off
   real(wp), parameter :: SHIFT_TOLERANCE = 4.0_wp*epsilon(1.0_wp)
-  !> |J_{n+1}/J_n - 1| up to which inverse_cube_root uses its series and Newton step
-  real(wp), parameter :: CUBE_ROOT_SERIES_RANGE = 0.01_wp
+  !> |J - 1| up to which inverse_cube_root uses its series and Newton steps (a pressure of a
+  !> tenth of the bulk modulus)
+  real(wp), parameter :: CUBE_ROOT_SERIES_RANGE = 0.1_wp
   !> Taylor coefficients of (1 + d)^(-1/3) (inverse_cube_root)
   real(wp), parameter :: C1 = -1.0_wp/3.0_wp, C2 = 2.0_wp/9.0_wp, C3 = -14.0_wp/81.0_wp
   !> Symmetric tensors as 6 components, in the Voigt order of the history (mefem_material_state)
@@ -76,13 +80,13 @@ contains
     real(wp), intent(out) :: sound_speed                !< dilatational wave speed
     type(status_t), intent(out) :: status               !< det F <= 0, no convergence
     real(wp), intent(out), optional :: c_tau(3,3,3,3)   !< spatial tangent of tau
-    real(wp) :: mu, kappa, j, j_old, f_old(3,3), adj_old(3,3), rel(3,3), t(3,3)
-    real(wp) :: be_old(SYM), be_trial(SYM), s_trial(SYM), s(SYM), be_new(SYM)
+    real(wp) :: mu, kappa, j, adj(3,3)
+    real(wp) :: cp_old(SYM), be_trial(SYM), s_trial(SYM), s(SYM), be_new(SYM)
     real(wp) :: i_bar, mu_bar, norm_trial, alpha_old, alpha_new, yield_old, slope, dgamma
-    real(wp) :: jp, scale, inverse_j_old, return_factor, factor
+    real(wp) :: jp, scale, return_factor, factor
     real(wp) :: beta0, beta1, beta2, beta3, beta4
     real(wp) :: normal(3,3), s_trial_full(3,3)
-    integer :: a, b, k
+    integer :: k
     logical :: plastic, converged
     hist_new = hist_old
     tau = 0.0_wp
@@ -93,41 +97,14 @@ contains
       call fail(status, mat, 'det F = '//rtoa(j)//' <= 0 (inverted or degenerate element)')
       return
     end if
-    do k = 1, 3                                 ! F_n, column by column
-      f_old(:, k) = hist_old(HIST_F + 3*(k - 1):HIST_F + 3*k - 1)
-    end do
-    j_old = det3(f_old)
-    if (.not. (j_old > 0.0_wp)) then
-      call fail(status, mat, 'det F_n = '//rtoa(j_old)//' <= 0 in the history')
-      return
-    end if
     mu = mat%young/(2.0_wp*(1.0_wp + mat%poisson))
     kappa = mat%young/(3.0_wp*(1.0_wp - 2.0_wp*mat%poisson))
-    ! 1-2: f = F F_n^-1 = F adj(F_n)/J_n, f_bar = (J/J_n)^(-1/3) f, and the elastic trial state
-    ! be_tr = f_bar be_bar_n f_bar^T = scale (F adj) be_bar_n (F adj)^T (upper triangle: exactly
-    ! symmetric), scale = ((J/J_n)^(-1/3)/J_n)^2
-    call adjugate(f_old, adj_old)
-    do b = 1, 3
-      do a = 1, 3
-        rel(a, b) = f_new(a, 1)*adj_old(1, b) + f_new(a, 2)*adj_old(2, b) + &
-                    f_new(a, 3)*adj_old(3, b)
-      end do
-    end do
-    inverse_j_old = 1.0_wp/j_old
-    scale = inverse_cube_root(j*inverse_j_old)*inverse_j_old
+    ! 1-2: the elastic trial state be_tr = scale F Cbar_p^-1 F^T (upper triangle: exactly
+    ! symmetric), scale = J^(-2/3)
+    scale = inverse_cube_root(j)
     scale = scale*scale
-    be_old = hist_old(HIST_BE:HIST_BE + 5)
-    do a = 1, 3                                 ! t = rel be_bar_n
-      t(a, 1) = rel(a, 1)*be_old(XX) + rel(a, 2)*be_old(XY) + rel(a, 3)*be_old(ZX)
-      t(a, 2) = rel(a, 1)*be_old(XY) + rel(a, 2)*be_old(YY) + rel(a, 3)*be_old(YZ)
-      t(a, 3) = rel(a, 1)*be_old(ZX) + rel(a, 2)*be_old(YZ) + rel(a, 3)*be_old(ZZ)
-    end do
-    be_trial(XX) = scale*(t(1, 1)*rel(1, 1) + t(1, 2)*rel(1, 2) + t(1, 3)*rel(1, 3))
-    be_trial(YY) = scale*(t(2, 1)*rel(2, 1) + t(2, 2)*rel(2, 2) + t(2, 3)*rel(2, 3))
-    be_trial(ZZ) = scale*(t(3, 1)*rel(3, 1) + t(3, 2)*rel(3, 2) + t(3, 3)*rel(3, 3))
-    be_trial(XY) = scale*(t(1, 1)*rel(2, 1) + t(1, 2)*rel(2, 2) + t(1, 3)*rel(2, 3))
-    be_trial(YZ) = scale*(t(2, 1)*rel(3, 1) + t(2, 2)*rel(3, 2) + t(2, 3)*rel(3, 3))
-    be_trial(ZX) = scale*(t(3, 1)*rel(1, 1) + t(3, 2)*rel(1, 2) + t(3, 3)*rel(1, 3))
+    cp_old = hist_old(HIST_CP:HIST_CP + 5)
+    call symmetric_sandwich(f_new, cp_old, scale, be_trial)
     i_bar = (be_trial(XX) + be_trial(YY) + be_trial(ZZ))*ONE_THIRD
     mu_bar = mu*i_bar
     s_trial(XX:ZZ) = mu*(be_trial(XX:ZZ) - i_bar)
@@ -167,10 +144,9 @@ contains
     do k = 1, 3
       tau(k, k) = tau(k, k) + jp
     end do
-    do k = 1, 3                                 ! F_{n+1}, column by column
-      hist_new(HIST_F + 3*(k - 1):HIST_F + 3*k - 1) = f_new(:, k)
-    end do
-    hist_new(HIST_BE:HIST_BE + 5) = be_new
+    ! 7: history, Cbar_p^-1 = J^(-4/3) adj(F) be_bar adj(F)^T
+    call adjugate(f_new, adj)
+    call symmetric_sandwich(adj, be_new, scale*scale, hist_new(HIST_CP:HIST_CP + 5))
     hist_new(HIST_ALPHA) = alpha_new
     sound_speed = sqrt((kappa + 4.0_wp/3.0_wp*mu_bar)/mat%density)
     if (.not. present(c_tau)) return
@@ -203,9 +179,8 @@ contains
   !> Each point's arithmetic is mat_j2_update's, operation for operation (same bits).
   !> The hardening law, the return map of plastic points, the rare unimodular shifts that
   !> need Newton steps and the cube root outside the series range run point by point.
-  !> det F and the history are checked; a point that fails (det F <= 0, det F_n <= 0, yield
-  !> stress <= 0, no convergence) gets ok(i) = .false. and keeps its history (the caller
-  !> calls mat_j2_update on it for the message).
+  !> A point that fails (det F <= 0, yield stress <= 0, no convergence) gets ok(i) = .false.
+  !> and keeps its history (the caller calls mat_j2_update on it for the message).
   !> f(i, 1:9): F_{n+1} column by column; j(i) = det F_{n+1} (the caller's, same expression);
   !> hist(i, :): history at t_n in, at t_{n+1} out (points that fail: unchanged);
   !> tau(i, 1:6): Kirchhoff stress XX YY ZZ XY YZ ZX.
@@ -221,79 +196,50 @@ contains
     real(wp), intent(out) :: tau(ld, SYM)               !< Kirchhoff stresses
     logical, intent(out) :: ok(ld)                      !< point updated
     real(wp) :: mu, kappa, inverse_mu
-    real(wp), dimension(ld) :: j_old, x, y, d, scale, i_bar, mu_bar, norm_trial, yield_old
+    real(wp), dimension(ld) :: x, d, scale, i_bar, mu_bar, norm_trial, yield_old
     real(wp), dimension(ld) :: slope, dgamma, i2, i3, g, jp, denominator
     real(wp), dimension(ld) :: residual0, step, alpha_step, yield_step, slope_step
     real(wp) :: high, derivative, residual1
     integer :: plastic_point(ld), nplastic
-    real(wp) :: a(9), adj(9), rel(9), tt(9), be_old(SYM), be_trial(SYM), s(SYM), dv(SYM)
+    real(wp) :: adj(9), tt(9), cp(SYM), be_trial(SYM), s(SYM), dv(SYM), factor
     real(wp) :: s_trial(ld, SYM), be_new(ld, SYM), dev(ld, SYM), return_factor, x_shift(ld)
+    real(wp) :: cp_new(ld, SYM)
     real(wp) :: x0, x1, x2, dg0, dg1, g1, g2
     logical :: plastic(ld), converged, shifted(ld)
     integer :: i, k
     mu = mat%young/(2.0_wp*(1.0_wp + mat%poisson))
     kappa = mat%young/(3.0_wp*(1.0_wp - 2.0_wp*mat%poisson))
     inverse_mu = 1.0_wp/mu
-    ! det F_n, and which points can be updated (a 1 in place of a J_n <= 0: no division by 0)
+    ! which points can be updated, and scale = J^(-2/3) as inverse_cube_root computes it (a 1
+    ! in place of a J <= 0)
     do i = 1, n
-      do k = 1, 9
-        a(k) = hist(i, HIST_F + k - 1)        ! F_n column by column: a(1) = F11, a(2) = F21 ..
-      end do
-      j_old(i) = a(1)*(a(5)*a(9) - a(8)*a(6)) - a(4)*(a(2)*a(9) - a(8)*a(3)) &
-               + a(7)*(a(2)*a(6) - a(5)*a(3))
-    end do
-    do i = 1, n
-      ok(i) = j(i) > 0.0_wp .and. j_old(i) > 0.0_wp
-      x(i) = merge(j_old(i), 1.0_wp, ok(i))
-    end do
-    ! 1-2: relative deformation and elastic trial state (as mat_j2_update)
-    do i = 1, n
-      do k = 1, 9
-        a(k) = hist(i, HIST_F + k - 1)
-      end do
-      ! adjugate of F_n (adj(k) = adj(row, col) stored column by column like a)
-      adj(1) = a(5)*a(9) - a(8)*a(6)
-      adj(4) = a(7)*a(6) - a(4)*a(9)
-      adj(7) = a(4)*a(8) - a(7)*a(5)
-      adj(2) = a(8)*a(3) - a(2)*a(9)
-      adj(5) = a(1)*a(9) - a(7)*a(3)
-      adj(8) = a(7)*a(2) - a(1)*a(8)
-      adj(3) = a(2)*a(6) - a(5)*a(3)
-      adj(6) = a(4)*a(3) - a(1)*a(6)
-      adj(9) = a(1)*a(5) - a(4)*a(2)
-      ! rel(r, c) = sum_k F(r, k) adj(k, c)
-      do k = 0, 2
-        rel(1 + 3*k) = f(i, 1)*adj(1 + 3*k) + f(i, 4)*adj(2 + 3*k) + f(i, 7)*adj(3 + 3*k)
-        rel(2 + 3*k) = f(i, 2)*adj(1 + 3*k) + f(i, 5)*adj(2 + 3*k) + f(i, 8)*adj(3 + 3*k)
-        rel(3 + 3*k) = f(i, 3)*adj(1 + 3*k) + f(i, 6)*adj(2 + 3*k) + f(i, 9)*adj(3 + 3*k)
-      end do
-      y(i) = 1.0_wp/x(i)                       ! inverse_j_old
-      x(i) = j(i)*y(i)
+      ok(i) = j(i) > 0.0_wp
+      x(i) = merge(j(i), 1.0_wp, ok(i))
       d(i) = x(i) - 1.0_wp
       scale(i) = 1.0_wp + d(i)*(C1 + d(i)*(C2 + d(i)*C3))
       scale(i) = scale(i)*(4.0_wp - x(i)*(scale(i)*scale(i)*scale(i)))*ONE_THIRD
-      be_old = hist(i, HIST_BE:HIST_BE + 5)
-      do k = 1, 3                              ! tt(k, :) = rel(k, :) be_bar_n
-        tt(k) = rel(k)*be_old(XX) + rel(k + 3)*be_old(XY) + rel(k + 6)*be_old(ZX)
-        tt(k + 3) = rel(k)*be_old(XY) + rel(k + 3)*be_old(YY) + rel(k + 6)*be_old(YZ)
-        tt(k + 6) = rel(k)*be_old(ZX) + rel(k + 3)*be_old(YZ) + rel(k + 6)*be_old(ZZ)
-      end do
-      ! unscaled be_trial, kept in be_new until the scale is known
-      be_new(i, XX) = tt(1)*rel(1) + tt(4)*rel(4) + tt(7)*rel(7)
-      be_new(i, YY) = tt(2)*rel(2) + tt(5)*rel(5) + tt(8)*rel(8)
-      be_new(i, ZZ) = tt(3)*rel(3) + tt(6)*rel(6) + tt(9)*rel(9)
-      be_new(i, XY) = tt(1)*rel(2) + tt(4)*rel(5) + tt(7)*rel(8)
-      be_new(i, YZ) = tt(2)*rel(3) + tt(5)*rel(6) + tt(8)*rel(9)
-      be_new(i, ZX) = tt(3)*rel(1) + tt(6)*rel(4) + tt(9)*rel(7)
+      scale(i) = scale(i)*(4.0_wp - x(i)*(scale(i)*scale(i)*scale(i)))*ONE_THIRD
     end do
     do i = 1, n                                ! cube root outside the series range: **
       if (ok(i) .and. .not. abs(d(i)) <= CUBE_ROOT_SERIES_RANGE) &
         scale(i) = x(i)**(-1.0_wp/3.0_wp)
     end do
+    ! 1-2: elastic trial state (as mat_j2_update: symmetric_sandwich written out, with f(i, :)
+    ! column by column, f(i, 1) = F11, f(i, 2) = F21 ..)
     do i = 1, n
-      scale(i) = scale(i)*y(i)
       scale(i) = scale(i)*scale(i)
-      be_trial = scale(i)*be_new(i, :)
+      cp = hist(i, HIST_CP:HIST_CP + 5)
+      do k = 1, 3                              ! tt(k, :) = F(k, :) Cbar_p^-1
+        tt(k) = f(i, k)*cp(XX) + f(i, k + 3)*cp(XY) + f(i, k + 6)*cp(ZX)
+        tt(k + 3) = f(i, k)*cp(XY) + f(i, k + 3)*cp(YY) + f(i, k + 6)*cp(YZ)
+        tt(k + 6) = f(i, k)*cp(ZX) + f(i, k + 3)*cp(YZ) + f(i, k + 6)*cp(ZZ)
+      end do
+      be_trial(XX) = scale(i)*(tt(1)*f(i, 1) + tt(4)*f(i, 4) + tt(7)*f(i, 7))
+      be_trial(YY) = scale(i)*(tt(2)*f(i, 2) + tt(5)*f(i, 5) + tt(8)*f(i, 8))
+      be_trial(ZZ) = scale(i)*(tt(3)*f(i, 3) + tt(6)*f(i, 6) + tt(9)*f(i, 9))
+      be_trial(XY) = scale(i)*(tt(1)*f(i, 2) + tt(4)*f(i, 5) + tt(7)*f(i, 8))
+      be_trial(YZ) = scale(i)*(tt(2)*f(i, 3) + tt(5)*f(i, 6) + tt(8)*f(i, 9))
+      be_trial(ZX) = scale(i)*(tt(3)*f(i, 1) + tt(6)*f(i, 4) + tt(9)*f(i, 7))
       i_bar(i) = (be_trial(XX) + be_trial(YY) + be_trial(ZZ))*ONE_THIRD
       mu_bar(i) = mu*i_bar(i)
       s_trial(i, XX:ZZ) = mu*(be_trial(XX:ZZ) - i_bar(i))
@@ -396,23 +342,44 @@ contains
         call unimodular_shift(be_new(i, :), i_bar(i))
       end if
     end do
-    ! 6: the new history (elastic points: dgamma = 0, alpha_n + 0 = alpha_n); a block with a
-    ! failed point takes the (rare) loop that leaves that point's history as it was
+    ! 7: the new history, Cbar_p^-1 = J^(-4/3) adj(F) be_bar adj(F)^T (as mat_j2_update: the
+    ! adjugate's and symmetric_sandwich's expressions, adj column by column); elastic points
+    ! have dgamma = 0, alpha_n + 0 = alpha_n; a block with a failed point takes the (rare) loop
+    ! that leaves that point's history as it was
+    do i = 1, n
+      adj(1) = f(i, 5)*f(i, 9) - f(i, 8)*f(i, 6)
+      adj(4) = f(i, 7)*f(i, 6) - f(i, 4)*f(i, 9)
+      adj(7) = f(i, 4)*f(i, 8) - f(i, 7)*f(i, 5)
+      adj(2) = f(i, 8)*f(i, 3) - f(i, 2)*f(i, 9)
+      adj(5) = f(i, 1)*f(i, 9) - f(i, 7)*f(i, 3)
+      adj(8) = f(i, 7)*f(i, 2) - f(i, 1)*f(i, 8)
+      adj(3) = f(i, 2)*f(i, 6) - f(i, 5)*f(i, 3)
+      adj(6) = f(i, 4)*f(i, 3) - f(i, 1)*f(i, 6)
+      adj(9) = f(i, 1)*f(i, 5) - f(i, 4)*f(i, 2)
+      do k = 1, 3                              ! tt(k, :) = adj(k, :) be_bar
+        tt(k) = adj(k)*be_new(i, XX) + adj(k + 3)*be_new(i, XY) + adj(k + 6)*be_new(i, ZX)
+        tt(k + 3) = adj(k)*be_new(i, XY) + adj(k + 3)*be_new(i, YY) + adj(k + 6)*be_new(i, YZ)
+        tt(k + 6) = adj(k)*be_new(i, ZX) + adj(k + 3)*be_new(i, YZ) + adj(k + 6)*be_new(i, ZZ)
+      end do
+      factor = scale(i)*scale(i)
+      cp_new(i, XX) = factor*(tt(1)*adj(1) + tt(4)*adj(4) + tt(7)*adj(7))
+      cp_new(i, YY) = factor*(tt(2)*adj(2) + tt(5)*adj(5) + tt(8)*adj(8))
+      cp_new(i, ZZ) = factor*(tt(3)*adj(3) + tt(6)*adj(6) + tt(9)*adj(9))
+      cp_new(i, XY) = factor*(tt(1)*adj(2) + tt(4)*adj(5) + tt(7)*adj(8))
+      cp_new(i, YZ) = factor*(tt(2)*adj(3) + tt(5)*adj(6) + tt(8)*adj(9))
+      cp_new(i, ZX) = factor*(tt(3)*adj(1) + tt(6)*adj(4) + tt(9)*adj(7))
+    end do
     if (all(ok(1:n))) then
       do i = 1, n
-        do k = 1, 9
-          hist(i, HIST_F + k - 1) = f(i, k)
-        end do
         do k = 0, 5
-          hist(i, HIST_BE + k) = be_new(i, 1 + k)
+          hist(i, HIST_CP + k) = cp_new(i, 1 + k)
         end do
         hist(i, HIST_ALPHA) = hist(i, HIST_ALPHA) + SQRT_TWO_THIRDS*dgamma(i)
       end do
     else
       do i = 1, n
         if (.not. ok(i)) cycle
-        hist(i, HIST_F:HIST_F + 8) = f(i, :)
-        hist(i, HIST_BE:HIST_BE + 5) = be_new(i, :)
+        hist(i, HIST_CP:HIST_CP + 5) = cp_new(i, :)
         hist(i, HIST_ALPHA) = hist(i, HIST_ALPHA) + SQRT_TWO_THIRDS*dgamma(i)
       end do
     end if
@@ -496,16 +463,19 @@ contains
     a = a*sym_det(a)**(-1.0_wp/3.0_wp)
   end subroutine unimodular_shift
 
-  !> x^(-1/3) for x > 0. The volume ratio J_{n+1}/J_n of one explicit step is within
-  !> CUBE_ROOT_SERIES_RANGE of 1: there the Taylor polynomial of (1 + d)^(-1/3) to d^3
-  !> (error < 35/243 d^4 < 1.5e-9) and one Newton step y (4 - x y^3)/3 (error squared) give
-  !> the value to a few ulp, about a tenth of the cost of **; other x use **.
+  !> x^(-1/3) for x > 0. The volume ratio J of a metal (elastic volume change only) is
+  !> within CUBE_ROOT_SERIES_RANGE of 1 up to a pressure of a tenth of the bulk modulus:
+  !> there the Taylor polynomial of (1 + d)^(-1/3) to d^3 (relative error about
+  !> 35/243 d^4 < 1.5e-5) and two Newton steps y (4 - x y^3)/3 (each takes a relative error e
+  !> to about 2 e^2: 5e-10, then below 1e-18) give the value to a few ulp, a fraction of the
+  !> cost of **; other x use **.
   pure real(wp) function inverse_cube_root(x) result(y)
     real(wp), intent(in) :: x           !< positive argument
     real(wp) :: d
     d = x - 1.0_wp
     if (abs(d) <= CUBE_ROOT_SERIES_RANGE) then
       y = 1.0_wp + d*(C1 + d*(C2 + d*C3))
+      y = y*(4.0_wp - x*(y*y*y))*ONE_THIRD
       y = y*(4.0_wp - x*(y*y*y))*ONE_THIRD
     else
       y = x**(-1.0_wp/3.0_wp)
@@ -534,6 +504,28 @@ contains
     adj(3,2) = m(1,2)*m(3,1) - m(1,1)*m(3,2)
     adj(3,3) = m(1,1)*m(2,2) - m(1,2)*m(2,1)
   end subroutine adjugate
+
+  !> c = factor m a m^T for a symmetric a given by its 6 components (c likewise: the upper
+  !> triangle, so exactly symmetric). The block kernel writes out the same expressions.
+  pure subroutine symmetric_sandwich(m, a, factor, c)
+    real(wp), intent(in) :: m(3,3)       !< the matrix
+    real(wp), intent(in) :: a(SYM)       !< XX YY ZZ XY YZ ZX
+    real(wp), intent(in) :: factor       !< scale of the product
+    real(wp), intent(out) :: c(SYM)      !< factor m a m^T
+    real(wp) :: t(3,3)
+    integer :: r
+    do r = 1, 3                          ! t = m a
+      t(r, 1) = m(r, 1)*a(XX) + m(r, 2)*a(XY) + m(r, 3)*a(ZX)
+      t(r, 2) = m(r, 1)*a(XY) + m(r, 2)*a(YY) + m(r, 3)*a(YZ)
+      t(r, 3) = m(r, 1)*a(ZX) + m(r, 2)*a(YZ) + m(r, 3)*a(ZZ)
+    end do
+    c(XX) = factor*(t(1, 1)*m(1, 1) + t(1, 2)*m(1, 2) + t(1, 3)*m(1, 3))
+    c(YY) = factor*(t(2, 1)*m(2, 1) + t(2, 2)*m(2, 2) + t(2, 3)*m(2, 3))
+    c(ZZ) = factor*(t(3, 1)*m(3, 1) + t(3, 2)*m(3, 2) + t(3, 3)*m(3, 3))
+    c(XY) = factor*(t(1, 1)*m(2, 1) + t(1, 2)*m(2, 2) + t(1, 3)*m(2, 3))
+    c(YZ) = factor*(t(2, 1)*m(3, 1) + t(2, 2)*m(3, 2) + t(2, 3)*m(3, 3))
+    c(ZX) = factor*(t(3, 1)*m(1, 1) + t(3, 2)*m(1, 2) + t(3, 3)*m(1, 3))
+  end subroutine symmetric_sandwich
 
   !> a : a of a symmetric tensor given by its 6 components.
   pure real(wp) function sym_norm_squared(a)

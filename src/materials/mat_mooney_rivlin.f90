@@ -30,7 +30,7 @@ module mefem_mat_mooney_rivlin
   use mefem_strings, only: itoa, rtoa
   use mefem_tensor_algebra, only: IDENTITY, determinant, trace, deviator, add_outer_product, &
                                   add_symmetric_identity, add_symmetric_product
-  use mefem_material_state, only: NHIST, state_set_deformation, state_set_elastic_strain
+  use mefem_material_state, only: NHIST
   implicit none
   private
 
@@ -73,8 +73,6 @@ contains
     y = (a + b*i1)*b_bar - b*b_bar2
     jp = 0.5_wp*kappa*(j*j - 1.0_wp)
     tau = 2.0_wp*deviator(y) + jp*IDENTITY
-    call state_set_deformation(hist_new, f_new)
-    call state_set_elastic_strain(hist_new, b_bar)
     mu_effective = 2.0_wp*(a*i1 + b*i2)/3.0_wp
     sound_speed = sqrt((kappa + 4.0_wp/3.0_wp*mu_effective)/mat%density)
     if (.not. present(c_tau)) return

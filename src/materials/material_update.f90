@@ -4,7 +4,7 @@
 !>
 !> in:  the material card (mefem_model material_t), the model's curves (for *MAT_024 LCSS;
 !>      pass model%curves, allocated, possibly of size 0), the new deformation gradient
-!>      F_{n+1}, and the point's history at t_n (mefem_material_state: F_n, be_bar_n, alpha_n);
+!>      F_{n+1}, and the point's history at t_n (mefem_material_state: Cbar_p^-1, alpha_n);
 !> out: the history at t_{n+1}, the Kirchhoff stress tau = J sigma (symmetric 3x3), the
 !>      current dilatational wave speed (for the explicit stable step), a status, and when
 !>      asked the spatial tangent c_tau(3,3,3,3) of the Lie derivative of tau:

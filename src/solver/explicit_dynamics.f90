@@ -909,7 +909,7 @@ contains
         hist = s%hist(:, l)
         call cell_deformation_gradient(s%dim, nn, s%grad(:, :, l), ue(1:s%dim, 1:nn), f)
       end if
-      ! the history holds this F already: re-evaluating returns the committed stress
+      ! the history is this F's already: re-evaluating returns the committed stress
       call material_update(model%materials(s%material(l)), model%curves, f, hist, &
                            scratch, tau, sound_speed=sound, status=status)
       if (.not. status%ok) cycle

@@ -14,7 +14,7 @@ program test_materials
   use mefem_model, only: material_t, curve_t, MAT_ELASTIC, MAT_PIECEWISE_LINEAR, MAT_POWER_LAW, &
                          MAT_MOONEY_RIVLIN, MAT_RIGID
   use mefem_material_state, only: NHIST, HIST_ALPHA, material_state_init, &
-                                  state_get_elastic_strain, state_get_deformation
+                                  state_elastic_strain, state_plastic_metric
   use mefem_material_update, only: material_update
   use mefem_hardening, only: hardening_yield, hardening_yield_block, piecewise_linear_law, power_law_strain_offset, &
                              plastic_modulus, HARDENING_POWER_LAW, HARDENING_LINEAR, &
@@ -361,9 +361,12 @@ contains
       all_ok = all_ok .and. ok
       hist_old = hist_new
       worst_lateral = max(worst_lateral, abs(tau(2,2)) + abs(tau(3,3)))
-      call state_get_elastic_strain(hist_new, be)
+      f = 0.0_wp
+      f(1,1) = stretch
+      f(2,2) = lateral
+      f(3,3) = lateral
+      call state_elastic_strain(hist_new, f, be)
       worst_det = max(worst_det, abs(determinant(be) - 1.0_wp))
-      call state_get_deformation(hist_new, f)
       j = determinant(f)
       ! J from the elastic bulk law alone: tr(tau)/3 = kappa/2 (J^2 - 1)
       worst_volume = max(worst_volume, abs(j - sqrt(1.0_wp + 2.0_wp*(tau(1,1)/3.0_wp)/kappa)))
@@ -503,12 +506,14 @@ contains
   ! ---------------------------------------------------------------- 3 objectivity
 
   !> The same path with F -> Q_k F_k, Q_k a rotation changing every step (and a constant one):
-  !> tau -> Q tau Q^T and the same alpha at every step, det be_bar = 1 on both paths.
+  !> tau -> Q tau Q^T, the same alpha and the same (Lagrangian) Cbar_p^-1 at every step,
+  !> det be_bar = 1 on the rotated path.
   subroutine test_objectivity()
     type(material_t) :: mat
     real(wp) :: hist_a(NHIST), hist_b(NHIST), new_a(NHIST), new_b(NHIST)
     real(wp) :: tau_a(3,3), tau_b(3,3), f(3,3), q(3,3), be(3,3), direction(3,3), t, speed
-    real(wp) :: worst_tau, worst_alpha, worst_det, scale
+    real(wp) :: cp_a(3,3), cp_b(3,3)
+    real(wp) :: worst_tau, worst_alpha, worst_det, worst_cp, scale
     type(status_t) :: status_a, status_b
     integer :: m, step, variant
     character(len=64) :: tag
@@ -537,6 +542,7 @@ contains
         worst_tau = 0.0_wp
         worst_alpha = 0.0_wp
         worst_det = 0.0_wp
+        worst_cp = 0.0_wp
         do step = 1, 30
           t = real(step, wp)/30.0_wp
           f = IDENTITY + t*direction
@@ -556,7 +562,10 @@ contains
                                                 transpose(q)))))/scale)
           worst_alpha = max(worst_alpha, abs(new_a(HIST_ALPHA) - new_b(HIST_ALPHA))/ &
                             max(new_a(HIST_ALPHA), 1.0e-3_wp))
-          call state_get_elastic_strain(new_b, be)
+          call state_elastic_strain(new_b, matmul(q, f), be)
+          call state_plastic_metric(new_a, cp_a)
+          call state_plastic_metric(new_b, cp_b)
+          worst_cp = max(worst_cp, maxval(abs(cp_b - cp_a)))
           if (mat%kind /= MAT_ELASTIC .and. mat%kind /= MAT_MOONEY_RIVLIN) &
             worst_det = max(worst_det, abs(determinant(be) - 1.0_wp))
         end do
@@ -568,6 +577,8 @@ contains
                    'worst '//rtoa(worst_alpha))
         call check(worst_det < 1.0e-12_wp, trim(tag)//': det be_bar = 1 on the rotated path', &
                    'worst '//rtoa(worst_det))
+        call check(worst_cp < 1.0e-12_wp, trim(tag)//': the same Cbar_p^-1 on both paths', &
+                   'worst '//rtoa(worst_cp))
         if (mat%kind == MAT_PIECEWISE_LINEAR .or. mat%kind == MAT_POWER_LAW) &
           call check(hist_a(HIST_ALPHA) > 0.1_wp, trim(tag)//': path is plastic (alpha = '// &
                      rtoa(hist_a(HIST_ALPHA))//')')
