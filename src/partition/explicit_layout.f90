@@ -30,7 +30,7 @@ module mefem_explicit_layout
   implicit none
   private
 
-  public :: explicit_layout_build, explicit_layout_local_node
+  public :: explicit_layout_build, explicit_layout_local_node, explicit_layout_release_plan
 
   !> This rank's cells and nodes, ownership, halo lists and the order-fixed assembly plan.
   type, public :: explicit_layout_t
@@ -159,6 +159,23 @@ contains
       end if
     end do
   end function explicit_layout_local_node
+
+  !> Free what only the set-up reads (the cells' lists and nodes, the assembly plan and its
+  !> send and receive lists: the halo and the solver's state keep their own copies); the
+  !> nodes and the output plan stay, for the outputs.
+  subroutine explicit_layout_release_plan(layout)
+    type(explicit_layout_t), intent(inout) :: layout  !< a built layout
+    if (allocated(layout%cell_global)) deallocate(layout%cell_global)
+    if (allocated(layout%cell_nodes)) deallocate(layout%cell_nodes)
+    if (allocated(layout%cell_outer)) deallocate(layout%cell_outer)
+    if (allocated(layout%outer_cells)) deallocate(layout%outer_cells)
+    if (allocated(layout%inner_cells)) deallocate(layout%inner_cells)
+    if (allocated(layout%assembly_start)) deallocate(layout%assembly_start)
+    if (allocated(layout%assembly_source)) deallocate(layout%assembly_source)
+    if (allocated(layout%send_start)) deallocate(layout%send_start)
+    if (allocated(layout%send_source)) deallocate(layout%send_source)
+    if (allocated(layout%receive_start)) deallocate(layout%receive_start)
+  end subroutine explicit_layout_release_plan
 
   !> Sizes and ranges that must agree between the decomposition, the partition and the cells.
   subroutine check_layout_input(decomp, elem_part, elem_start, elem_nodes, cells, status)

@@ -36,7 +36,7 @@ module mefem_explicit_dynamics
   use mefem_decomposition, only: decomposition_t
   use mefem_model_partition, only: element_csr
   use mefem_explicit_layout, only: explicit_layout_t, explicit_layout_build, &
-                                   explicit_layout_local_node
+                                   explicit_layout_local_node, explicit_layout_release_plan
   use mefem_halo, only: halo_t, halo_build, halo_assemble_finish, halo_assemble, &
                         halo_gather_cell_results
   use mefem_cells, only: cells_t, cells_build, cells_summary, CELL_MAX_NODES
@@ -123,6 +123,7 @@ contains
     if (.not. status%ok) call fatal('element set-up: '//status%message)
     call cells_summary(cells)
     call set_up(model, decomp, element_rank, cells, layout, halo, s)
+    deallocate(cells%grad)            ! read by the set-up only: the cells' copies are in s
     call say('explicit: '//itoa(layout%nnode_global)//' nodes (with enriched), '// &
              itoa(cells%n)//' cells on '//itoa(comm_size())//' rank(s)')
 
@@ -457,6 +458,7 @@ contains
                               s%v_trial(dim, s%nnode))
     ! the other ranks of this node, whose cell blocks this rank may compute (3D)
     call explicit_steal_set_up(s)
+    call explicit_layout_release_plan(layout)   ! the halo and s hold what the cycles read
   contains
 
     !> Body of local node l (0: none).
