@@ -584,12 +584,8 @@ contains
       if (pass == 1) then
         send_next = 0
       else
-        layout%result_send_start(0) = 0
-        do r = 0, nranks - 1
-          layout%result_send_start(r + 1) = layout%result_send_start(r) + send_next(r)
-        end do
+        call counts_to_offsets(send_next, layout%result_send_start)
         allocate(layout%result_send_cell(layout%result_send_start(nranks)))
-        send_next = layout%result_send_start(0:nranks - 1)
       end if
       do l = 1, layout%ncell_local
         call cell_readers(layout%cell_global(l))
@@ -604,12 +600,8 @@ contains
       if (pass == 1) then
         receive_next = 0
       else
-        layout%result_receive_start(0) = 0
-        do r = 0, nranks - 1
-          layout%result_receive_start(r + 1) = layout%result_receive_start(r) + receive_next(r)
-        end do
+        call counts_to_offsets(receive_next, layout%result_receive_start)
         allocate(layout%result_cell(nresult), layout%result_source(nresult))
-        receive_next = layout%result_receive_start(0:nranks - 1)
       end if
       nresult = 0
       l = 0
@@ -659,5 +651,18 @@ contains
     end subroutine add
 
   end subroutine build_result_plan
+
+  !> Offsets from counts per rank: start(r+1) = start(r) + next(r) from start(0) = 0, and next
+  !> set to start(0:nranks-1) (each rank's slots then follow its offset).
+  pure subroutine counts_to_offsets(next, start)
+    integer, intent(inout) :: next(0:)                    !< (0:nranks-1) counts in, offsets out
+    integer, intent(out) :: start(0:)                     !< (0:nranks) offsets
+    integer :: r
+    start(0) = 0
+    do r = 0, size(next) - 1
+      start(r + 1) = start(r) + next(r)
+    end do
+    next = start(0:size(next) - 1)
+  end subroutine counts_to_offsets
 
 end module mefem_explicit_layout
