@@ -4,14 +4,16 @@
 !> 32-bit C int and real_t a 32-bit float, and the options array holds METIS_NOPTIONS = 40
 !> entries. The mesh is handed to METIS_PartMeshDual, which builds the dual graph (elements
 !> are neighbours when they share at least `ncommon` nodes) and partitions it k-way with a
-!> fixed random seed, so that the same mesh always gives the same partition.
+!> fixed random seed, so that the same mesh always gives the same partition. A sparse
+!> matrix's graph is handed to METIS_NodeND for a fill-reducing nested-dissection ordering
+!> (the pivot order mefem_mumps gives MUMPS: Debian's MUMPS has no METIS of its own).
 module mefem_metis
   use, intrinsic :: iso_c_binding, only: c_int, c_ptr, c_null_ptr, c_loc
   use mefem_errors, only: status_t, warn
   implicit none
   private
 
-  public :: metis_partition_elements
+  public :: metis_partition_elements, metis_nested_dissection
 
   integer, parameter :: METIS_NOPTIONS = 40        !< length of METIS's options array
   integer, parameter :: METIS_OK = 1               !< return code: success
@@ -49,6 +51,20 @@ module mefem_metis
       integer(c_int), intent(out) :: npart(*)       !< (nnode) part of each node
       integer(c_int) :: code
     end function metis_part_mesh_dual
+
+    !> Fill-reducing ordering of a graph by nested dissection (METIS_NodeND).
+    function metis_node_nd(nvtxs, xadj, adjncy, vwgt, options, perm, iperm) &
+        bind(C, name='METIS_NodeND') result(code)
+      import :: c_int, c_ptr
+      integer(c_int), intent(in) :: nvtxs           !< number of vertices
+      integer(c_int), intent(inout) :: xadj(*)      !< (nvtxs+1) start of each adjacency list
+      integer(c_int), intent(inout) :: adjncy(*)    !< adjacency lists (no self loops)
+      type(c_ptr), value :: vwgt                    !< vertex weights (NULL)
+      integer(c_int), intent(inout) :: options(*)   !< (METIS_NOPTIONS) options
+      integer(c_int), intent(out) :: perm(*)        !< (nvtxs) vertex at each position
+      integer(c_int), intent(out) :: iperm(*)       !< (nvtxs) position of each vertex
+      integer(c_int) :: code
+    end function metis_node_nd
   end interface
 
 contains
@@ -212,5 +228,48 @@ contains
       status%message = 'metis_partition_elements: '//trim(text)
     end if
   end subroutine check_input
+
+  !> Fill-reducing pivot order of a symmetric sparsity graph by nested dissection
+  !> (METIS_NodeND, fixed seed): position(i) is the elimination position of vertex i
+  !> (1-based). The graph is given 1-based in CSR form, both directions of every edge, no
+  !> self loops: vertex i's neighbours are columns(row_start(i):row_start(i+1)-1).
+  subroutine metis_nested_dissection(n, row_start, columns, position, status)
+    integer, intent(in) :: n                      !< number of vertices
+    integer, intent(in) :: row_start(:)           !< (n+1) start of each vertex's neighbours
+    integer, intent(in) :: columns(:)             !< 1-based neighbours
+    integer, intent(out) :: position(:)           !< (n) elimination position of each vertex
+    type(status_t), intent(out) :: status         !< failure and its reason
+    integer(c_int), allocatable :: xadj(:), adjncy(:), perm(:), iperm(:)
+    integer(c_int) :: options(METIS_NOPTIONS), code, n_c
+    character(len=200) :: text
+    integer :: i
+    if (n < 1 .or. size(row_start) < n + 1 .or. size(position) < n) then
+      status%ok = .false.
+      status%message = 'metis_nested_dissection: inconsistent graph sizes'
+      return
+    end if
+    if (n == 1 .or. row_start(n + 1) == 1) then  ! no edge: nothing to split, keep the order
+      position(1:n) = [(i, i = 1, n)]
+      return
+    end if
+    allocate(xadj(n + 1), adjncy(max(1, row_start(n + 1) - 1)), perm(n), iperm(n))
+    xadj = int(row_start(1:n + 1) - 1, c_int)
+    adjncy(1:row_start(n + 1) - 1) = int(columns(1:row_start(n + 1) - 1) - 1, c_int)
+    code = metis_set_default_options(options)
+    options(METIS_OPTION_SEED + 1) = int(PARTITION_SEED, c_int)
+    options(METIS_OPTION_NUMBERING + 1) = 0_c_int
+    n_c = int(n, c_int)
+    code = metis_node_nd(n_c, xadj, adjncy, c_null_ptr, options, perm, iperm)
+    if (code /= METIS_OK) then
+      status%ok = .false.
+      write(text, '(a,i0,a,i0,a)') 'metis_nested_dissection: METIS_NodeND failed (return code ', &
+          code, ') on a graph of ', n, ' vertices'
+      status%message = trim(text)
+      return
+    end if
+    do i = 1, n
+      position(i) = int(iperm(i)) + 1
+    end do
+  end subroutine metis_nested_dissection
 
 end module mefem_metis

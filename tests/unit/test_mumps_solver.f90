@@ -16,7 +16,7 @@ program test_mumps_solver
       coo_compress, coo_free
   use mefem_mumps, only: mumps_solver_t, mumps_stats_t, mumps_init, mumps_analyse, &
       mumps_factorise, mumps_solve, mumps_free, mumps_stats, MUMPS_UNSYMMETRIC, MUMPS_SPD, &
-      MUMPS_SYMMETRIC
+      MUMPS_SYMMETRIC, ORDERING_METIS_ND, ORDERING_PORD, ORDERING_AMD, ordering_name
   implicit none
 
   integer, parameter :: M = 40              !< interior nodes per direction
@@ -26,6 +26,7 @@ program test_mumps_solver
   call test_builder()
   call test_compress()
   call test_spd_and_refactorise()
+  call test_orderings()
   call test_unsymmetric()
   call test_indefinite_inertia()
   call test_singular()
@@ -353,6 +354,46 @@ contains
     call mumps_free(s)
     call coo_free(a)
   end subroutine test_spd_and_refactorise
+
+  !> The Poisson system with each fill-reducing ordering mefem offers: the METIS nested
+  !> dissection mefem computes itself (the default: the pattern gathered on rank 0, the order
+  !> given to MUMPS), PORD and AMD; the same solution, and MUMPS reports the ordering it used.
+  subroutine test_orderings()
+    integer, parameter :: ORDERINGS(3) = [ORDERING_METIS_ND, ORDERING_PORD, ORDERING_AMD]
+    type(coo_matrix_t) :: a
+    type(mumps_solver_t) :: s
+    type(mumps_stats_t) :: st
+    type(status_t) :: status
+    real(wp), allocatable :: x_exact(:), b(:), x(:)
+    integer :: n, k
+    n = M*M
+    allocate(x_exact(n), b(n), x(n))
+    call exact_solution(x_exact)
+    call coo_init(a, n, 16)
+    b = 0.0_wp
+    call assemble(a, .true., 1.0_wp, BETA, 0.0_wp, .false., .false., x_exact, b)
+    call comm_sum(b)
+    do k = 1, size(ORDERINGS)
+      call mumps_init(s, MUMPS_UNSYMMETRIC, status, ordering=ORDERINGS(k))
+      call mumps_factorise(s, a, status)
+      call mumps_solve(s, b, x, status)
+      st = mumps_stats(s)
+      call check(status%ok .and. relative_error(x, x_exact) < 1.0e-10_wp, &
+                 ordering_name(ORDERINGS(k))//': relative error < 1e-10')
+      call check_equal(st%ordering_used, ORDERINGS(k), ordering_name(ORDERINGS(k))// &
+                       ': the ordering MUMPS used')
+      if (comm_is_root()) print '(4x,a,i0,a)', ordering_name(ORDERINGS(k))//': ', &
+          st%factor_entries, ' entries in the factors'
+      call mumps_free(s)
+    end do
+    call mumps_init(s, MUMPS_UNSYMMETRIC, status)
+    call mumps_factorise(s, a, status)
+    st = mumps_stats(s)
+    call check_equal(st%ordering_used, ORDERING_METIS_ND, 'default ordering: METIS nested '// &
+                     'dissection')
+    call mumps_free(s)
+    call coo_free(a)
+  end subroutine test_orderings
 
   !> (b) unsymmetric convection-diffusion.
   subroutine test_unsymmetric()
