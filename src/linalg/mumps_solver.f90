@@ -378,7 +378,8 @@ contains
   end subroutine release_matrix
 
   !> PERM_IN on the host: METIS nested dissection of the symmetrised pattern of all ranks'
-  !> entries (gathered on rank 0; diagonal and repeated entries dropped, each vertex's
+  !> entries (each rank's off-diagonal pairs once, gathered on rank 0, where the repeats
+  !> between ranks are dropped; each vertex's
   !> neighbours in ascending order, so the same pattern gives the same order on any number
   !> of ranks). Collective; a failure on rank 0 is reported on every rank.
   subroutine metis_pivot_order(s, a, status)
@@ -386,11 +387,13 @@ contains
     type(coo_matrix_t), intent(in) :: a        !< this rank's entries
     type(status_t), intent(out) :: status      !< failure with a message
     integer, allocatable :: rows(:), cols(:), row_start(:), columns(:), next(:), last_row(:)
-    integer, allocatable :: sorted_start(:), sorted(:)
+    integer, allocatable :: sorted_start(:), sorted(:), low(:), high(:)
     integer :: n, k, i, j, m, kept
     character(len=200) :: message
-    call comm_gatherv_int(a%row(1:a%nnz), rows)
-    call comm_gatherv_int(a%col(1:a%nnz), cols)
+    call unique_pairs(a%n, a%row(1:a%nnz), a%col(1:a%nnz), low, high)
+    call comm_gatherv_int(low, rows)
+    call comm_gatherv_int(high, cols)
+    deallocate(low, high)
     message = ''
     if (comm_is_root()) then
       n = a%n
@@ -455,6 +458,55 @@ contains
     status%ok = len_trim(message) == 0
     status%message = trim(message)
   end subroutine metis_pivot_order
+
+  !> The distinct off-diagonal positions of a list of entries as pairs low < high (an entry
+  !> and its transpose give one pair): a counting sort by the lower index, repeats dropped in
+  !> place, so that only the distinct pairs are gathered.
+  subroutine unique_pairs(n, row, col, low, high)
+    integer, intent(in) :: n                          !< matrix size
+    integer, intent(in) :: row(:), col(:)             !< the entries' positions
+    integer, allocatable, intent(out) :: low(:), high(:)  !< the distinct pairs
+    integer, allocatable :: start(:), next(:), partner(:), last_low(:)
+    integer :: k, i, m, npair, first
+    allocate(start(n + 1), next(n), last_low(n))
+    next = 0                                  ! partners per lower index
+    do k = 1, size(row)
+      if (row(k) /= col(k)) next(min(row(k), col(k))) = next(min(row(k), col(k))) + 1
+    end do
+    start(1) = 1
+    do i = 1, n
+      start(i + 1) = start(i) + next(i)
+    end do
+    allocate(partner(start(n + 1) - 1))
+    next = start(1:n)
+    do k = 1, size(row)
+      if (row(k) == col(k)) cycle
+      i = min(row(k), col(k))
+      partner(next(i)) = max(row(k), col(k))
+      next(i) = next(i) + 1
+    end do
+    last_low = 0                              ! distinct partners, moved forward in place
+    npair = 0
+    do i = 1, n
+      first = npair + 1
+      do m = start(i), start(i + 1) - 1
+        if (last_low(partner(m)) == i) cycle
+        last_low(partner(m)) = i
+        npair = npair + 1
+        partner(npair) = partner(m)
+      end do
+      next(i) = npair - first + 1             ! distinct partners of i
+    end do
+    allocate(low(npair), high(npair))
+    npair = 0
+    do i = 1, n
+      do m = 1, next(i)
+        npair = npair + 1
+        low(npair) = i
+        high(npair) = partner(npair)
+      end do
+    end do
+  end subroutine unique_pairs
 
   !> Turn INFOG(1) < 0 into a status with a readable message.
   subroutine mumps_failure(s, phase, status)

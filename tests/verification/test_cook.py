@@ -110,7 +110,7 @@ if mefem3 and standard3:
 # solutions differ by round-off amplified by the condition number. At nu = 0.3 that is far
 # below 1e-10 (measured 4.7e-14; 1.4e-15 with the PORD ordering before). At nu = 0.499975
 # (lambda/G = 2e4 multiplies the condition number) the measured differences were 0.7-1.7e-10
-# for N = 8...32 with PORD (also 1 vs 3 ranks) and are 2.0e-10 with METIS: round-off, not a
+# for N = 8...32 with PORD (also 1 vs 3 ranks) and 1.5-2.0e-10 with METIS: round-off, not a
 # decomposition error, so the tolerance there is 1e-9.
 for poisson, tolerance in ((0.3, 1e-10), (None, 1e-9)):
     label = 'nu=%s' % ('0.3' if poisson else '0.499975')
