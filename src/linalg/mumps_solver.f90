@@ -378,86 +378,77 @@ contains
   end subroutine release_matrix
 
   !> PERM_IN on the host: METIS nested dissection of the symmetrised pattern of all ranks'
-  !> entries (each rank's off-diagonal pairs once, gathered on rank 0, where the repeats
-  !> between ranks are dropped; each vertex's
-  !> neighbours in ascending order, so the same pattern gives the same order on any number
-  !> of ranks). Collective; a failure on rank 0 is reported on every rank.
+  !> entries: each rank's distinct off-diagonal pairs, gathered on rank 0, where the repeats
+  !> between ranks are dropped and each vertex's neighbours put in ascending order, so the
+  !> same pattern gives the same order on any number of ranks. Collective; a failure on
+  !> rank 0 is reported on every rank.
   subroutine metis_pivot_order(s, a, status)
     type(mumps_solver_t), intent(inout) :: s   !< the solver (n set, PERM_IN not allocated)
     type(coo_matrix_t), intent(in) :: a        !< this rank's entries
     type(status_t), intent(out) :: status      !< failure with a message
-    integer, allocatable :: rows(:), cols(:), row_start(:), columns(:), next(:), last_row(:)
-    integer, allocatable :: sorted_start(:), sorted(:), low(:), high(:)
-    integer :: n, k, i, j, m, kept
+    integer, allocatable :: low(:), high(:), all_low(:), all_high(:), start(:), neighbours(:)
     character(len=200) :: message
     call unique_pairs(a%n, a%row(1:a%nnz), a%col(1:a%nnz), low, high)
-    call comm_gatherv_int(low, rows)
-    call comm_gatherv_int(high, cols)
-    deallocate(low, high)
+    call comm_gatherv_int(low, all_low)
+    call comm_gatherv_int(high, all_high)
     message = ''
     if (comm_is_root()) then
-      n = a%n
-      allocate(row_start(n + 1), next(n), last_row(n))
-      row_start = 0                           ! counts, both directions, off-diagonal
-      do k = 1, size(rows)
-        if (rows(k) == cols(k)) cycle
-        row_start(rows(k)) = row_start(rows(k)) + 1
-        row_start(cols(k)) = row_start(cols(k)) + 1
-      end do
-      next(1) = 1
-      do i = 2, n
-        next(i) = next(i - 1) + row_start(i - 1)
-      end do
-      allocate(columns(next(n) + row_start(n) - 1))
-      row_start(1:n) = next
-      do k = 1, size(rows)
-        if (rows(k) == cols(k)) cycle
-        columns(next(rows(k))) = cols(k)
-        next(rows(k)) = next(rows(k)) + 1
-        columns(next(cols(k))) = rows(k)
-        next(cols(k)) = next(cols(k)) + 1
-      end do
-      deallocate(rows, cols)
-      last_row = 0                            ! drop repeats, compacting in place
-      kept = 0
-      do i = 1, n
-        j = row_start(i)
-        row_start(i) = kept + 1
-        do m = j, next(i) - 1
-          if (last_row(columns(m)) == i) cycle
-          last_row(columns(m)) = i
-          kept = kept + 1
-          columns(kept) = columns(m)
-        end do
-      end do
-      row_start(n + 1) = kept + 1
-      ! each list in ascending order (the transpose of a symmetric graph, filled row by row):
-      ! the graph, and so the order, do not depend on how the entries were split among ranks
-      allocate(sorted_start(n + 1), sorted(kept))
-      sorted_start = 0
-      do m = 1, kept
-        sorted_start(columns(m)) = sorted_start(columns(m)) + 1
-      end do
-      next(1) = 1
-      do i = 2, n
-        next(i) = next(i - 1) + sorted_start(i - 1)
-      end do
-      sorted_start(1:n) = next
-      sorted_start(n + 1) = kept + 1
-      do i = 1, n
-        do m = row_start(i), row_start(i + 1) - 1
-          sorted(next(columns(m))) = i
-          next(columns(m)) = next(columns(m)) + 1
-        end do
-      end do
-      allocate(s%id%perm_in(n))
-      call metis_nested_dissection(n, sorted_start, sorted, s%id%perm_in, status)
+      call unique_pairs(a%n, all_low, all_high, low, high)
+      deallocate(all_low, all_high)
+      call sorted_graph(a%n, low, high, start, neighbours)
+      allocate(s%id%perm_in(a%n))
+      call metis_nested_dissection(a%n, start, neighbours, s%id%perm_in, status)
       if (.not. status%ok) message = status%message
     end if
     call comm_bcast(message)
     status%ok = len_trim(message) == 0
     status%message = trim(message)
   end subroutine metis_pivot_order
+
+  !> The graph of distinct pairs low < high (grouped by ascending low, as unique_pairs gives
+  !> them) in CSR form with both directions, each vertex's neighbours ascending: first its
+  !> lower neighbours (appended pair by pair), then its upper ones (every vertex j, in
+  !> ascending order, appends itself to the lists of its lower neighbours).
+  subroutine sorted_graph(n, low, high, start, neighbours)
+    integer, intent(in) :: n                          !< vertices
+    integer, intent(in) :: low(:), high(:)            !< distinct pairs, ascending low
+    integer, allocatable, intent(out) :: start(:)     !< (n+1) vertex i's neighbours are
+    integer, allocatable, intent(out) :: neighbours(:) !< neighbours(start(i):start(i+1)-1)
+    integer, allocatable :: next(:)
+    integer :: k, i, j, m
+    allocate(start(n + 1), next(n))
+    next = 0
+    do k = 1, size(low)
+      next(low(k)) = next(low(k)) + 1
+      next(high(k)) = next(high(k)) + 1
+    end do
+    call starts_from_counts(next, start)
+    allocate(neighbours(start(n + 1) - 1))
+    do k = 1, size(low)
+      neighbours(next(high(k))) = low(k)
+      next(high(k)) = next(high(k)) + 1
+    end do
+    do j = 1, n                                  ! (next(j): end of j's lower neighbours)
+      do m = start(j), next(j) - 1
+        i = neighbours(m)
+        neighbours(next(i)) = j
+        next(i) = next(i) + 1
+      end do
+    end do
+  end subroutine sorted_graph
+
+  !> CSR starts from counts: start(1) = 1, start(i+1) = start(i) + counts(i); counts becomes
+  !> start(1:n), the next free place of each list.
+  pure subroutine starts_from_counts(counts, start)
+    integer, intent(inout) :: counts(:)               !< (n) counts in, list starts out
+    integer, intent(out) :: start(:)                  !< (n+1) starts
+    integer :: i
+    start(1) = 1
+    do i = 1, size(counts)
+      start(i + 1) = start(i) + counts(i)
+    end do
+    counts = start(1:size(counts))
+  end subroutine starts_from_counts
 
   !> The distinct off-diagonal positions of a list of entries as pairs low < high (an entry
   !> and its transpose give one pair): a counting sort by the lower index, repeats dropped in
@@ -473,12 +464,8 @@ contains
     do k = 1, size(row)
       if (row(k) /= col(k)) next(min(row(k), col(k))) = next(min(row(k), col(k))) + 1
     end do
-    start(1) = 1
-    do i = 1, n
-      start(i + 1) = start(i) + next(i)
-    end do
+    call starts_from_counts(next, start)
     allocate(partner(start(n + 1) - 1))
-    next = start(1:n)
     do k = 1, size(row)
       if (row(k) == col(k)) cycle
       i = min(row(k), col(k))
