@@ -124,14 +124,7 @@ contains
                                 ncommon_c, nparts_c, c_null_ptr, options, objval, epart, npart)
     if (code /= METIS_OK) then
       status%ok = .false.
-      select case (code)
-      case (METIS_ERROR_INPUT)
-        text = 'METIS rejected the input (METIS_ERROR_INPUT)'
-      case (METIS_ERROR_MEMORY)
-        text = 'METIS ran out of memory (METIS_ERROR_MEMORY)'
-      case default
-        write(text, '(a,i0,a)') 'METIS failed (return code ', code, ')'
-      end select
+      text = error_text(code)
       write(line, '(a,i0,a,i0,a)') 'metis_partition_elements: '//trim(text)// &
           ' partitioning ', nelem, ' elements into ', nparts, ' parts'
       status%message = trim(line)
@@ -241,20 +234,20 @@ contains
     type(status_t), intent(out) :: status         !< failure and its reason
     integer(c_int), allocatable :: xadj(:), adjncy(:), perm(:), iperm(:)
     integer(c_int) :: options(METIS_NOPTIONS), code, n_c
-    character(len=200) :: text
+    character(len=300) :: text
     integer :: i
     if (n < 1 .or. size(row_start) < n + 1 .or. size(position) < n) then
       status%ok = .false.
       status%message = 'metis_nested_dissection: inconsistent graph sizes'
       return
     end if
-    if (n == 1 .or. row_start(n + 1) == 1) then  ! no edge: nothing to split, keep the order
+    if (row_start(n + 1) == 1) then     ! no edge: nothing to split, keep the order
       position(1:n) = [(i, i = 1, n)]
       return
     end if
-    allocate(xadj(n + 1), adjncy(max(1, row_start(n + 1) - 1)), perm(n), iperm(n))
+    allocate(xadj(n + 1), adjncy(row_start(n + 1) - 1), perm(n), iperm(n))
     xadj = int(row_start(1:n + 1) - 1, c_int)
-    adjncy(1:row_start(n + 1) - 1) = int(columns(1:row_start(n + 1) - 1) - 1, c_int)
+    adjncy = int(columns(1:row_start(n + 1) - 1) - 1, c_int)
     code = metis_set_default_options(options)
     options(METIS_OPTION_SEED + 1) = int(PARTITION_SEED, c_int)
     options(METIS_OPTION_NUMBERING + 1) = 0_c_int
@@ -262,8 +255,8 @@ contains
     code = metis_node_nd(n_c, xadj, adjncy, c_null_ptr, options, perm, iperm)
     if (code /= METIS_OK) then
       status%ok = .false.
-      write(text, '(a,i0,a,i0,a)') 'metis_nested_dissection: METIS_NodeND failed (return code ', &
-          code, ') on a graph of ', n, ' vertices'
+      write(text, '(a,i0,a)') 'metis_nested_dissection: '//trim(error_text(code))// &
+          ' ordering a graph of ', n, ' vertices'
       status%message = trim(text)
       return
     end if
@@ -271,5 +264,19 @@ contains
       position(i) = int(iperm(i)) + 1
     end do
   end subroutine metis_nested_dissection
+
+  !> What a METIS return code other than METIS_OK means.
+  function error_text(code) result(text)
+    integer(c_int), intent(in) :: code            !< METIS return code
+    character(len=80) :: text
+    select case (code)
+    case (METIS_ERROR_INPUT)
+      text = 'METIS rejected the input (METIS_ERROR_INPUT)'
+    case (METIS_ERROR_MEMORY)
+      text = 'METIS ran out of memory (METIS_ERROR_MEMORY)'
+    case default
+      write(text, '(a,i0,a)') 'METIS failed (return code ', code, ')'
+    end select
+  end function error_text
 
 end module mefem_metis

@@ -289,14 +289,8 @@ contains
     type(mumps_stats_t) :: st
     real(wp), allocatable :: x_exact(:), b(:), x(:)
     integer(i8) :: id
-    integer :: n, changed
-    n = M*M
-    allocate(x_exact(n), b(n), x(n))
-    call exact_solution(x_exact)
-    call coo_init(a, n, 16)
-    b = 0.0_wp
-    call assemble(a, .true., 1.0_wp, 0.0_wp, 0.0_wp, .true., .false., x_exact, b)
-    call comm_sum(b)
+    integer :: changed
+    call dirichlet_system(16, 1.0_wp, 0.0_wp, 0.0_wp, .true., a, x_exact, b, x)
     call mumps_init(s, MUMPS_SPD, status)
     call check(status%ok, 'init SPD')
     call mumps_analyse(s, a, status)
@@ -365,14 +359,8 @@ contains
     type(mumps_stats_t) :: st
     type(status_t) :: status
     real(wp), allocatable :: x_exact(:), b(:), x(:)
-    integer :: n, k
-    n = M*M
-    allocate(x_exact(n), b(n), x(n))
-    call exact_solution(x_exact)
-    call coo_init(a, n, 16)
-    b = 0.0_wp
-    call assemble(a, .true., 1.0_wp, BETA, 0.0_wp, .false., .false., x_exact, b)
-    call comm_sum(b)
+    integer :: k
+    call dirichlet_system(16, 1.0_wp, BETA, 0.0_wp, .false., a, x_exact, b, x)
     do k = 1, size(ORDERINGS)
       call mumps_init(s, MUMPS_UNSYMMETRIC, status, ordering=ORDERINGS(k))
       call mumps_factorise(s, a, status)
@@ -395,6 +383,25 @@ contains
     call coo_free(a)
   end subroutine test_orderings
 
+  !> The Dirichlet system of the M x M grid with assemble's coefficients: a (COO of the given
+  !> initial capacity), the exact solution, b = A x_exact summed over the ranks, and x
+  !> allocated for the solution.
+  subroutine dirichlet_system(capacity, diffusion, convection, shift, symmetric, a, x_exact, &
+                              b, x)
+    integer, intent(in) :: capacity                  !< initial COO capacity
+    real(wp), intent(in) :: diffusion, convection    !< factors of the two parts
+    real(wp), intent(in) :: shift                    !< subtracted from the diagonal
+    logical, intent(in) :: symmetric                 !< lower-triangle storage
+    type(coo_matrix_t), intent(out) :: a             !< the matrix
+    real(wp), allocatable, intent(out) :: x_exact(:), b(:), x(:)  !< (M*M) vectors
+    allocate(x_exact(M*M), b(M*M), x(M*M))
+    call exact_solution(x_exact)
+    call coo_init(a, M*M, capacity)
+    b = 0.0_wp
+    call assemble(a, .true., diffusion, convection, shift, symmetric, .false., x_exact, b)
+    call comm_sum(b)
+  end subroutine dirichlet_system
+
   !> (b) unsymmetric convection-diffusion.
   subroutine test_unsymmetric()
     type(coo_matrix_t) :: a
@@ -402,14 +409,7 @@ contains
     type(mumps_stats_t) :: st
     type(status_t) :: status
     real(wp), allocatable :: x_exact(:), b(:), x(:)
-    integer :: n
-    n = M*M
-    allocate(x_exact(n), b(n), x(n))
-    call exact_solution(x_exact)
-    call coo_init(a, n, 1000)
-    b = 0.0_wp
-    call assemble(a, .true., 1.0_wp, BETA, 0.0_wp, .false., .false., x_exact, b)
-    call comm_sum(b)
+    call dirichlet_system(1000, 1.0_wp, BETA, 0.0_wp, .false., a, x_exact, b, x)
     call mumps_init(s, MUMPS_UNSYMMETRIC, status)
     call mumps_analyse(s, a, status)
     call mumps_factorise(s, a, status)
@@ -442,8 +442,7 @@ contains
     real(wp), allocatable :: x_exact(:), b(:), x(:)
     real(wp), parameter :: SIGMA = 0.9_wp
     real(wp) :: lambda, pi, closest
-    integer :: n, j, k, below
-    n = M*M
+    integer :: j, k, below
     pi = acos(-1.0_wp)
     below = 0
     closest = huge(1.0_wp)
@@ -455,12 +454,7 @@ contains
       end do
     end do
     call check(closest > 1.0e-3_wp, 'shift is away from the eigenvalues')
-    allocate(x_exact(n), b(n), x(n))
-    call exact_solution(x_exact)
-    call coo_init(a, n, 1000)
-    b = 0.0_wp
-    call assemble(a, .true., 1.0_wp, 0.0_wp, SIGMA, .true., .false., x_exact, b)
-    call comm_sum(b)
+    call dirichlet_system(1000, 1.0_wp, 0.0_wp, SIGMA, .true., a, x_exact, b, x)
     call mumps_init(s, MUMPS_SYMMETRIC, status)
     call mumps_factorise(s, a, status)       ! analyses by itself
     call check(status%ok, 'factorise indefinite symmetric')
