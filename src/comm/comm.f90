@@ -5,6 +5,7 @@
 !> communicator (MUMPS, HDF5) get the Fortran integer handle from comm_fortran_handle().
 module mefem_comm
   use, intrinsic :: iso_c_binding, only: c_ptr, c_null_ptr, c_loc, c_f_pointer
+  use, intrinsic :: iso_fortran_env, only: error_unit
   use mpi_f08
   use mefem_kinds, only: wp, i8
   implicit none
@@ -19,6 +20,8 @@ module mefem_comm
             comm_arena_peer_array, comm_arena_on_node, comm_arena_sync
   public :: comm_work_reset, comm_work_take, comm_work_steal, comm_work_finished, &
             comm_work_wait
+  public :: comm_mail_post, comm_mail_wait_posted, comm_mail_read, comm_mail_wait_read
+  public :: comm_min_request_t, comm_min_start, comm_min_progress, comm_min_finish
 
   integer :: my_rank = 0    !< rank of this process in the world communicator
   integer :: n_ranks = 1    !< number of ranks
@@ -45,6 +48,17 @@ module mefem_comm
     module procedure allgather_int, allgather_i8
   end interface comm_allgather
 
+  !> A global minimum in flight (opaque): comm_min_start posts it, comm_min_finish waits for it
+  !> and gives the result; work that needs neither the operand nor the result may run
+  !> between (the ranks meet at the finish, not at the start).
+  type :: comm_min_request_t
+    private
+    real(wp), allocatable :: value(:)                 !< (1) operand, then the minimum (on
+                                                      !< the heap: it stays in place)
+    type(MPI_Request) :: request                      !< the reduction's handle
+    logical :: active = .false.                       !< started, not yet finished
+  end type comm_min_request_t
+
   !> Pending non-blocking transfers (opaque): comm_isend_real and comm_irecv_real add one,
   !> comm_waitall completes them all. Keep one per exchange that may be in flight.
   public :: comm_requests_t, comm_isend_real, comm_irecv_real, comm_waitall
@@ -68,6 +82,11 @@ module mefem_comm
   !> and none is left out (each claimant computes its range from the word's value before its
   !> own addition). The thieves add the count of the items they finished to a second word,
   !> after a memory barrier, and the owner waits for it before reading their results.
+  !>
+  !> Mail (comm_mail_*): a rank writes data into its segment for the other ranks of its node
+  !> and posts a number (an exchange count); they wait until that number is posted, read the
+  !> data in place and count their reads in the writer's header, which the writer waits for
+  !> before it writes the next exchange's data. One exchange in flight per arena.
   type :: comm_arena_t
     private
     logical :: active = .false.                       !< created, not yet freed
@@ -88,8 +107,9 @@ module mefem_comm
   end type comm_arena_t
 
   integer, parameter :: ARENA_ALIGN = 64              !< alignment of arrays (a cache line)
-  integer, parameter :: ARENA_HEADER_BYTES = 64       !< claim word, done word, item count
+  integer, parameter :: ARENA_HEADER_BYTES = 64       !< claim, done, item count, posted, read
   integer(MPI_ADDRESS_KIND), parameter :: WORD_CLAIM = 0, WORD_DONE = 1, WORD_ITEMS = 2
+  integer(MPI_ADDRESS_KIND), parameter :: WORD_POSTED = 3, WORD_READ = 4  !< mail words
   integer(i8), parameter :: BACK_UNIT = 2_i8**32      !< one item taken from the back
   integer(MPI_ADDRESS_KIND), parameter :: WORD_BYTES = storage_size(0_i8)/8  !< header word
   type(MPI_Comm) :: node_comm                         !< the ranks sharing this node's memory
@@ -220,6 +240,47 @@ contains
     integer :: ierr
     call MPI_Allreduce(MPI_IN_PLACE, x, 1, MPI_INTEGER, MPI_MAX, MPI_COMM_WORLD, ierr)
   end subroutine max_int
+
+  !> Start the global minimum of x over all ranks (collective; every rank starts and finishes
+  !> its reductions in the same order, as for blocking ones).
+  subroutine comm_min_start(reduction, x)
+    type(comm_min_request_t), intent(inout) :: reduction  !< not in flight
+    real(wp), intent(in) :: x                         !< this rank's value
+    integer :: ierr
+    if (reduction%active) then
+      write(error_unit, '(a)') 'mefem: error: comm_min_start: a minimum is in flight already'
+      call MPI_Abort(MPI_COMM_WORLD, 1, ierr)
+    end if
+    if (.not. allocated(reduction%value)) allocate(reduction%value(1))
+    reduction%value(1) = x
+    call MPI_Iallreduce(MPI_IN_PLACE, reduction%value, 1, MPI_DOUBLE_PRECISION, MPI_MIN, &
+                        MPI_COMM_WORLD, reduction%request, ierr)
+    reduction%active = .true.
+  end subroutine comm_min_start
+
+  !> Let a minimum in flight advance without waiting (MPI moves a non-blocking reduction on
+  !> only inside MPI calls: a rank that has the others' values passes them on here, instead
+  !> of making them wait until it reaches comm_min_finish).
+  subroutine comm_min_progress(reduction)
+    type(comm_min_request_t), intent(inout) :: reduction  !< in flight (or finished)
+    integer :: ierr
+    logical :: done
+    if (reduction%active) call MPI_Test(reduction%request, done, MPI_STATUS_IGNORE, ierr)
+  end subroutine comm_min_progress
+
+  !> Wait for a minimum started by comm_min_start; x = the minimum over all ranks.
+  subroutine comm_min_finish(reduction, x)
+    type(comm_min_request_t), intent(inout) :: reduction  !< in flight
+    real(wp), intent(out) :: x                        !< the minimum
+    integer :: ierr
+    if (.not. reduction%active) then
+      write(error_unit, '(a)') 'mefem: error: comm_min_finish: no minimum in flight'
+      call MPI_Abort(MPI_COMM_WORLD, 1, ierr)
+    end if
+    call MPI_Wait(reduction%request, MPI_STATUS_IGNORE, ierr)
+    reduction%active = .false.
+    x = reduction%value(1)
+  end subroutine comm_min_finish
 
   !> True on every rank if the flag is true on any rank.
   logical function comm_any(flag)
@@ -461,6 +522,8 @@ contains
     call put_word(arena, node_rank, WORD_CLAIM, 0_i8)
     call put_word(arena, node_rank, WORD_DONE, 0_i8)
     call put_word(arena, node_rank, WORD_ITEMS, 0_i8)
+    call put_word(arena, node_rank, WORD_POSTED, 0_i8)
+    call put_word(arena, node_rank, WORD_READ, 0_i8)
     call comm_arena_sync(arena)
     call MPI_Barrier(node_comm, ierr)
     arena%active = .true.
@@ -585,16 +648,60 @@ contains
   subroutine comm_work_wait(arena, stolen)
     type(comm_arena_t), intent(inout) :: arena        !< the arena
     integer, intent(in) :: stolen                     !< items the thieves took
-    integer :: node_rank, ierr
+    call wait_for_word(arena, arena%node_rank_of(my_rank + 1), WORD_DONE, int(stolen, i8))
+  end subroutine comm_work_wait
+
+  !> Writer: the data of exchange `count` are in this rank's segment (readable by the node's
+  !> other ranks once they see the count).
+  subroutine comm_mail_post(arena, count)
+    type(comm_arena_t), intent(inout) :: arena        !< the arena
+    integer(i8), intent(in) :: count                  !< the exchange's number (1, 2, ...)
+    call comm_arena_sync(arena)
+    call put_word(arena, arena%node_rank_of(my_rank + 1), WORD_POSTED, count)
+  end subroutine comm_mail_post
+
+  !> Reader: wait until world rank `rank` (same node) has posted exchange `count`; its data
+  !> are readable when this returns.
+  subroutine comm_mail_wait_posted(arena, rank, count)
+    type(comm_arena_t), intent(inout) :: arena        !< the arena
+    integer, intent(in) :: rank                       !< the writer (world rank, 0-based)
+    integer(i8), intent(in) :: count                  !< the exchange's number
+    call wait_for_word(arena, arena%node_rank_of(rank + 1), WORD_POSTED, count)
+  end subroutine comm_mail_wait_posted
+
+  !> Reader: done reading what world rank `rank` (same node) posted.
+  subroutine comm_mail_read(arena, rank)
+    type(comm_arena_t), intent(inout) :: arena        !< the arena
+    integer, intent(in) :: rank                       !< the writer (world rank, 0-based)
+    integer(i8) :: old
+    call comm_arena_sync(arena)
+    old = add_word(arena, arena%node_rank_of(rank + 1), WORD_READ, 1_i8)
+  end subroutine comm_mail_read
+
+  !> Writer: wait until this rank's posts have been read `reads` times in all (e.g. exchanges
+  !> so far x readers), so that its data may be overwritten.
+  subroutine comm_mail_wait_read(arena, reads)
+    type(comm_arena_t), intent(inout) :: arena        !< the arena
+    integer(i8), intent(in) :: reads                  !< reads to wait for
+    call wait_for_word(arena, arena%node_rank_of(my_rank + 1), WORD_READ, reads)
+  end subroutine comm_mail_wait_read
+
+  !> Wait until header word `word` of node rank `node_rank` is at least `at_least` (other
+  !> ranks raise it), then order this rank's later loads after it (memory barrier).
+  subroutine wait_for_word(arena, node_rank, word, at_least)
+    type(comm_arena_t), intent(inout) :: arena        !< the arena
+    integer, intent(in) :: node_rank                  !< whose header
+    integer(MPI_ADDRESS_KIND), intent(in) :: word     !< word index in the header
+    integer(i8), intent(in) :: at_least               !< value waited for
+    integer :: ierr
     logical :: arrived
-    node_rank = arena%node_rank_of(my_rank + 1)
-    do while (add_word(arena, node_rank, WORD_DONE, 0_i8) < int(stolen, i8))
+    do while (add_word(arena, node_rank, word, 0_i8) < at_least)
       ! MPI progress: with more ranks than cores Open MPI yields the core here
       call MPI_Iprobe(MPI_ANY_SOURCE, MPI_ANY_TAG, MPI_COMM_WORLD, arrived, MPI_STATUS_IGNORE, &
                       ierr)
     end do
     call comm_arena_sync(arena)
-  end subroutine comm_work_wait
+  end subroutine wait_for_word
 
   !> Atomically add `value` to header word `word` of node rank `node_rank`; the old value.
   function add_word(arena, node_rank, word, value) result(old)
@@ -631,7 +738,7 @@ contains
                             arena%win, ierr)
       call MPI_Win_flush(node_rank, arena%win, ierr)
     else                                  ! alone on the node: plain memory
-      call c_f_pointer(arena%segment(1), words, [3])
+      call c_f_pointer(arena%segment(1), words, [int(ARENA_HEADER_BYTES/WORD_BYTES)])
       old = words(word + 1)
       if (operation == MPI_SUM) then
         words(word + 1) = old + value

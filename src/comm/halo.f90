@@ -24,11 +24,22 @@
 !> Between start and finish, halo_sum needs f unchanged at shared nodes (inner cells do not
 !> touch them) and halo_assemble needs the outer cells' values unchanged.
 !> Halos whose exchanges may be in flight at the same time must have different tags.
+!>
+!> halo_assembly_share_on_node (collective, once after halo_build) moves the assembly's buffer
+!> into node-shared memory (mefem_comm's arena): then the neighbours on this node take the
+!> contributions packed for them straight from this rank's buffer (comm_mail_*: posted when
+!> packed, read once by each of them before the next exchange packs again) and only the
+!> neighbours on other nodes get messages. The same contributions are summed in the same
+!> order either way: the same bits.
 module mefem_halo
-  use mefem_kinds, only: wp
+  use, intrinsic :: iso_c_binding, only: c_f_pointer
+  use mefem_kinds, only: wp, i8
   use mefem_errors, only: fatal_local
   use mefem_comm, only: comm_requests_t, comm_isend_real, comm_irecv_real, comm_waitall, &
-                        comm_wtime
+                        comm_wtime, comm_barrier, comm_arena_t, comm_arena_create, &
+                        comm_arena_free, comm_arena_array, comm_arena_peer_array, &
+                        comm_arena_on_node, comm_arena_sync, comm_mail_post, &
+                        comm_mail_wait_posted, comm_mail_read, comm_mail_wait_read
   use mefem_decomposition, only: decomposition_t
   use mefem_explicit_layout, only: explicit_layout_t
   implicit none
@@ -36,10 +47,16 @@ module mefem_halo
 
   public :: halo_build, halo_sum, halo_sum_start, halo_sum_finish
   public :: halo_assemble, halo_assemble_start, halo_assemble_finish, halo_assembly_push_nodes
-  public :: halo_gather_cell_results
+  public :: halo_gather_cell_results, halo_assembly_share_on_node, halo_free
 
   integer, parameter :: DEFAULT_TAG = 7100     !< message tag when none is given
   integer, parameter :: RESULT_TAG = 7300      !< tag of halo_gather_cell_results' messages
+
+  !> A neighbour's assembly buffer in node-shared memory, up to the end of its part for us.
+  type :: peer_buffer_t
+    real(wp), pointer, contiguous :: values(:) => null()
+    integer :: first = 1                         !< our first contribution in it (send position)
+  end type peer_buffer_t
 
   !> Neighbours, shared nodes, summation plans and buffers of one halo (read-only for users).
   type, public :: halo_t
@@ -80,7 +97,8 @@ module mefem_halo
                                                  !< halo_assemble_start packed them (the first
                                                  !< copy), then the received ones
     integer :: nsent = 0                         !< contributions sent (size(send_source))
-    real(wp), allocatable :: assembly_buffer(:)  !< (ncomp_max * (sent + received contributions))
+    real(wp), pointer, contiguous :: assembly_buffer(:) => null()
+                                                 !< (ncomp_max * (sent + received contributions))
                                                  !< for ncomp components: contribution e at
                                                  !< ncomp*(e-1)+1 : ncomp*e, the sent ones
                                                  !< first (e = send position), the received
@@ -95,6 +113,14 @@ module mefem_halo
     integer, allocatable :: kept_source(:)       !< own contributions to nodes neither pushed
     integer, allocatable :: kept_node(:)         !< nor mixed, ascending source, and their node
     integer, allocatable :: kept_zero(:)         !< nodes not pushed (zeroed before summing)
+    ! assembly through node-shared memory (halo_assembly_share_on_node)
+    logical :: on_node = .false.                 !< assembly_buffer is in `mailbox`
+    type(comm_arena_t) :: mailbox                !< assembly_buffer and the send lists
+    logical, allocatable :: direct(:)            !< (nneighbour) neighbour on this node: its
+                                                 !< contributions are read from its buffer
+    integer :: ndirect = 0                       !< count(direct)
+    type(peer_buffer_t), allocatable :: peer(:)  !< (nneighbour) the direct ones' buffers
+    integer(i8) :: exchanges = 0                 !< assembly exchanges started
   end type halo_t
 
   !> Build a halo from a decomposition_t or an explicit_layout_t (the latter with the
@@ -242,6 +268,8 @@ contains
     halo%shared_start = shared_start(1:nneighbour + 1)
     nlist = shared_start(nneighbour + 1) - 1
     halo%shared_nodes = shared_nodes(1:nlist)
+    allocate(halo%direct(nneighbour))
+    halo%direct = .false.
     allocate(halo%send_buffer(ncomp_max*nlist), halo%receive_buffer(ncomp_max*nlist))
 
     ! shared nodes and the number of ranks holding each (1 + neighbours listing it)
@@ -380,19 +408,26 @@ contains
       call fatal_local('halo_assemble_start: previous exchange not finished')
     halo%assembly_ncomp = ncomp
     do k = 1, halo%nneighbour
+      if (halo%direct(k)) cycle
       first = ncomp*(halo%nsent + halo%receive_start(k) - 1) + 1
       last = ncomp*(halo%nsent + halo%receive_start(k + 1) - 1)
       call comm_irecv_real(halo%assembly_buffer(first:last), halo%neighbour_rank(k), &
                            halo%tag + 1, halo%assembly_requests)
     end do
+    if (halo%on_node) then               ! the neighbours of this node have read the last one
+      halo%exchanges = halo%exchanges + 1
+      call comm_mail_wait_read(halo%mailbox, halo%ndirect*(halo%exchanges - 1))
+    end if
     do k = 1, halo%nneighbour
       call pack_contributions(halo, k, ncomp, size(cell_values, 2)*size(cell_values, 3), &
                               cell_values)
+      if (halo%direct(k)) cycle
       first = ncomp*(halo%send_start(k) - 1) + 1
       last = ncomp*(halo%send_start(k + 1) - 1)
       call comm_isend_real(halo%assembly_buffer(first:last), halo%neighbour_rank(k), &
                            halo%tag + 1, halo%assembly_requests)
     end do
+    if (halo%on_node) call comm_mail_post(halo%mailbox, halo%exchanges)
   end subroutine halo_assemble_start
 
   !> Wait for the neighbours' contributions and sum every local node in ascending cell order.
@@ -414,6 +449,7 @@ contains
     call check_cells(halo, cell_values, 'halo_assemble_finish')
     call check_nodal(halo, f, 'halo_assemble_finish')
     clock = comm_wtime()
+    if (halo%on_node) call take_from_node(halo, ncomp)
     call comm_waitall(halo%assembly_requests)
     halo%assembly_wait = halo%assembly_wait + (comm_wtime() - clock)
     halo%assembly_ncomp = 0
@@ -430,6 +466,94 @@ contains
     end if
     call sum_mixed_in_plan_order(halo, ncomp, f)
   end subroutine halo_assemble_finish
+
+  !> The contributions of the neighbours on this node: copied from their buffers into the
+  !> received part of assembly_buffer once they have posted this exchange, as a message
+  !> would have put them.
+  subroutine take_from_node(halo, ncomp)
+    type(halo_t), intent(inout) :: halo            !< halo sharing its buffer on the node
+    integer, intent(in) :: ncomp                   !< components of this exchange
+    integer :: k, first, n, at, e
+    do k = 1, halo%nneighbour
+      if (.not. halo%direct(k)) cycle
+      call comm_mail_wait_posted(halo%mailbox, halo%neighbour_rank(k), halo%exchanges)
+      first = ncomp*(halo%peer(k)%first - 1)
+      at = ncomp*(halo%nsent + halo%receive_start(k) - 1)
+      n = ncomp*(halo%receive_start(k + 1) - halo%receive_start(k))
+      do e = 1, n
+        halo%assembly_buffer(at + e) = halo%peer(k)%values(first + e)
+      end do
+      call comm_mail_read(halo%mailbox, halo%neighbour_rank(k))
+    end do
+  end subroutine take_from_node
+
+  !> Move the assembly's buffer into node-shared memory, so that the neighbours on this node
+  !> exchange contributions without messages (collective over all ranks; after halo_build
+  !> from a layout, before any exchange). Each rank publishes its buffer and send lists; each
+  !> finds its part in every neighbour's buffer on the node (the neighbour's send list for it
+  !> must hold as many contributions as this rank's receive list from it).
+  subroutine halo_assembly_share_on_node(halo)
+    type(halo_t), intent(inout) :: halo            !< halo built from an explicit layout
+    integer, parameter :: REAL_BYTES = storage_size(1.0_wp)/8, INT_BYTES = storage_size(1)/8
+    integer, pointer, contiguous :: info(:), peer_info(:)
+    real(wp), pointer, contiguous :: shared(:)
+    integer :: nbuffer, ninfo, nn, k, j, peer_nn, first, ncontribution
+    if (.not. halo%has_assembly) call fatal_local('halo_assembly_share_on_node: the halo was '// &
+                                                  'not built from an explicit layout')
+    if (halo%assembly_ncomp /= 0 .or. halo%on_node) call fatal_local( &
+      'halo_assembly_share_on_node: call it once, with no exchange in flight')
+    nn = halo%nneighbour
+    nbuffer = size(halo%assembly_buffer)
+    ! the lists the neighbours read: ncomp_max, nneighbour, neighbour_rank, send_start
+    ninfo = 2 + nn + (nn + 1)
+    call comm_arena_create(halo%mailbox, [int(nbuffer, i8)*REAL_BYTES, int(ninfo, i8)*INT_BYTES])
+    call c_f_pointer(comm_arena_array(halo%mailbox, 1), shared, [nbuffer])
+    call c_f_pointer(comm_arena_array(halo%mailbox, 2), info, [ninfo])
+    info = [halo%ncomp_max, nn, halo%neighbour_rank, halo%send_start]
+    deallocate(halo%assembly_buffer)
+    halo%assembly_buffer => shared
+    halo%on_node = .true.
+    call comm_arena_sync(halo%mailbox)
+    call comm_barrier()                            ! every rank's lists written
+    call comm_arena_sync(halo%mailbox)
+    allocate(halo%peer(nn))
+    do k = 1, nn
+      halo%direct(k) = comm_arena_on_node(halo%mailbox, halo%neighbour_rank(k))
+      if (.not. halo%direct(k)) cycle
+      call c_f_pointer(comm_arena_peer_array(halo%mailbox, halo%neighbour_rank(k), 2), &
+                       peer_info, [2])
+      peer_nn = peer_info(2)
+      if (peer_info(1) /= halo%ncomp_max) call fatal_local('halo_assembly_share_on_node: '// &
+          'the neighbours'' halos hold different numbers of components')
+      call c_f_pointer(comm_arena_peer_array(halo%mailbox, halo%neighbour_rank(k), 2), &
+                       peer_info, [2 + peer_nn + peer_nn + 1])
+      j = findloc(peer_info(3:2 + peer_nn), halo%rank, dim=1)
+      if (j == 0) call fatal_local('halo_assembly_share_on_node: a neighbour does not list '// &
+                                   'this rank')
+      first = peer_info(2 + peer_nn + j)
+      ncontribution = peer_info(2 + peer_nn + j + 1) - first
+      if (ncontribution /= halo%receive_start(k + 1) - halo%receive_start(k)) call fatal_local( &
+        'halo_assembly_share_on_node: a neighbour sends a different number of contributions')
+      call c_f_pointer(comm_arena_peer_array(halo%mailbox, halo%neighbour_rank(k), 1), &
+                       halo%peer(k)%values, [halo%ncomp_max*(first - 1 + ncontribution)])
+      halo%peer(k)%first = first
+    end do
+    halo%ndirect = count(halo%direct)
+  end subroutine halo_assembly_share_on_node
+
+  !> Release a halo's buffers (collective over all ranks if it was shared on the node).
+  subroutine halo_free(halo)
+    type(halo_t), intent(inout) :: halo            !< the halo
+    if (halo%on_node) then
+      nullify(halo%assembly_buffer)
+      call comm_arena_free(halo%mailbox)
+      halo%on_node = .false.
+      halo%direct = .false.
+      halo%ndirect = 0
+    else if (associated(halo%assembly_buffer)) then
+      deallocate(halo%assembly_buffer)
+    end if
+  end subroutine halo_free
 
   !> Let the caller assemble the nodes marked in `pushed` itself: it adds each contribution to
   !> such a node straight into the nodal array, in ascending global cell order, starting from

@@ -62,7 +62,7 @@ contains
     type(model_t), intent(in) :: model                !< resolved model
     type(explicit_state_t), intent(inout) :: s        !< local state
     type(halo_t), intent(inout) :: halo               !< force exchange (started here)
-    integer :: k
+    integer :: k, own
     s%dt_stable = huge(1.0_wp)
     s%dt_element = 0
     s%failed = .false.
@@ -72,10 +72,14 @@ contains
         do k = 1, s%nblock
           call block_forces(model, s, k, .false.)
         end do
+        call halo_assemble_start(halo, s%cell_force)
       else
-        call blocks_shared_with_node(model, s)
+        call blocks_shared_with_node(model, s, own)
+        call halo_assemble_start(halo, s%cell_force)
+        ! the neighbours need only what was just posted: the stolen blocks' pushed
+        ! contributions are added after it, while they go on
+        call add_stolen_blocks(s, own)
       end if
-      call halo_assemble_start(halo, s%cell_force)
     else
       do k = 1, size(s%outer)
         call cell_forces(model, s, s%outer(k))
@@ -92,15 +96,15 @@ contains
   !> chunks from the back of the others' blocks and computes them through their views
   !> (block_forces with every contribution stored in the owner's cell array, its histories
   !> updated in place); then it waits until the others have finished the blocks they took of
-  !> its own, and adds those blocks' pushed contributions in block order, as the blocks'
-  !> own pass would have (so every sum keeps its order and the forces their bits). The
+  !> its own (blocks own+1..nblock: add_stolen_blocks adds their pushed contributions). The
   !> smallest step and a failure found in another rank's cells count as this rank's.
-  subroutine blocks_shared_with_node(model, s)
+  subroutine blocks_shared_with_node(model, s, own)
     type(model_t), intent(in) :: model                !< resolved model
     type(explicit_state_t), intent(inout) :: s        !< local state (peers set up)
+    integer, intent(out) :: own                       !< blocks 1..own computed here
     integer, parameter :: OWN_CHUNK = 8               !< blocks per claim of one's own
     integer, parameter :: STEAL_CHUNK = 4             !< blocks per claim of another's
-    integer :: first, last, own, k, j, m, l, a, node
+    integer :: first, last, k, j
     logical :: took
     call comm_work_reset(s%arena, s%nblock, OWN_CHUNK)
     own = 0
@@ -136,19 +140,6 @@ contains
     ! this rank's blocks the others took: wait for them, then their pushed contributions
     call comm_work_wait(s%arena, s%nblock - own)
     s%blocks_by_others = s%blocks_by_others + (s%nblock - own)
-    if (.not. allocated(s%push_node)) return
-    do k = own + 1, s%nblock
-      do m = s%block_start(k), s%block_start(k + 1) - 1
-        l = s%block_cell(m)
-        do a = 1, s%nnodes(l)
-          node = s%push_node(a, l)
-          if (node == 0) cycle
-          s%f_int_new(1, node) = s%f_int_new(1, node) + s%cell_force(1, a, l)
-          s%f_int_new(2, node) = s%f_int_new(2, node) + s%cell_force(2, a, l)
-          s%f_int_new(3, node) = s%f_int_new(3, node) + s%cell_force(3, a, l)
-        end do
-      end do
-    end do
   contains
 
     !> Own blocks from the front, chunk by chunk, until `limit` is passed or none is left
@@ -166,6 +157,28 @@ contains
     end subroutine take_own
 
   end subroutine blocks_shared_with_node
+
+  !> The pushed contributions of this rank's blocks own+1..nblock, which other ranks of the
+  !> node computed (stored in the cell array), added in block order after this rank's own
+  !> pass: the additions that pass would have made, in its order (the same bits).
+  subroutine add_stolen_blocks(s, own)
+    type(explicit_state_t), intent(inout) :: s        !< local state
+    integer, intent(in) :: own                        !< blocks computed by this rank
+    integer :: k, m, l, a, node
+    if (.not. allocated(s%push_node)) return
+    do k = own + 1, s%nblock
+      do m = s%block_start(k), s%block_start(k + 1) - 1
+        l = s%block_cell(m)
+        do a = 1, s%nnodes(l)
+          node = s%push_node(a, l)
+          if (node == 0) cycle
+          s%f_int_new(1, node) = s%f_int_new(1, node) + s%cell_force(1, a, l)
+          s%f_int_new(2, node) = s%f_int_new(2, node) + s%cell_force(2, a, l)
+          s%f_int_new(3, node) = s%f_int_new(3, node) + s%cell_force(3, a, l)
+        end do
+      end do
+    end do
+  end subroutine add_stolen_blocks
 
   !> Views of the other ranks of this node, for blocks_shared_with_node (3D; collective: every
   !> rank's arena must hold its sizes, so call it after every rank's set-up of its cells).

@@ -29,7 +29,8 @@
 module mefem_explicit_dynamics
   use, intrinsic :: iso_fortran_env, only: error_unit
   use mefem_kinds, only: wp
-  use mefem_comm, only: comm_sum, comm_min, comm_max, comm_wtime, comm_size
+  use mefem_comm, only: comm_sum, comm_min, comm_max, comm_wtime, comm_size, comm_min_start, &
+                        comm_min_progress, comm_min_finish
   use mefem_errors, only: status_t, fatal, say, warn
   use mefem_strings, only: itoa, rtoa
   use mefem_model, only: model_t, ON_NODE, ON_NODE_SET, MAT_RIGID, TOPO_TET4, TOPO_TRI3
@@ -38,6 +39,7 @@ module mefem_explicit_dynamics
   use mefem_explicit_layout, only: explicit_layout_t, explicit_layout_build, &
                                    explicit_layout_local_node, explicit_layout_release_plan
   use mefem_halo, only: halo_t, halo_build, halo_assemble_finish, halo_assemble, &
+                        halo_assembly_share_on_node, halo_free, &
                         halo_gather_cell_results
   use mefem_cells, only: cells_t, cells_build, cells_summary, CELL_MAX_NODES
   use mefem_cell_finite_strain, only: cell_deformation_gradient, inverse_3x3
@@ -137,7 +139,7 @@ contains
     s%f_ext = s%f_ext_new
     call accelerations(s)
     if (s%bodies%n > 0) call rigid_body_resultants(s)
-    dt = next_time_step(s)
+    call next_time_step(s, dt)
     if (dt < 0.0_wp) call stop_on_failure(model, decomp, cells, layout, s, schedule, cycle, t, &
                                           0.0_wp, timing)
     if (model%controls%dt_init > 0.0_wp) dt = min(dt, model%controls%dt_init)
@@ -171,7 +173,7 @@ contains
       timing%update = timing%update + (comm_wtime() - clock)
       dt_old = dt
       clock = comm_wtime()
-      dt = next_time_step(s)
+      call next_time_step(s, dt)
       timing%reduction = timing%reduction + (comm_wtime() - clock)
       if (dt < 0.0_wp) call stop_on_failure(model, decomp, cells, layout, s, schedule, cycle, &
                                             t, dt_old, timing)
@@ -192,6 +194,7 @@ contains
     call progress_finish()
     call report_timing(model, s, cycle, timing, halo%assembly_wait, comm_wtime() - t_start)
     call explicit_steal_tear_down(s)
+    call halo_free(halo)
   end subroutine explicit_dynamics_run
 
   !> What the explicit solver takes (anything else is reported before the run starts).
@@ -243,6 +246,8 @@ contains
     type(status_t) :: status
     integer :: dim, n, g, l, c, e, nv, k, count_entries, pass, i, nblock
     integer, allocatable :: nodes(:), block_starts(:), block_nodes_of(:), block_order(:)
+    character(len=8) :: value
+    integer :: length, env_status
 
     dim = cells%dim
     s%dim = dim
@@ -250,6 +255,10 @@ contains
     call element_csr(model, elem_start, elem_nodes)
     call explicit_layout_build(decomp, element_rank, elem_start, elem_nodes, cells, layout)
     call halo_build(halo, layout, dim)
+    ! the ranks of a node exchange their contributions through shared memory, not messages
+    ! (MEFEM_HALO_MESSAGES=1: messages with every neighbour, for the tests of that path)
+    call get_environment_variable('MEFEM_HALO_MESSAGES', value, length, env_status)
+    if (.not. (env_status == 0 .and. value == '1')) call halo_assembly_share_on_node(halo)
     s%nnode = layout%nnode_local
     s%ncell = layout%ncell_local
 
@@ -611,9 +620,17 @@ contains
     clock = comm_wtime()
     call explicit_cell_loop(model, s, halo)
     timing%forces = timing%forces + (comm_wtime() - clock)
+    ! the next step depends on the cells only: its minimum over the ranks runs while the
+    ! forces are assembled and the accelerations computed (next_time_step waits for it)
+    if (s%failed) then
+      call comm_min_start(s%dt_reduction, -1.0_wp)
+    else
+      call comm_min_start(s%dt_reduction, s%dt_stable)
+    end if
     clock = comm_wtime()
     call halo_assemble_finish(halo, s%cell_force, s%f_int_new, &
                               pushed=allocated(s%push_node))
+    call comm_min_progress(s%dt_reduction)     ! (the others' steps have come by now)
     if (s%mass_scaling) then
       block
         real(wp) :: added(1, s%nnode)
@@ -814,14 +831,14 @@ contains
   end subroutine advance_displacements
 
   !> The next time step: the global minimum of the cells' stable steps (one reduction per
-  !> cycle). A failed cell anywhere gives -1; the rank that found it prints what happened.
-  real(wp) function next_time_step(s) result(dt)
-    type(explicit_state_t), intent(in) :: s           !< local state
-    dt = s%dt_stable
-    if (s%failed) dt = -1.0_wp
-    call comm_min(dt)
+  !> cycle, started by compute_forces). A failed cell anywhere gives -1; the rank that found
+  !> it prints what happened.
+  subroutine next_time_step(s, dt)
+    type(explicit_state_t), intent(inout) :: s        !< local state
+    real(wp), intent(out) :: dt                       !< the step (-1: a cell failed)
+    call comm_min_finish(s%dt_reduction, dt)
     if (dt < 0.0_wp .and. s%failed) write(error_unit, '(a)') 'mefem: error: '//trim(s%failure)
-  end function next_time_step
+  end subroutine next_time_step
 
   !> Write what is due at time t: result states (d3plot interval), glstat, nodout.
   !> final = .true. writes all of them whatever the schedule (end of run, failure).

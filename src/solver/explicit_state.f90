@@ -10,7 +10,7 @@ module mefem_explicit_state
   use mefem_mortar_contact, only: mortar_contact_t
   use mefem_rigid_bodies, only: rigid_bodies_t
   use mefem_comm, only: comm_arena_t, comm_arena_create, comm_arena_array, &
-                        comm_arena_peer_array, comm_arena_on_node
+                        comm_arena_peer_array, comm_arena_on_node, comm_min_request_t
   implicit none
   private
 
@@ -130,6 +130,8 @@ module mefem_explicit_state
     integer :: dt_element = 0                  !< model element (first of its cell) that set it
     logical :: failed = .false.                !< a cell failed (message in failure)
     character(len=256) :: failure = ''
+    type(comm_min_request_t) :: dt_reduction   !< the next step's minimum over the ranks, in
+                                               !< flight from the cell loop to next_time_step
     ! node-shared memory of the pointer components; blocks computed for other ranks
     type(comm_arena_t) :: arena
     type(explicit_state_t), allocatable :: peers(:)  !< 3D: views of the other ranks of this

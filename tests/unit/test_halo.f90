@@ -8,7 +8,8 @@
 !> - under MPI: halo_sum on the decomposition and on the layout (outer cells, start, inner
 !>   cells, finish) against the serial sum (1e-14) and bit for bit against the same
 !>   ascending-rank rule; halo_assemble (same overlap) bit for bit against a serial sum in
-!>   ascending cell order, which does not depend on the number of ranks;
+!>   ascending cell order, which does not depend on the number of ranks; the same through
+!>   node-shared memory (halo_assembly_share_on_node), six exchanges in a row;
 !> - lumped masses: total = rho x volume, all positive, enriched share = psibar.
 ! ranks: 1 2 3 4
 program test_halo
@@ -24,7 +25,8 @@ program test_halo
   use mefem_explicit_layout, only: explicit_layout_t, explicit_layout_build, &
                                    explicit_layout_local_node
   use mefem_halo, only: halo_t, halo_build, halo_sum, halo_sum_start, halo_sum_finish, &
-                        halo_assemble_start, halo_assemble_finish, halo_assembly_push_nodes
+                        halo_assemble_start, halo_assemble_finish, halo_assembly_push_nodes, &
+                        halo_assembly_share_on_node, halo_free
   use mefem_lumped_mass, only: lumped_mass
   use mefem_testing, only: test_start, test_finish, check, check_close
   implicit none
@@ -558,9 +560,11 @@ contains
     real(wp), allocatable :: cell_values(:,:,:), f(:,:), g(:,:), reference(:,:), partial(:,:,:)
     real(wp), allocatable :: ordered(:,:), h(:,:)
     logical, allocatable :: shared(:), pushed(:)
-    type(halo_t) :: pushed_halo
-    integer :: nparts, r, k, c, j, comp, l
-    logical :: ok_assembly, ok_bits, ok_close, ok_pushed
+    type(halo_t) :: pushed_halo, shared_halo
+    real(wp), allocatable :: scaled(:,:,:)
+    real(wp) :: factor
+    integer :: nparts, r, k, c, j, comp, l, round, ncomp_round
+    logical :: ok_assembly, ok_bits, ok_close, ok_pushed, ok_shared
 
     nparts = comm_size()
     call build_decomposition(comm_rank(), nparts, model%elements%n, model%nodes%n, elem_start, &
@@ -606,6 +610,29 @@ contains
     ok_pushed = all(h == reference(:, layout%node_global))
     call check(.not. comm_any(.not. ok_pushed), tag//': pushed assembly (caller adds two '// &
         'thirds of the nodes) = serial sum, bit for bit')
+
+    ! the assembly with the buffer in node-shared memory (the neighbours on this node take
+    ! each other's packed contributions): six exchanges in a row, 3 and 1 components
+    ! alternating (forces, then added masses, as in a cycle), the values scaled by (-2)**round
+    ! (exact), so that a part read before it was written or overwritten before it was read
+    ! would show
+    call halo_build(shared_halo, layout, NCOMP, tag=400)
+    call halo_assembly_share_on_node(shared_halo)
+    ok_shared = .true.
+    do round = 1, 6
+      factor = (-2.0_wp)**round
+      scaled = factor*cell_values
+      ncomp_round = merge(NCOMP, 1, mod(round, 2) == 1)
+      call halo_assemble_start(shared_halo, scaled(1:ncomp_round, :, :))
+      call halo_assemble_finish(shared_halo, scaled(1:ncomp_round, :, :), f(1:ncomp_round, :))
+      ok_shared = ok_shared .and. all(f(1:ncomp_round, :) == &
+                                      factor*reference(1:ncomp_round, layout%node_global))
+    end do
+    call check(.not. comm_any(.not. ok_shared), tag//': halo_assemble through node-shared '// &
+        'memory, six exchanges of 3 and 1 components = serial sums, bit for bit')
+    call check(.not. comm_any(shared_halo%ndirect /= shared_halo%nneighbour), tag//': every '// &
+        'neighbour on this node is read from shared memory')
+    call halo_free(shared_halo)
 
     ! halo_sum over the layout: scatter outer cells, start, scatter inner cells, finish
     allocate(g(NCOMP, layout%nnode_local))

@@ -99,12 +99,12 @@ if rc == 0:
 # ---- 2. results independent of the number of ranks ------------------------------------------
 # The same bar, a shorter run, on 1, 2, 3 and 4 ranks: nodal histories and the final
 # displacements must be the same bits (order-fixed assembly of the cell forces).
-def runs_on_ranks(name, blocks, label):
-    """Run blocks on 1-4 ranks; per rank count that ran: (nodout histories of the probes,
+def runs_on_ranks(name, blocks, label, rank_counts=(1, 2, 3, 4)):
+    """Run blocks on 1-4 ranks (or rank_counts); per rank count that ran: (nodout histories of the probes,
     final displacements in node-id order, last state's plastic strain per cell, nodout, the
     last state's stress and plastic strain at nodes and elements in id order)."""
     found = {}
-    for ranks in (1, 2, 3, 4):
+    for ranks in rank_counts:
         rc, text, out = run_case('%s_ranks%d' % (name, ranks), blocks, ranks=ranks)
         checks.check(rc == 0, '%s on %d ranks: run succeeds' % (label, ranks), text[-600:])
         if rc != 0:
@@ -221,6 +221,18 @@ del os.environ['MEFEM_STEAL_TEST']
 print('    work stealing: blocks computed by another rank on 2, 3, 4 ranks: %s'
       % ', '.join(str(stolen[r]) for r in (2, 3, 4)))
 
+# ---- 2d. the exchange by messages ----------------------------------------------------------
+# The ranks of a node take each other's force contributions from shared memory; ranks on
+# different nodes send them as messages. MEFEM_HALO_MESSAGES=1 makes every neighbour use
+# messages: the four-part bar on 3 ranks must keep the bits of the 1-rank run that way too.
+os.environ['MEFEM_HALO_MESSAGES'] = '1'
+by_messages = runs_on_ranks('four_parts_messages', four_part_deck(4.0e-5),
+                            'four parts, messages between all ranks,', rank_counts=(3,))
+del os.environ['MEFEM_HALO_MESSAGES']
+if 1 in parts:
+    by_messages[1] = parts[1]
+check_same_bits(by_messages, 'four parts, messages between all ranks, ')
+
 # ---- 3. a free-flying, spinning body: momentum, angular motion, objectivity ----------------
 # Box 20 x 20 x 5 mm, 4 x 4 x 1 hexahedra of 6 tets, initial velocity v + omega e_z x (x - c)
 # about its centre, no supports. omega R / c_d = 0.01 so that the centrifugal stress
@@ -330,4 +342,10 @@ if g0 is not None:
         # close to dt0: measured 222 %; at most 300 % (every cell 4x)
         checks.check(0.0 < added <= 300.0 + 1e-9, 'mass scaling: added mass reported, '
                      'between 0 and 300 %', '%.3f %%' % added)
+    # the added masses are a second exchange in each cycle, after the forces': the same
+    # bits on 1 and 3 ranks, once the wave (at half the speed) has crossed the ranks'
+    # interfaces
+    check_same_bits(runs_on_ranks('wave_bar_mass_scaled', bar_deck(6.0e-5, [
+        ['*CONTROL_TIMESTEP', free(0.0, 0.9, 0, 0.0, -2.0 * dt0 / 0.9)]]), 'mass scaling',
+        rank_counts=(1, 3)), 'mass scaling, ')
 checks.exit()
