@@ -491,9 +491,12 @@ contains
   !> exchange contributions without messages (collective over all ranks; after halo_build
   !> from a layout, before any exchange). Each rank publishes its buffer and send lists; each
   !> finds its part in every neighbour's buffer on the node (the neighbour's send list for it
-  !> must hold as many contributions as this rank's receive list from it).
-  subroutine halo_assembly_share_on_node(halo)
+  !> must hold as many contributions as this rank's receive list from it). `messages_with`
+  !> keeps messages with some ranks of the node (tests of a mix of both ways, as between
+  !> nodes; both sides of a pair must name each other).
+  subroutine halo_assembly_share_on_node(halo, messages_with)
     type(halo_t), intent(inout) :: halo            !< halo built from an explicit layout
+    integer, intent(in), optional :: messages_with(:) !< world ranks to exchange messages with
     integer, parameter :: REAL_BYTES = storage_size(1.0_wp)/8, INT_BYTES = storage_size(1)/8
     integer, pointer, contiguous :: info(:), peer_info(:)
     real(wp), pointer, contiguous :: shared(:)
@@ -519,6 +522,8 @@ contains
     allocate(halo%peer(nn))
     do k = 1, nn
       halo%direct(k) = comm_arena_on_node(halo%mailbox, halo%neighbour_rank(k))
+      if (present(messages_with)) halo%direct(k) = halo%direct(k) .and. &
+                                                   .not. any(messages_with == halo%neighbour_rank(k))
       if (.not. halo%direct(k)) cycle
       call c_f_pointer(comm_arena_peer_array(halo%mailbox, halo%neighbour_rank(k), 2), &
                        peer_info, [2])

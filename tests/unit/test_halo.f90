@@ -634,6 +634,29 @@ contains
         'neighbour on this node is read from shared memory')
     call halo_free(shared_halo)
 
+    ! both ways at once, as with ranks on several nodes: messages between ranks of different
+    ! parity, shared memory between ranks of the same parity
+    call halo_build(shared_halo, layout, NCOMP, tag=500)
+    call halo_assembly_share_on_node(shared_halo, &
+        messages_with=pack([(r, r = 0, nparts - 1)], [(mod(r, 2) /= mod(comm_rank(), 2), &
+                                                       r = 0, nparts - 1)]))
+    ok_shared = .true.
+    do round = 1, 4
+      factor = (-2.0_wp)**round
+      scaled = factor*cell_values
+      ncomp_round = merge(NCOMP, 1, mod(round, 2) == 1)
+      call halo_assemble_start(shared_halo, scaled(1:ncomp_round, :, :))
+      call halo_assemble_finish(shared_halo, scaled(1:ncomp_round, :, :), f(1:ncomp_round, :))
+      ok_shared = ok_shared .and. all(f(1:ncomp_round, :) == &
+                                      factor*reference(1:ncomp_round, layout%node_global))
+    end do
+    call check(.not. comm_any(.not. ok_shared), tag//': halo_assemble with messages between '// &
+        'ranks of different parity and shared memory between the others = serial sums, bit '// &
+        'for bit')
+    call check(.not. comm_any(shared_halo%ndirect /= count(mod(shared_halo%neighbour_rank, 2) &
+        == mod(comm_rank(), 2))), tag//': ... the same-parity neighbours read from shared memory')
+    call halo_free(shared_halo)
+
     ! halo_sum over the layout: scatter outer cells, start, scatter inner cells, finish
     allocate(g(NCOMP, layout%nnode_local))
     g = 0.0_wp
