@@ -407,6 +407,13 @@ contains
     if (halo%assembly_ncomp /= 0) &
       call fatal_local('halo_assemble_start: previous exchange not finished')
     halo%assembly_ncomp = ncomp
+    ! the neighbours of this node have read the last exchange before any of the buffer is
+    ! written again, by this rank or by a message (with another number of components the
+    ! parts lie elsewhere: a receive may land where they were reading)
+    if (halo%on_node) then
+      halo%exchanges = halo%exchanges + 1
+      call comm_mail_wait_read(halo%mailbox, halo%ndirect*(halo%exchanges - 1))
+    end if
     do k = 1, halo%nneighbour
       if (halo%direct(k)) cycle
       first = ncomp*(halo%nsent + halo%receive_start(k) - 1) + 1
@@ -414,10 +421,6 @@ contains
       call comm_irecv_real(halo%assembly_buffer(first:last), halo%neighbour_rank(k), &
                            halo%tag + 1, halo%assembly_requests)
     end do
-    if (halo%on_node) then               ! the neighbours of this node have read the last one
-      halo%exchanges = halo%exchanges + 1
-      call comm_mail_wait_read(halo%mailbox, halo%ndirect*(halo%exchanges - 1))
-    end if
     do k = 1, halo%nneighbour
       call pack_contributions(halo, k, ncomp, size(cell_values, 2)*size(cell_values, 3), &
                               cell_values)

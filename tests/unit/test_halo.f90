@@ -561,9 +561,7 @@ contains
     real(wp), allocatable :: ordered(:,:), h(:,:)
     logical, allocatable :: shared(:), pushed(:)
     type(halo_t) :: pushed_halo, shared_halo
-    real(wp), allocatable :: scaled(:,:,:)
-    real(wp) :: factor
-    integer :: nparts, r, k, c, j, comp, l, round, ncomp_round
+    integer :: nparts, r, k, c, j, comp, l
     logical :: ok_assembly, ok_bits, ok_close, ok_pushed, ok_shared
 
     nparts = comm_size()
@@ -618,16 +616,7 @@ contains
     ! would show
     call halo_build(shared_halo, layout, NCOMP, tag=400)
     call halo_assembly_share_on_node(shared_halo)
-    ok_shared = .true.
-    do round = 1, 6
-      factor = (-2.0_wp)**round
-      scaled = factor*cell_values
-      ncomp_round = merge(NCOMP, 1, mod(round, 2) == 1)
-      call halo_assemble_start(shared_halo, scaled(1:ncomp_round, :, :))
-      call halo_assemble_finish(shared_halo, scaled(1:ncomp_round, :, :), f(1:ncomp_round, :))
-      ok_shared = ok_shared .and. all(f(1:ncomp_round, :) == &
-                                      factor*reference(1:ncomp_round, layout%node_global))
-    end do
+    ok_shared = scaled_exchanges_match(shared_halo, layout, cell_values, reference, 6)
     call check(.not. comm_any(.not. ok_shared), tag//': halo_assemble through node-shared '// &
         'memory, six exchanges of 3 and 1 components = serial sums, bit for bit')
     call check(.not. comm_any(shared_halo%ndirect /= shared_halo%nneighbour), tag//': every '// &
@@ -640,16 +629,7 @@ contains
     call halo_assembly_share_on_node(shared_halo, &
         messages_with=pack([(r, r = 0, nparts - 1)], [(mod(r, 2) /= mod(comm_rank(), 2), &
                                                        r = 0, nparts - 1)]))
-    ok_shared = .true.
-    do round = 1, 4
-      factor = (-2.0_wp)**round
-      scaled = factor*cell_values
-      ncomp_round = merge(NCOMP, 1, mod(round, 2) == 1)
-      call halo_assemble_start(shared_halo, scaled(1:ncomp_round, :, :))
-      call halo_assemble_finish(shared_halo, scaled(1:ncomp_round, :, :), f(1:ncomp_round, :))
-      ok_shared = ok_shared .and. all(f(1:ncomp_round, :) == &
-                                      factor*reference(1:ncomp_round, layout%node_global))
-    end do
+    ok_shared = scaled_exchanges_match(shared_halo, layout, cell_values, reference, 4)
     call check(.not. comm_any(.not. ok_shared), tag//': halo_assemble with messages between '// &
         'ranks of different parity and shared memory between the others = serial sums, bit '// &
         'for bit')
@@ -694,7 +674,32 @@ contains
     call check(.not. comm_any(.not. ok_close), tag//': ... within 1e-14 of the serial sum '// &
         'at every local node, enriched nodes included')
 
+
   end subroutine check_layout_exchanges
+
+  !> `rounds` assemblies in a row on `halo`, 3 and 1 components alternating, the cell values
+  !> scaled by (-2)**round (exact): whether each equals the reference sums so scaled, bit for
+  !> bit.
+  logical function scaled_exchanges_match(halo, layout, cell_values, reference, rounds) result(ok)
+    type(halo_t), intent(inout) :: halo                   !< halo under test
+    type(explicit_layout_t), intent(in) :: layout         !< its layout
+    real(wp), intent(in) :: cell_values(:,:,:)            !< (NCOMP, slots, ncell_local)
+    real(wp), intent(in) :: reference(:,:)                !< (NCOMP, all nodes) serial sums
+    integer, intent(in) :: rounds                         !< exchanges
+    real(wp), allocatable :: scaled(:,:,:), f(:,:)
+    real(wp) :: factor
+    integer :: round, ncomp_round
+    allocate(f(NCOMP, layout%nnode_local))
+    ok = .true.
+    do round = 1, rounds
+      factor = (-2.0_wp)**round
+      scaled = factor*cell_values
+      ncomp_round = merge(NCOMP, 1, mod(round, 2) == 1)
+      call halo_assemble_start(halo, scaled(1:ncomp_round, :, :))
+      call halo_assemble_finish(halo, scaled(1:ncomp_round, :, :), f(1:ncomp_round, :))
+      ok = ok .and. all(f(1:ncomp_round, :) == factor*reference(1:ncomp_round, layout%node_global))
+    end do
+  end function scaled_exchanges_match
 
   !> Cell values of the given local cells.
   subroutine fill_cells(layout, cells, list, cell_values)
