@@ -28,7 +28,7 @@
 !> halo_assembly_share_on_node (collective, once after halo_build) moves the assembly's buffer
 !> into node-shared memory (mefem_comm's arena): then the neighbours on this node take the
 !> contributions packed for them straight from this rank's buffer (comm_mail_*: posted when
-!> packed, read once by each of them before the next exchange packs again) and only the
+!> packed, read once by each of them before anything writes the buffer again) and only the
 !> neighbours on other nodes get messages. The same contributions are summed in the same
 !> order either way: the same bits.
 module mefem_halo
@@ -525,8 +525,9 @@ contains
     allocate(halo%peer(nn))
     do k = 1, nn
       halo%direct(k) = comm_arena_on_node(halo%mailbox, halo%neighbour_rank(k))
-      if (present(messages_with)) halo%direct(k) = halo%direct(k) .and. &
-                                                   .not. any(messages_with == halo%neighbour_rank(k))
+      if (present(messages_with)) then
+        if (any(messages_with == halo%neighbour_rank(k))) halo%direct(k) = .false.
+      end if
       if (.not. halo%direct(k)) cycle
       call c_f_pointer(comm_arena_peer_array(halo%mailbox, halo%neighbour_rank(k), 2), &
                        peer_info, [2])
