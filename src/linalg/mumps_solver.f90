@@ -47,6 +47,7 @@ module mefem_mumps
   use mefem_comm, only: comm_fortran_handle, comm_is_root, comm_bcast, comm_wtime, comm_any, &
                         comm_gatherv_int
   use mefem_metis, only: metis_nested_dissection
+  use mefem_index_lists, only: counts_to_starts
   use mefem_errors, only: status_t
   use mefem_sparse_assembly, only: coo_matrix_t, STORAGE_EMPTY, STORAGE_FULL, STORAGE_LOWER
   implicit none
@@ -422,7 +423,7 @@ contains
       next(low(k)) = next(low(k)) + 1
       next(high(k)) = next(high(k)) + 1
     end do
-    call starts_from_counts(next, start)
+    call counts_to_starts(next, start, 1)
     allocate(neighbours(start(n + 1) - 1))
     do k = 1, size(low)
       neighbours(next(high(k))) = low(k)
@@ -436,19 +437,6 @@ contains
       end do
     end do
   end subroutine sorted_graph
-
-  !> CSR starts from counts: start(1) = 1, start(i+1) = start(i) + counts(i); counts becomes
-  !> start(1:n), the next free place of each list.
-  pure subroutine starts_from_counts(counts, start)
-    integer, intent(inout) :: counts(:)               !< (n) counts in, list starts out
-    integer, intent(out) :: start(:)                  !< (n+1) starts
-    integer :: i
-    start(1) = 1
-    do i = 1, size(counts)
-      start(i + 1) = start(i) + counts(i)
-    end do
-    counts = start(1:size(counts))
-  end subroutine starts_from_counts
 
   !> The distinct off-diagonal positions of a list of entries as pairs low < high (an entry
   !> and its transpose give one pair): a counting sort by the lower index, repeats dropped in
@@ -464,7 +452,7 @@ contains
     do k = 1, size(row)
       if (row(k) /= col(k)) next(min(row(k), col(k))) = next(min(row(k), col(k))) + 1
     end do
-    call starts_from_counts(next, start)
+    call counts_to_starts(next, start, 1)
     allocate(partner(start(n + 1) - 1))
     do k = 1, size(row)
       if (row(k) == col(k)) cycle

@@ -27,6 +27,7 @@ module mefem_explicit_layout
   use mefem_errors, only: status_t, fatal_local
   use mefem_decomposition, only: decomposition_t
   use mefem_cells, only: cells_t, CELL_MAX_NODES
+  use mefem_index_lists, only: counts_to_starts
   implicit none
   private
 
@@ -584,7 +585,7 @@ contains
       if (pass == 1) then
         send_next = 0
       else
-        call counts_to_offsets(send_next, layout%result_send_start)
+        call counts_to_starts(send_next, layout%result_send_start, 0)
         allocate(layout%result_send_cell(layout%result_send_start(nranks)))
       end if
       do l = 1, layout%ncell_local
@@ -600,7 +601,7 @@ contains
       if (pass == 1) then
         receive_next = 0
       else
-        call counts_to_offsets(receive_next, layout%result_receive_start)
+        call counts_to_starts(receive_next, layout%result_receive_start, 0)
         allocate(layout%result_cell(nresult), layout%result_source(nresult))
       end if
       nresult = 0
@@ -651,18 +652,5 @@ contains
     end subroutine add
 
   end subroutine build_result_plan
-
-  !> Offsets from counts per rank: start(r+1) = start(r) + next(r) from start(0) = 0, and next
-  !> set to start(0:nranks-1) (each rank's slots then follow its offset).
-  pure subroutine counts_to_offsets(next, start)
-    integer, intent(inout) :: next(0:)                    !< (0:nranks-1) counts in, offsets out
-    integer, intent(out) :: start(0:)                     !< (0:nranks) offsets
-    integer :: r
-    start(0) = 0
-    do r = 0, size(next) - 1
-      start(r + 1) = start(r) + next(r)
-    end do
-    next = start(0:size(next) - 1)
-  end subroutine counts_to_offsets
 
 end module mefem_explicit_layout
