@@ -108,10 +108,12 @@ K
 # result directory's suffix, for runs made at the same time; 6th: binding, default Open MPI's)
 run_case() {
   local elform=$1 np=$2 deck=$3 log=$4 suffix=${5:-} bind=${6:-}
+  head -1 /proc/stat > "$log.stat"
   /usr/bin/time -f 'process %e %U %S' -o "$log.time" \
     mpirun --oversubscribe ${bind:+--bind-to $bind} -np "$np" "$mefem" \
     -o "$out/run_${elform}_np$np$suffix" "$deck" > "$log" 2>&1 \
     || { echo "mefem failed, see $log" >&2; tail -5 "$log" >&2; exit 1; }
+  head -1 /proc/stat >> "$log.stat"
   /usr/bin/python3 - "$log" "$np" <<'PY'
 import re, sys
 log, np_ = sys.argv[1], int(sys.argv[2])
@@ -142,6 +144,11 @@ g['wait_max'] = grab(r'halo wait \S+ / (\S+) s')
 # share of the ranks' time they were on a core (user + system of mpirun and the ranks over
 # wall x ranks): well below 1 means other processes competed for the cores
 g['cpu_share'] = (user + system) / (wall * np_)
+# share of the machine's CPU time the host took from this VM during the run ("steal" of the
+# cpu line of /proc/stat, over all its columns): the host running other guests on our cores
+before, after = ([int(v) for v in line.split()[1:]] for line in open(log + '.stat'))
+ticks = [b - a for a, b in zip(before, after)]
+g['host_steal'] = ticks[7] / max(sum(ticks[:8]), 1)
 print(' '.join(f'{k}={v}' for k, v in g.items()))
 PY
 }
@@ -200,8 +207,8 @@ print()
 print('| element | ranks | elements | cells | cycles | analysis wall | ns/element-cycle | '
       'ns/cell-cycle | forces | halo+reductions | nodal update | output | '
       'peak memory per rank | memory per element | speed-up | force time max/min | '
-      'CPU share | ns/element-cycle, all runs |')
-print('|' + '---|' * 18)
+      'CPU share | host steal | ns/element-cycle, all runs |')
+print('|' + '---|' * 19)
 for elform, np_text in cases:
     group = [d for d in runs if d['elform'] == elform and d['np'] == np_text]
     group.sort(key=lambda d: f(d, 'ns_elem'))
@@ -226,7 +233,8 @@ for elform, np_text in cases:
           f'{d["cycles"]} | {f(d, "analysis"):.2f} s | {f(d, "ns_elem"):.0f} | '
           f'{f(d, "ns_cell"):.0f} | {f(d, "forces"):.1f} % | {f(d, "halo"):.1f} % | '
           f'{f(d, "update"):.1f} % | {f(d, "output"):.1f} % | {mem:.0f} MiB | '
-          f'{per_elem:.2f} KiB | {speedup} | {spread} | {f(d, "cpu_share"):.2f} | {every} |')
+          f'{per_elem:.2f} KiB | {speedup} | {spread} | {f(d, "cpu_share"):.2f} | '
+          f'{100 * median(f(g, "host_steal") for g in group):.1f} % | {every} |')
 # the pair of 1-rank runs at once, per round: machine bound 2 ns(1)/ns(pair), efficiency of
 # the 2-rank run against it ns(pair)/ns(2), ns(pair) the mean of the two runs
 for elform in dict.fromkeys(d['elform'] for d in pairs):
@@ -280,6 +288,8 @@ print('(rows: the run with the median ns per element-cycle of its case, runs lis
       'that x ranks / elements; speed-up: ranks x ns(1 rank)/ns(ranks) per round, median '
       '(range); force time max/min: the slowest rank\'s cell loop over the fastest\'s (load '
       'imbalance); CPU share: CPU time / (wall x ranks) of the whole process, well below 1 '
-      'when other jobs shared the cores, which inflates the wall-time figures; at the median '
+      'when other jobs shared the cores, which inflates the wall-time figures; host steal: '
+      'median over the case\'s runs of the share of the machine\'s CPU time the host gave to '
+      'others while the run wanted it (/proc/stat); at the median '
       'cycle: the 50 % percentile of the wall time per cycle, per round)')
 PY
