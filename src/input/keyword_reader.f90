@@ -147,8 +147,11 @@ module mefem_keyword_reader
     skipped_entry_t('CONTROL_OUTPUT', OUTPUT_ONLY), &
     skipped_entry_t('CONTROL_ENERGY', OUTPUT_ONLY), &
     skipped_entry_t('CONTROL_CPU', OUTPUT_ONLY), &
-    skipped_entry_t('CONTROL_PARALLEL', OUTPUT_ONLY), &
-    skipped_entry_t('CONTROL_MPP_', OUTPUT_ONLY), &
+    skipped_entry_t('CONTROL_PARALLEL', 'no effect: ranks come from mpirun; explicit '// &
+                    'results are the same bits on any rank count (CONST = 1) whatever CONST '// &
+                    'says'), &
+    skipped_entry_t('CONTROL_MPP_', 'no effect: mefem partitions with METIS and balances '// &
+                    'the ranks of a node by work stealing'), &
     skipped_entry_t('INTERFACE_SPRINGBACK', OUTPUT_ONLY), &
     skipped_entry_t('COMMENT', OUTPUT_ONLY), &
     skipped_entry_t('KEYWORD_ID', OUTPUT_ONLY), &
