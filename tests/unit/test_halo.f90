@@ -674,7 +674,6 @@ contains
     call check(.not. comm_any(.not. ok_close), tag//': ... within 1e-14 of the serial sum '// &
         'at every local node, enriched nodes included')
 
-
   end subroutine check_layout_exchanges
 
   !> `rounds` assemblies in a row on `halo`, 3 and 1 components alternating, the cell values
