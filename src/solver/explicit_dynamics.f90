@@ -422,6 +422,23 @@ contains
       s%rigid_node = pack([(l, l = 1, s%nnode)], [(rigid_of(l) > 0, l = 1, s%nnode)])
       s%nrigid = size(s%rigid_node)
       s%rigid_body = [(rigid_of(s%rigid_node(k)), k = 1, s%nrigid)]
+      ! every rigid-body node of the model in ascending global order: the resultants are
+      ! summed in that order on every rank (rigid_body_resultants)
+      block
+        integer, allocatable :: slot_of(:)
+        integer :: nslot
+        allocate(slot_of(size(s%bodies%node_body)))
+        nslot = 0
+        do g = 1, size(s%bodies%node_body)
+          slot_of(g) = 0
+          if (s%bodies%node_body(g) == 0) cycle
+          nslot = nslot + 1
+          slot_of(g) = nslot
+        end do
+        s%slot_body = pack(s%bodies%node_body, s%bodies%node_body > 0)
+        s%rigid_slot = [(slot_of(s%node_global(s%rigid_node(k))), k = 1, s%nrigid)]
+        allocate(s%rigid_buffer(6, nslot))
+      end block
       ! node motions on rigid-body nodes have no effect: dropped
       block
         logical :: keep(s%nprescribed)
@@ -495,22 +512,30 @@ contains
     end do
   end subroutine move_rigid_bodies
 
-  !> Resultant force and moment on every rigid body at the current time: f_ext - f_int at
-  !> their owned nodes, summed over ranks (replicated on every rank).
+  !> Resultant force and moment on every rigid body at the current time: f_ext + f_con -
+  !> f_int at its nodes, added in ascending global node order on every rank (the owners fill
+  !> each node's position and force into one array, one sum over ranks with a single
+  !> nonzero term per entry, which is exact), so that a body moved by these forces takes
+  !> the same bits on any number of ranks.
   subroutine rigid_body_resultants(s)
     type(explicit_state_t), intent(inout) :: s        !< local state (forces current)
-    integer :: k, l
-    s%body_force = 0.0_wp
-    s%body_moment = 0.0_wp
+    integer :: k, l, slot, d
+    d = s%dim
+    s%rigid_buffer = 0.0_wp
     do k = 1, s%nrigid
       l = s%rigid_node(k)
       if (.not. s%owned(l)) cycle
-      call rigid_bodies_accumulate(s%bodies, s%rigid_body(k), s%x0(:, l) + s%u(:, l), &
-                                   s%f_ext(:, l) + s%f_con(:, l) - s%f_int(:, l), &
-                                   s%body_force, s%body_moment)
+      slot = s%rigid_slot(k)
+      s%rigid_buffer(1:d, slot) = s%x0(:, l) + s%u(:, l)
+      s%rigid_buffer(4:3 + d, slot) = s%f_ext(:, l) + s%f_con(:, l) - s%f_int(:, l)
     end do
-    call comm_sum(s%body_force)
-    call comm_sum(s%body_moment)
+    call comm_sum(s%rigid_buffer)
+    s%body_force = 0.0_wp
+    s%body_moment = 0.0_wp
+    do slot = 1, size(s%slot_body)
+      call rigid_bodies_accumulate(s%bodies, s%slot_body(slot), s%rigid_buffer(1:d, slot), &
+                                   s%rigid_buffer(4:3 + d, slot), s%body_force, s%body_moment)
+    end do
   end subroutine rigid_body_resultants
 
   !> Rigid walls after the displacement update: penetrating nodes back onto the plane, their

@@ -146,6 +146,11 @@ module mefem_explicit_state
     integer :: nrigid = 0                      !< local nodes of rigid bodies
     integer, allocatable :: rigid_node(:)      !< (nrigid) local node
     integer, allocatable :: rigid_body(:)      !< (nrigid) its body
+    integer, allocatable :: rigid_slot(:)      !< (nrigid) its place among all rigid-body
+                                               !< nodes of the model (ascending global node)
+    integer, allocatable :: slot_body(:)       !< (all rigid-body nodes) body of each place
+    real(wp), allocatable :: rigid_buffer(:,:) !< (6, all rigid-body nodes) position and
+                                               !< force of each, filled by its owner
     real(wp), allocatable :: body_force(:,:)   !< (3, bodies) resultant force at t^n
     real(wp), allocatable :: body_moment(:,:)  !< (3, bodies) resultant moment at t^n
     ! rigid walls

@@ -1,7 +1,8 @@
 """Rigid bodies in the explicit solver (issue 5): a *MAT_RIGID part moved by
 *BOUNDARY_PRESCRIBED_MOTION_RIGID compresses an elastic block it shares nodes with, slowly
 (quasi-static): its reaction equals the block's force E A delta / H; and a free rigid body
-keeps its momentum. ME-FEM tets, units mm, t, s, MPa.
+keeps its momentum; a free rigid plate struck by a block moves the same bits on 1-4 ranks.
+ME-FEM tets, units mm, t, s, MPa.
 """
 import os
 import sys
@@ -13,8 +14,8 @@ sys.path.insert(0, os.path.dirname(__file__))
 sys.path.insert(0, os.path.join(os.path.dirname(__file__), '..', '..', 'post'))
 from deck_writer import Checks, f10, free, nodes_card, elements_card
 from explicit_cases import (DENSITY, YOUNG, POISSON, box_tets, curve, elastic, glstat,
-                            node_set, run_case)
-from lsdyna_ascii import read_rbdout
+                            history_nodes, node_set, nodout, run_case)
+from lsdyna_ascii import NODOUT_COLUMNS, read_rbdout
 
 checks = Checks('explicit_rigid_body')
 
@@ -111,4 +112,55 @@ if rc == 0:
     mass = DENSITY * 1000.0
     checks.check(np.all(abs(ke / (0.5 * mass * v0 @ v0) - 1) < 1e-12), 'free rigid body: '
                  'kinetic energy 1/2 m v0^2 throughout', '%s' % ke[:3])
+
+# ---- a free rigid plate struck by a block, on 1-4 ranks -----------------------------------
+# An elastic block 1 x 2 x 2 mm (4 x 8 x 8 hexahedra of 6 standard tets) flies at 10 m/s
+# (with 2 m/s sideways) into a free rigid plate 0.2 x 2 x 2 mm, 0.01
+# mm away (frictionless contact); the plate is 12 x 12 x 12 hexahedra. The plate is split among the ranks and the contact pushes
+# on nodes of several of them; its resultant force and moment are added in ascending node
+# order on every rank count, so the plate's motion, and with it the block's, are the same
+# bits on 1-4 ranks (with sums per rank added over the ranks they differed on 4 ranks).
+xb, connb = box_tets(1.0, 2.0, 2.0, 4, 8, 8)
+xb = xb + np.array([3.0, -0.5, -0.5])
+nb = 12
+grid = np.array([[4.01 + 0.2 * i / nb, -0.5 + 2.0 * j / nb, -0.5 + 2.0 * k / nb]
+                 for k in range(nb + 1) for j in range(nb + 1) for i in range(nb + 1)])
+
+
+def plate_node(i, j, k):
+    return len(xb) + (k * (nb + 1) + j) * (nb + 1) + i
+
+
+hexes = np.array([[plate_node(i, j, k), plate_node(i + 1, j, k), plate_node(i + 1, j + 1, k),
+                   plate_node(i, j + 1, k), plate_node(i, j, k + 1), plate_node(i + 1, j, k + 1),
+                   plate_node(i + 1, j + 1, k + 1), plate_node(i, j + 1, k + 1)]
+                  for k in range(nb) for j in range(nb) for i in range(nb)])
+probes = [0, len(xb) - 1, plate_node(nb, nb, nb), plate_node(0, 0, 0)]
+blocks = [nodes_card(np.vstack([xb, grid])), elements_card('ELEMENT_SOLID', connb),
+          elements_card('ELEMENT_SOLID', hexes, pid=2, first_id=len(connb) + 1),
+          ['*PART', 'block', f10(1, 1, 1), '*SECTION_SOLID', f10(1, 10)] + elastic(),
+          ['*PART', 'plate', f10(2, 2, 2), '*SECTION_SOLID', f10(2, 1),
+           '*MAT_RIGID', free(2, DENSITY, YOUNG, POISSON), f10(0.0, 0, 0)],
+          ['*CONTACT_AUTOMATIC_SURFACE_TO_SURFACE', f10(1, 2, 3, 3), '', ''],
+          ['*INITIAL_VELOCITY_GENERATION', f10(1, 2, 0.0, 1.0e4, 0.0, 2.0e3),
+           f10(0.0, 0.0, 0.0, 0.0, 0.0, 0.0)],
+          ['*CONTROL_TERMINATION', f10(5.0e-6), '*DATABASE_NODOUT', f10(1.0e-7)] +
+          history_nodes(probes)]
+found = {}
+for ranks in (1, 2, 3, 4):
+    rc, text, out = run_case('free_plate_ranks%d' % ranks, blocks, ranks=ranks)
+    checks.check(rc == 0, 'free rigid plate struck on %d ranks: run succeeds' % ranks,
+                 text[-600:])
+    if rc == 0:
+        n = nodout(out)
+        found[ranks] = np.stack([n[c] for c in NODOUT_COLUMNS[:9]])
+if 1 in found:
+    moved = found[1][0][:, 2:]                         # the plate's probes, x-disp
+    checks.check(np.all(moved[-1] > 1e-4), 'free rigid plate: the block pushes it (x-disp '
+                 'of its corners at the end > 1e-4 mm)', '%s' % moved[-1])
+    for ranks in (2, 3, 4):
+        if ranks in found:
+            checks.check(np.array_equal(found[1], found[ranks]), 'free rigid plate struck, '
+                         '%d ranks: histories identical to 1 rank (bit for bit)' % ranks,
+                         'max difference %.3e' % np.max(abs(found[1] - found[ranks])))
 checks.exit()
