@@ -364,6 +364,8 @@ contains
     end do
     s%nprescribed = count_entries
     allocate(s%prescribed_v_old(count_entries))
+    allocate(s%was_driven(count_entries))
+    s%was_driven = .false.
 
     ! initial velocities: mesh nodes from the deck, an enriched node the mean of its element's
     ! corners (the value of the linear field at the centroid, which the enrichment reproduces)
@@ -555,12 +557,20 @@ contains
       associate (nodes => s%wall_nodes(k)%nodes)
         s%v_trial(:, nodes) = s%v(:, nodes)
         call rigid_wall_constrain(model%rigid_walls(k), s%dim, s%x0, s%u, s%v, s%u_old, &
-                                  s%mass, dt, t_new, nodes, s%owned, s%wall_force(:, k))
+                                  s%mass, dt, t_new, nodes, s%owned, s%wall_force(:, k), &
+                                  dt_velocity=dt_avg)
         do j = 1, size(nodes)
           n = nodes(j)
           if (.not. s%owned(n)) cycle
-          s%wall_work = s%wall_work + s%mass(n)*dot_product(s%v(:, n) - s%v_trial(:, n), &
-              0.5_wp*(dt_old*s%v_old(:, n) + dt*s%v(:, n)))/dt_avg
+          if (dt_old > 0.0_wp) then
+            s%wall_work = s%wall_work + s%mass(n)*dot_product(s%v(:, n) - s%v_trial(:, n), &
+                0.5_wp*(dt_old*s%v_old(:, n) + dt*s%v(:, n)))/dt_avg
+          else
+            ! first step (no half step before t^0): the change of the node's kinetic energy
+            ! the wall causes, so that a node stopped at once loses 1/2 m v0^2 here too
+            s%wall_work = s%wall_work + s%mass(n)*dot_product(s%v(:, n) - s%v_trial(:, n), &
+                0.5_wp*(s%v_trial(:, n) + s%v(:, n)))
+          end if
         end do
       end associate
     end do
@@ -598,10 +608,25 @@ contains
       n = s%prescribed_node(k)
       i = s%prescribed_dof(k)
       s%prescribed_v_old(k) = s%v(i, n)
-      s%driven(i, n) = .false.
+      s%was_driven(k) = s%driven(i, n)
+    end do
+    do k = 1, s%nprescribed
+      s%driven(s%prescribed_dof(k), s%prescribed_node(k)) = .false.
     end do
     call advance_velocities(s%dim, s%nnode, dt_avg, s%active, s%fixed, s%a, s%v)
     work = 0.0_wp
+    ! a dof whose motion ended at t^n (DEATH passed) is free from t^n on: a^n was set to zero
+    ! there while it was driven, so its velocity takes the force at t^n now (else the motion
+    ! would hold it one more step, with work nobody books); a motion still active on the
+    ! same dof overrides this below
+    do k = 1, s%nprescribed
+      n = s%prescribed_node(k)
+      i = s%prescribed_dof(k)
+      if (.not. s%was_driven(k) .or. s%fixed(i, n) .or. .not. s%active(n)) cycle
+      if (s%mass(n) <= 0.0_wp) cycle
+      s%a(i, n) = (s%f_ext(i, n) + s%f_con(i, n) - s%f_int(i, n))/s%mass(n)
+      s%v(i, n) = s%prescribed_v_old(k) + dt_avg*s%a(i, n)
+    end do
     do k = 1, s%nprescribed
       n = s%prescribed_node(k)
       i = s%prescribed_dof(k)
@@ -1082,8 +1107,8 @@ contains
     do k = 1, s%nprescribed
       n = s%prescribed_node(k)
       i = s%prescribed_dof(k)
-      if (s%owned(n)) work = work + (s%f_int(i, n) - s%f_ext(i, n) - s%f_con(i, n))*0.5_wp* &
-          dt*s%v(i, n)
+      if (s%owned(n) .and. s%driven(i, n)) work = work + (s%f_int(i, n) - s%f_ext(i, n) - &
+          s%f_con(i, n))*0.5_wp*dt*s%v(i, n)
     end do
   end function pending_reaction_work
 

@@ -76,6 +76,8 @@ module mefem_explicit_state
     integer :: nprescribed = 0
     integer, allocatable :: prescribed_node(:), prescribed_dof(:), prescribed_motion(:)
     real(wp), allocatable :: prescribed_v_old(:) !< (nprescribed) their v^{n-1/2}, this cycle
+    logical, allocatable :: was_driven(:)      !< (nprescribed) the dof was driven in the
+                                               !< last cycle (update_velocities)
     ! cells
     integer, allocatable :: outer(:)           !< local cells touching a shared node (2D:
                                                !< computed first, the exchange overlaps

@@ -98,12 +98,15 @@ contains
   !> Enforce wall `wall` at time `time` (= t^{n+1}; nothing outside BIRTH..DEATH) on the
   !> listed local nodes after the displacement update u_new = u_old + dt v_half: penetrating
   !> nodes are put on the plane and their v_half corrected (module header). force(3) is the
-  !> force the owned nodes exert on the wall, -sum m dv/dt (pointing into the wall for an
-  !> impact). work (optional) is the work of the wall on the owned nodes in this step,
+  !> force the owned nodes exert on the wall, -sum m dv/dt_velocity (pointing into the wall
+  !> for an impact), dt_velocity the step of the velocity update that v_half came from
+  !> (dt_avg = (dt_old + dt)/2 of the central difference; default dt), so that a node held
+  !> on the wall gives its force f = m a whatever the step lengths (a shortened last step
+  !> does not inflate it). work (optional) is the work of the wall on the owned nodes in this step,
   !> sum m/2 (|v_after|^2 - |v_before|^2) <= 0: the jump of the half-step kinetic energy the
   !> wall causes, to be booked like external work in the energy balance.
   subroutine rigid_wall_constrain(wall, dim, x0, u_new, v_half, u_old, mass, dt, time, &
-                                  nodes, owned, force, work)
+                                  nodes, owned, force, work, dt_velocity)
     type(rigid_wall_t), intent(in) :: wall        !< the wall
     integer, intent(in) :: dim                    !< 2 or 3
     real(wp), intent(in) :: x0(:,:)               !< (>= dim, n_local) reference positions
@@ -117,10 +120,15 @@ contains
     logical, intent(in) :: owned(:)               !< (n_local) this rank owns the node
     real(wp), intent(out) :: force(3)             !< force of the owned nodes on the wall
     real(wp), intent(out), optional :: work       !< work of the wall on the owned nodes
+    real(wp), intent(in), optional :: dt_velocity !< step of the velocity update (default dt)
     real(wp) :: normal(3), gap_new, gap_old, v_before(3), v_after(3), vn_before, vn_after
-    real(wp) :: v_t(3), speed, dvn, dv(3)
+    real(wp) :: v_t(3), speed, dvn, dv(3), dt_force
     integer :: k, i
     force = 0.0_wp
+    dt_force = dt
+    if (present(dt_velocity)) then
+      if (dt_velocity > 0.0_wp) dt_force = dt_velocity
+    end if
     if (present(work)) work = 0.0_wp
     if (time < wall%birth .or. time > wall%death .or. dt <= 0.0_wp) return
     normal = rigid_wall_normal(wall, dim)
@@ -149,7 +157,7 @@ contains
                         - gap_new*normal(1:dim)
       v_half(1:dim, i) = v_after(1:dim)
       if (.not. owned(i)) cycle
-      force = force - mass(i)*dv/dt
+      force = force - mass(i)*dv/dt_force
       if (present(work)) work = work + 0.5_wp*mass(i)*(dot_product(v_after, v_after) - &
                                                        dot_product(v_before, v_before))
     end do

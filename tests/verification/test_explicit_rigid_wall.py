@@ -27,10 +27,10 @@ force_exact = DENSITY * c0 * W * W * V0
 x, conn = box_tets(L, W, W, NX, 2, 2)
 
 
-def rod_deck(v=(-V0, 0.0, 0.0), friction=0.0, end_time=1.5 * duration, walls=None):
-    # the wall 0.01 mm in front of the rod's end (reached after 2 us): an impact at t = 0
-    # would have no velocity before it for the energy bookkeeping
-    walls = walls or [['*RIGIDWALL_PLANAR', f10(0, 0, 0, 0.0), f10(-GAP, 0.0, 0.0, 1.0, 0.0,
+def rod_deck(v=(-V0, 0.0, 0.0), friction=0.0, end_time=1.5 * duration, walls=None, gap=GAP):
+    # the wall 0.01 mm in front of the rod's end (reached after 2 us); gap = 0: on the wall
+    # from the start (case "impact at t = 0" below)
+    walls = walls or [['*RIGIDWALL_PLANAR', f10(0, 0, 0, 0.0), f10(-gap, 0.0, 0.0, 1.0, 0.0,
                                                                     0.0, friction)]]
     return ([nodes_card(x), elements_card('ELEMENT_SOLID', conn),
              part_cards(43, elastic(poisson=0.0)),
@@ -103,6 +103,44 @@ for fric in (0.0, 0.2):
                      '%.6f .. %.6f' % (ratio_t.min(), ratio_t.max()))
         checks.check(0.5 * fric < dvy / dvx <= fric, 'FRIC %g: tangential / normal velocity '
                      'change of the rod between FRIC/2 and FRIC' % fric, '%.5f' % (dvy / dvx))
+
+# ---- impact at t = 0: the rod's end on the wall from the start ---------------------------
+# The wall stops the end nodes in the first step, where there is no half step before t = 0:
+# the kinetic energy they lose (1/2 m v0^2) is booked as stonewall energy all the same, so
+# the balance holds as with a gap (before the fix: no stonewall energy, ratio down to 0.989).
+rc, text, out = run_case('rod_wall_at_start', rod_deck(gap=0.0))
+checks.check(rc == 0, 'rod on a wall from t = 0: run succeeds', text[-600:])
+if rc == 0:
+    g = glstat(out)
+    ratio = g['total energy / initial energy']
+    print('    impact at t = 0: energy ratio %.5f .. %.5f, stonewall energy %.4e' % (
+        ratio.min(), ratio.max(), g['stonewall energy'][-1]))
+    checks.check(np.all(abs(ratio - 1) < 0.005) and g['stonewall energy'][-1] > 0,
+                 'rod on a wall from t = 0: stonewall energy booked, total energy conserved '
+                 'within 0.5 %', '%.5f .. %.5f, %.3e' % (ratio.min(), ratio.max(),
+                                                         g['stonewall energy'][-1]))
+
+# ---- a run that ends inside a step: the last wall force ------------------------------------
+# ENDTIM 0.2 steps after a cycle in mid-contact: the last step is 0.2 dt long. A node held
+# on the wall gives its force m a whatever the step (the velocity change over the velocity
+# update's step, not over the short last step, which inflated the last record by
+# dt_avg/dt = 3 before the fix): the last record is the plateau force within 5 %.
+rc, text, out = run_case('rod_wall_short_last_step', rod_deck(end_time=0.5 * duration))
+if rc == 0:
+    g = glstat(out)
+    k = int(np.argmin(abs(g['time'] - 0.5 * duration)))
+    end_time = g['time'][k - 2] + 0.2 * g['time step'][k - 1]
+    rc, text, out = run_case('rod_wall_short_last_step', rod_deck(end_time=end_time))
+checks.check(rc == 0, 'rod on a wall, short last step: runs succeed', text[-600:])
+if rc == 0:
+    g = glstat(out)
+    f = read_rwforc(os.path.join(out, 'rwforc'))[1]
+    last_step = g['time step'][-1] / g['time step'][-2]
+    print('    short last step (%.2f of the one before): last wall force %.4e N (rho c0 A v0 = '
+          '%.4e)' % (last_step, -f['normal'][-1], force_exact))
+    checks.check(last_step < 0.5 and abs(-f['normal'][-1] / force_exact - 1) < 0.05,
+                 'rod on a wall, run ending 0.2 steps after a cycle: last wall force rho c0 A '
+                 'v0 within 5 %', 'step ratio %.3f, force %.4e' % (last_step, -f['normal'][-1]))
 
 # ---- 1 and 2 ranks: the same wall force history ----------------------------------------------
 hist = {}
