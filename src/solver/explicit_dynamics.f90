@@ -186,7 +186,8 @@ contains
         call close_histories()
         call fatal('explicit: the time step '//rtoa(dt)//' fell below DTMIN x the initial '// &
                    'step = '//rtoa(dt_floor)//' at cycle '//itoa(cycle)//', t = '//rtoa(t)// &
-                   '; the state at that time was written')
+                   ' (the step is set by '//step_controlled_by(model, s)//'); the state at '// &
+                   'that time was written')
       end if
     end do
     call write_outputs(model, decomp, cells, layout, s, schedule, cycle, t, dt_old, .true., timing)
@@ -1029,8 +1030,8 @@ contains
     integer, intent(in) :: cycle                      !< cycle just completed
     real(wp), intent(in) :: t, dt                     !< time, the step that reached it
     type(glstat_record_t) :: rec
-    real(wp) :: sums(11), v_full(3), dt_min
-    integer :: n, element, part, my_element, b
+    real(wp) :: sums(11), v_full(3)
+    integer :: n, b
     sums = 0.0_wp
     do n = 1, s%nnode
       if (.not. s%owned(n)) cycle
@@ -1045,7 +1046,7 @@ contains
     end do
     sums(2) = s%internal_energy
     sums(3) = s%external_work + pending_reaction_work(s, dt)
-    sums(10) = -s%wall_work
+    sums(10) = 0.0_wp - s%wall_work                ! (+0, not -0, without walls)
     sums(11) = s%contact_energy
     call comm_sum(sums)
     do b = 1, s%bodies%n                    ! replicated: added once, after the sum
@@ -1077,7 +1078,18 @@ contains
     end if
     rec%energy_ratio = glstat_energy_ratio(rec%total_energy, schedule%initial_energy, &
                                            rec%external_work)
-    ! the element that sets the step: the lowest element id among the ranks' minima
+    rec%controlled_by = step_controlled_by(model, s)
+    call glstat_write(rec)
+  end subroutine write_glstat
+
+  !> The element that sets the stable step, as glstat names it ("solid 484 of part 1"): the
+  !> lowest element id among the ranks whose minimum is the global one (collective).
+  function step_controlled_by(model, s) result(text)
+    type(model_t), intent(in) :: model                !< resolved model
+    type(explicit_state_t), intent(in) :: s           !< local state
+    character(len=:), allocatable :: text
+    real(wp) :: dt_min
+    integer :: element, part, my_element
     dt_min = s%dt_stable
     call comm_min(dt_min)
     my_element = huge(1)
@@ -1090,9 +1102,8 @@ contains
     if (my_element == element .and. element /= huge(1)) &
       part = model%parts(model%elements%part(s%dt_element))%id
     call comm_min(part)
-    rec%controlled_by = trim(element_kind(s%dim))//' '//itoa(element)//' of part '//itoa(part)
-    call glstat_write(rec)
-  end subroutine write_glstat
+    text = trim(element_kind(s%dim))//' '//itoa(element)//' of part '//itoa(part)
+  end function step_controlled_by
 
   !> The part of the prescribed-motion reactions' work not booked yet at an output time:
   !> update_velocities books r^n . (du^{n-1/2} + du^{n+1/2})/2 when v^{n+1/2} is known, so at

@@ -1,7 +1,8 @@
 """A run that blows up stops cleanly (issue 5): one node of a block is thrown at a speed that
 inverts its elements within a few cycles. mefem must stop with a non-zero exit code and a
 message naming the element and the cycle, after writing the state reached (readable HDF5 and
-VTK, a final glstat record).
+VTK, a final glstat record). And a run whose step falls below DTMIN x the first step (a block
+crushed on a rigid wall) stops naming the cycle, the time and the element that sets the step.
 """
 import os
 import re
@@ -43,4 +44,24 @@ checks.check(os.path.exists(os.path.join(out, 'blow_up.pvd')), 'the ParaView fil
 g = glstat(out)
 checks.check(len(g['time']) >= 2, 'glstat holds the records up to the failure',
              '%d records' % len(g['time']))
+
+# ---- DTMIN: the step falls below DTMIN x the first step -----------------------------------
+# The block hits a rigid wall at 1.5 km/s; the crushed elements lower the stable step, and
+# DTMIN = 0.99 stops the run at the first 1 % drop, after writing the state reached.
+blocks = [nodes_card(x), elements_card('ELEMENT_SOLID', conn), part_cards(43, elastic()),
+          ['*INITIAL_VELOCITY', f10(0), f10(-1.5e6, 0.0, 0.0)],
+          ['*RIGIDWALL_PLANAR', f10(0, 0, 0, 0.0), f10(-0.01, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0)],
+          ['*CONTROL_TERMINATION', f10(1.0e-5, 0, 0.99), '*DATABASE_BINARY_D3PLOT', f10(1.0e-5),
+           '*DATABASE_GLSTAT', f10(1.0e-8)]]
+rc, text, out = run_case('dtmin_stop', blocks)
+print('    ' + '\n    '.join(line for line in text.splitlines() if 'error' in line))
+checks.check(rc != 0, 'DTMIN: exits with a non-zero code', 'rc = %d' % rc)
+m = re.search(r'fell below DTMIN x the initial step = \S+ at cycle (\d+), t = \S+ \(the step '
+              r'is set by solid (\d+) of part 1\)', text)
+checks.check(m is not None, 'DTMIN: names the cycle, the time and the element setting the step',
+             text[-400:])
+g = glstat(out) if os.path.exists(os.path.join(out, 'glstat')) else None
+if m is not None and g is not None:
+    checks.check(len(g['time']) >= 2, 'DTMIN: glstat holds the records up to the stop',
+                 '%d records' % len(g['time']))
 checks.exit()
