@@ -28,7 +28,7 @@
 !> here); the driver sums force and moment over the ranks before rigid_bodies_advance.
 module mefem_rigid_bodies
   use mefem_kinds, only: wp
-  use mefem_errors, only: status_t
+  use mefem_errors, only: status_t, say
   use mefem_strings, only: itoa
   use mefem_vector_math, only: cross
   use mefem_model, only: model_t, MAT_RIGID, ELEM_SOLID, ON_PART, TOPO_TRI3, TOPO_QUAD4, &
@@ -358,6 +358,7 @@ contains
               'a thickness T1, or hold or prescribe the translations)')
           return
         end if
+        call note_free_directions(body, prescribed(:, b), bodies%dim, who)
         free = .not. (body%held_rotation .or. prescribed(4:6, b))
         nfree = 0
         do i = 1, 3
@@ -377,6 +378,34 @@ contains
       end associate
     end do
   end subroutine check_motions
+
+  !> A body moved by a prescribed motion but free in other directions (not held by CMO/CON1/
+  !> CON2, not prescribed): say so on the run log, since contact may move it there (a
+  !> frictionless tool pressed on a bulging surface slides off sideways, as it would in
+  !> LS-DYNA); a guided tool holds them with CMO = 1, CON1, CON2.
+  subroutine note_free_directions(body, prescribed, dim, who)
+    type(rigid_body_t), intent(in) :: body        !< the body
+    logical, intent(in) :: prescribed(6)          !< translations x y z, rotations x y z
+    integer, intent(in) :: dim                    !< 2 or 3
+    character(len=*), intent(in) :: who           !< 'rigid part P'
+    character(len=2), parameter :: NAMES(6) = ['x ', 'y ', 'z ', 'rx', 'ry', 'rz']
+    logical :: free(6), exists(6)
+    character(len=:), allocatable :: moved, loose
+    integer :: i
+    exists = .true.
+    if (dim == 2) exists = [.true., .true., .false., .false., .false., .true.]
+    free = exists .and. .not. ([body%held_translation, body%held_rotation] .or. prescribed)
+    if (.not. (any(prescribed .and. exists) .and. any(free))) return
+    moved = ''
+    loose = ''
+    do i = 1, 6
+      if (prescribed(i) .and. exists(i)) moved = moved//' '//trim(NAMES(i))
+      if (free(i)) loose = loose//' '//trim(NAMES(i))
+    end do
+    call say('note: '//who//' is moved along'//moved//' and free in'//loose//' (neither '// &
+             'prescribed nor held by CMO/CON1/CON2): contact forces can move it there; '// &
+             'CMO = 1 with CON1/CON2 holds a guided tool')
+  end subroutine note_free_directions
 
   ! ------------------------------------------------------------------ state
 
