@@ -30,7 +30,7 @@ module mefem_explicit_dynamics
   use, intrinsic :: iso_fortran_env, only: error_unit
   use mefem_kinds, only: wp
   use mefem_comm, only: comm_sum, comm_min, comm_max, comm_wtime, comm_size, comm_min_start, &
-                        comm_min_progress, comm_min_finish
+                        comm_min_progress, comm_min_finish, comm_allgatherv_real
   use mefem_errors, only: status_t, fatal, say, warn
   use mefem_strings, only: itoa, rtoa
   use mefem_model, only: model_t, ON_NODE, ON_NODE_SET, MAT_RIGID, TOPO_TET4, TOPO_TRI3
@@ -440,7 +440,9 @@ contains
         end do
         s%slot_body = pack(s%bodies%node_body, s%bodies%node_body > 0)
         s%rigid_slot = [(slot_of(s%node_global(s%rigid_node(k))), k = 1, s%nrigid)]
-        allocate(s%rigid_buffer(6, nslot))
+        allocate(s%rigid_buffer(6, nslot), s%rigid_present(nslot), s%rigid_send(7*s%nrigid))
+        s%rigid_buffer = 0.0_wp
+        s%rigid_present = .false.
       end block
       ! node motions on rigid-body nodes have no effect: dropped
       block
@@ -516,28 +518,43 @@ contains
   end subroutine move_rigid_bodies
 
   !> Resultant force and moment on every rigid body at the current time: f_ext + f_con -
-  !> f_int at its nodes, added in ascending global node order on every rank (the owners fill
-  !> each node's position and force into one array, one sum over ranks with a single
-  !> nonzero term per entry, which is exact), so that a body moved by these forces takes
-  !> the same bits on any number of ranks.
+  !> f_int at its nodes, added in ascending global node order on every rank, so that a body
+  !> moved by these forces takes the same bits on any number of ranks. The owners send the
+  !> nodes that carry a force (place, position, force; one allgatherv: the contact zone, not
+  !> the whole tool); a node without force would add exact zeros, so leaving it out keeps
+  !> the bits.
   subroutine rigid_body_resultants(s)
     type(explicit_state_t), intent(inout) :: s        !< local state (forces current)
-    integer :: k, l, slot, d
+    integer, parameter :: RECORD = 7                  !< place, position (3), force (3)
+    real(wp) :: f(3)
+    integer :: k, l, slot, d, nrecord, nall, r
     d = s%dim
-    s%rigid_buffer = 0.0_wp
+    nrecord = 0
     do k = 1, s%nrigid
       l = s%rigid_node(k)
       if (.not. s%owned(l)) cycle
-      slot = s%rigid_slot(k)
-      s%rigid_buffer(1:d, slot) = s%x0(:, l) + s%u(:, l)
-      s%rigid_buffer(4:3 + d, slot) = s%f_ext(:, l) + s%f_con(:, l) - s%f_int(:, l)
+      f = 0.0_wp
+      f(1:d) = s%f_ext(:, l) + s%f_con(:, l) - s%f_int(:, l)
+      if (all(f == 0.0_wp)) cycle
+      s%rigid_send(RECORD*nrecord + 1) = real(s%rigid_slot(k), wp)
+      s%rigid_send(RECORD*nrecord + 2:RECORD*nrecord + 4) = 0.0_wp
+      s%rigid_send(RECORD*nrecord + 2:RECORD*nrecord + 1 + d) = s%x0(:, l) + s%u(:, l)
+      s%rigid_send(RECORD*nrecord + 5:RECORD*nrecord + 7) = f
+      nrecord = nrecord + 1
     end do
-    call comm_sum(s%rigid_buffer)
+    call comm_allgatherv_real(s%rigid_send, RECORD*nrecord, s%rigid_all, nall)
+    do r = 0, nall/RECORD - 1
+      slot = nint(s%rigid_all(RECORD*r + 1))
+      s%rigid_buffer(:, slot) = s%rigid_all(RECORD*r + 2:RECORD*r + 7)
+      s%rigid_present(slot) = .true.
+    end do
     s%body_force = 0.0_wp
     s%body_moment = 0.0_wp
     do slot = 1, size(s%slot_body)
+      if (.not. s%rigid_present(slot)) cycle
       call rigid_bodies_accumulate(s%bodies, s%slot_body(slot), s%rigid_buffer(1:d, slot), &
                                    s%rigid_buffer(4:3 + d, slot), s%body_force, s%body_moment)
+      s%rigid_present(slot) = .false.
     end do
   end subroutine rigid_body_resultants
 

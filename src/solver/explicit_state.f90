@@ -152,7 +152,11 @@ module mefem_explicit_state
                                                !< nodes of the model (ascending global node)
     integer, allocatable :: slot_body(:)       !< (all rigid-body nodes) body of each place
     real(wp), allocatable :: rigid_buffer(:,:) !< (6, all rigid-body nodes) position and
-                                               !< force of each, filled by its owner
+                                               !< force of the nodes with a force this cycle
+    logical, allocatable :: rigid_present(:)   !< (all rigid-body nodes) filled this cycle
+    real(wp), allocatable :: rigid_send(:)     !< (7 nrigid) this rank's records (place,
+                                               !< position, force) of owned loaded nodes
+    real(wp), allocatable :: rigid_all(:)      !< every rank's records (grows as needed)
     real(wp), allocatable :: body_force(:,:)   !< (3, bodies) resultant force at t^n
     real(wp), allocatable :: body_moment(:,:)  !< (3, bodies) resultant moment at t^n
     ! rigid walls
