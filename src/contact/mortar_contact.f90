@@ -63,6 +63,7 @@ module mefem_mortar_contact
   private
 
   public :: mortar_contact_setup, mortar_contact_forces, mortar_contact_slave_rows
+  public :: mortar_contact_set_masses
 
   real(wp), parameter :: MASS_LIMIT = 0.1_wp       !< eps A dt^2 / m at most: the contact
                                                    !< spring's period stays above 20 dt
@@ -115,6 +116,7 @@ module mefem_mortar_contact
     integer, allocatable :: slave_index(:)         !< (mesh nodes) position in slave%nodes
     real(wp) :: eps_material = 0.0_wp              !< SLSFAC SFSA SFSB K / h (area mean)
     real(wp) :: mass_per_area = 0.0_wp             !< min over slave nodes of m_A / a_A
+    real(wp), allocatable :: slave_area(:)         !< (ns) a_A, reference configuration
     real(wp) :: fs = 0.0_wp, fd = 0.0_wp, dc = 0.0_wp
     ! per slave node, last call
     real(wp), allocatable :: normal(:,:)           !< (3, ns) n_A
@@ -297,11 +299,8 @@ contains
             norm2(a)/real(it%slave%nvertex(f), wp)
       end do
     end do
-    it%mass_per_area = huge(1.0_wp)
-    do i = 1, size(it%slave%nodes)
-      if (node_area(i) > 0.0_wp .and. mass(it%slave%nodes(i)) > 0.0_wp) &
-        it%mass_per_area = min(it%mass_per_area, mass(it%slave%nodes(i))/node_area(i))
-    end do
+    it%slave_area = node_area
+    call set_mass_per_area(it, mass(it%slave%nodes))
     do f = 1, it%slave%nfacet
       e = it%slave%element(f)
       if (e <= 0) cycle
@@ -356,6 +355,34 @@ contains
     end do
     mean_facet_size = total/real(max(1, surface%nfacet), wp)
   end function mean_facet_size
+
+  !> m_A / a_A at its smallest over the interface's slave nodes (massless or arealess nodes
+  !> left out), from the slave nodes' masses in slave%nodes order.
+  pure subroutine set_mass_per_area(it, slave_mass)
+    type(contact_interface_t), intent(inout) :: it    !< the interface (slave_area set)
+    real(wp), intent(in) :: slave_mass(:)             !< (ns) masses of the slave nodes
+    integer :: i
+    it%mass_per_area = huge(1.0_wp)
+    do i = 1, size(slave_mass)
+      if (it%slave_area(i) > 0.0_wp .and. slave_mass(i) > 0.0_wp) &
+        it%mass_per_area = min(it%mass_per_area, slave_mass(i)/it%slave_area(i))
+    end do
+  end subroutine set_mass_per_area
+
+  !> New nodal masses of the contact nodes (contact%node_global order) for the penalty's
+  !> time-step limit: with mass scaling the integrator's masses grow where the step needs it,
+  !> and the limit eps <= MASS_LIMIT m_A / (a_A dt^2) must use those masses with the scaled
+  !> step (the physical masses with it would make the contact soft by the added mass' ratio).
+  subroutine mortar_contact_set_masses(contact, node_mass)
+    type(mortar_contact_t), intent(inout) :: contact  !< contact data
+    real(wp), intent(in) :: node_mass(:)              !< (nnode) masses of the contact nodes
+    integer :: k
+    do k = 1, contact%n
+      associate (it => contact%interfaces(k))
+        call set_mass_per_area(it, node_mass(contact%node_index(it%slave%nodes)))
+      end associate
+    end do
+  end subroutine mortar_contact_set_masses
 
   !> Contact forces of every interface at the positions contact%x (the contact nodes' rows
   !> current), for a step dt (penalty limit); into contact%force (contact-node numbering).

@@ -63,7 +63,8 @@ module mefem_explicit_dynamics
                                 rigid_body_point_motion, rigid_bodies_kinetic_energy
   use mefem_history_output, only: rbdout_open, rbdout_write, rbdout_close, rcforc_open, &
                                   rcforc_write, rcforc_close
-  use mefem_mortar_contact, only: mortar_contact_setup, mortar_contact_forces
+  use mefem_mortar_contact, only: mortar_contact_setup, mortar_contact_forces, &
+                                  mortar_contact_set_masses
   use mefem_explicit_state, only: explicit_state_t, set_to_zero, state_arena_create
   use mefem_explicit_cell_forces, only: explicit_cells_set_up, explicit_cell_loop, &
                                         block_cell_data, explicit_blocks_group, &
@@ -467,8 +468,9 @@ contains
     if (model%n_contacts > 0) then
       call mortar_contact_setup(model, mass_global(1:cells%n_mesh_nodes), s%contact, &
                                 distribute=.true.)
+      ! (with mass scaling a 4th row carries the nodes' current masses, for the penalty)
       allocate(s%contact_local(s%contact%nnode), s%contact_owned(s%contact%nnode), &
-               s%contact_buffer(3, s%contact%nnode))
+               s%contact_buffer(merge(4, 3, s%mass_scaling), s%contact%nnode))
       do k = 1, s%contact%nnode
         s%contact_local(k) = explicit_layout_local_node(layout, s%contact%node_global(k))
         s%contact_owned(k) = .false.
@@ -728,11 +730,15 @@ contains
     do k = 1, s%contact%nnode
       l = s%contact_local(k)
       if (l > 0) then
-        if (s%contact_owned(k)) s%contact_buffer(1:s%dim, k) = s%x0(:, l) + s%u(:, l)
+        if (s%contact_owned(k)) then
+          s%contact_buffer(1:s%dim, k) = s%x0(:, l) + s%u(:, l)
+          if (s%mass_scaling) s%contact_buffer(4, k) = s%mass(l)
+        end if
       end if
     end do
     call comm_sum(s%contact_buffer)
-    s%contact%x(:, s%contact%node_global) = s%contact_buffer
+    s%contact%x(:, s%contact%node_global) = s%contact_buffer(1:3, :)
+    if (s%mass_scaling) call mortar_contact_set_masses(s%contact, s%contact_buffer(4, :))
     call mortar_contact_forces(s%contact, dt)
     do k = 1, s%contact%nnode
       l = s%contact_local(k)
