@@ -118,6 +118,7 @@ module mefem_mortar_contact
     real(wp) :: mass_per_area = 0.0_wp             !< min over slave nodes of m_A / a_A
     real(wp), allocatable :: slave_area(:)         !< (ns) a_A, reference configuration
     real(wp) :: fs = 0.0_wp, fd = 0.0_wp, dc = 0.0_wp
+    real(wp) :: birth = 0.0_wp, death = huge(1.0_wp) !< BT, DT: active for BT <= t <= DT
     ! per slave node, last call
     real(wp), allocatable :: normal(:,:)           !< (3, ns) n_A
     real(wp), allocatable :: normal_old(:,:)       !< (3, ns) n_A of the call before
@@ -210,6 +211,8 @@ contains
         it%fd = c%fd
         it%keep_initial = c%ignore /= 0
         it%dc = c%dc
+        it%birth = c%birth
+        it%death = c%death
         if (it%fd == 0.0_wp) it%fd = it%fs
         ns = size(it%slave%nodes)
         allocate(it%slave_index(model%nodes%n))
@@ -356,6 +359,18 @@ contains
     mean_facet_size = total/real(max(1, surface%nfacet), wp)
   end function mean_facet_size
 
+  !> An interface outside its BT..DT window: no forces, no pressure, and its resultants (for
+  !> rcforc) zero; its pairs and friction state are kept as they are.
+  subroutine interface_at_rest(it)
+    type(contact_interface_t), intent(inout) :: it    !< the interface
+    it%force_slave = 0.0_wp
+    it%force_master = 0.0_wp
+    it%normal_force = 0.0_wp
+    it%tangential_force = 0.0_wp
+    if (allocated(it%pressure)) it%pressure = 0.0_wp   ! (the implicit tangent reads them)
+    if (allocated(it%traction)) it%traction = 0.0_wp
+  end subroutine interface_at_rest
+
   !> m_A / a_A at its smallest over the interface's slave nodes (massless or arealess nodes
   !> left out), from the slave nodes' masses in slave%nodes order.
   pure subroutine set_mass_per_area(it, slave_mass)
@@ -386,16 +401,24 @@ contains
 
   !> Contact forces of every interface at the positions contact%x (the contact nodes' rows
   !> current), for a step dt (penalty limit); into contact%force (contact-node numbering).
-  subroutine mortar_contact_forces(contact, dt, penalty_scale)
+  subroutine mortar_contact_forces(contact, dt, penalty_scale, time)
     type(mortar_contact_t), intent(inout) :: contact  !< contact data, positions current
     real(wp), intent(in) :: dt                        !< the time step just taken (0: no
                                                       !< time-step limit, statics)
     real(wp), intent(in), optional :: penalty_scale   !< factor on eps_material (default 1)
+    real(wp), intent(in), optional :: time            !< time of the positions: an interface
+                                                      !< acts for BT <= time <= DT only
     integer :: k
     contact%force = 0.0_wp
     contact%pressure = 0.0_wp
     contact%gap = 0.0_wp
     do k = 1, contact%n
+      if (present(time)) then
+        if (time < contact%interfaces(k)%birth .or. time > contact%interfaces(k)%death) then
+          call interface_at_rest(contact%interfaces(k))
+          cycle
+        end if
+      end if
       if (present(penalty_scale)) then
         call interface_forces(contact, contact%interfaces(k), dt, penalty_scale)
       else

@@ -8,7 +8,7 @@
 !> default, so reading goes on and every problem of the deck is reported in one pass.
 module mefem_cards
   use mefem_kinds, only: wp
-  use mefem_errors, only: input_error
+  use mefem_errors, only: input_error, warn
   use mefem_strings, only: itoa
   use mefem_numbers, only: parse_real, parse_int
   use mefem_parameters, only: parameter_lookup
@@ -22,7 +22,7 @@ module mefem_cards
   integer, parameter :: BLANK_CODE = 32            !< iachar(' ')
 
   public :: next_card, split_card, get_int, get_real, get_text, field_is_blank
-  public :: card_where, card_error, keyword_where, keyword_error
+  public :: card_where, card_error, card_warning, keyword_where, keyword_error
 
   !> The reading state handed to keyword handlers.
   type, public :: reader_t
@@ -376,6 +376,15 @@ contains
     if (card%unreadable) return
     call input_error(card_where(card), message)
   end subroutine card_error
+
+  !> A warning about a card ("file:line: *KEYWORD: message"): a field that is read but not
+  !> used has a value that would change the analysis in LS-DYNA.
+  subroutine card_warning(card, message)
+    type(card_t), intent(in) :: card         !< the card
+    character(len=*), intent(in) :: message  !< what is not used and what mefem does instead
+    if (card%unreadable) return
+    call warn(card_where(card)//': '//message)
+  end subroutine card_warning
 
   !> "file:line: *KEYWORD" of the current keyword line.
   function keyword_where(rd) result(s)

@@ -350,6 +350,10 @@ contains
       if (nbytes > 0) read(unit, iostat=ios) f%buf
       close(unit)
       f%pos = 1
+      ! a UTF-8 byte-order mark (some Windows editors write one) is not part of the deck
+      if (nbytes >= 3) then
+        if (f%buf(1:3) == achar(239)//achar(187)//achar(191)) f%pos = 4
+      end if
       f%line = 0
       f%garbage = 0
       f%file = add_name(path)

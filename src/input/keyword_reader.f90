@@ -141,8 +141,12 @@ module mefem_keyword_reader
   !>   own objective finite-strain update;
   !> - *CONTROL_BULK_VISCOSITY: mefem adds no bulk viscosity; only shock-dominated problems
   !>   (impact), not forming, would notice.
-  integer, parameter :: N_SKIPPED = 16
+  integer, parameter :: N_SKIPPED = 18
   type(skipped_entry_t), parameter :: SKIPPED(N_SKIPPED) = [ &
+    skipped_entry_t('DATABASE_RWFORC', 'its interval is not used: rwforc is written at the '// &
+                    '*DATABASE_GLSTAT interval'), &
+    skipped_entry_t('DATABASE_RBDOUT', 'its interval is not used: rbdout is written at the '// &
+                    '*DATABASE_GLSTAT interval'), &
     skipped_entry_t('DATABASE_', OUTPUT_ONLY), &
     skipped_entry_t('CONTROL_OUTPUT', OUTPUT_ONLY), &
     skipped_entry_t('CONTROL_ENERGY', OUTPUT_ONLY), &

@@ -248,6 +248,12 @@ contains
         call card_error(card, 'curve '//itoa(curve%id)//': field SIDR must be 0, 1 or 2 '// &
             '(got '//itoa(curve%sidr)//')')
         bad = .true.
+      else if (curve%sidr == 1) then
+        ! LS-DYNA applies such a curve in dynamic relaxation only, never in the transient run
+        call card_error(card, 'curve '//itoa(curve%id)//': SIDR = 1 (dynamic relaxation '// &
+            'only) is not supported: mefem runs no dynamic relaxation, and LS-DYNA would not '// &
+            'use this curve in the transient run; give SIDR = 0 (or 2) to apply it')
+        bad = .true.
       else if (sfa < 0.0_wp) then
         call card_error(card, 'curve '//itoa(curve%id)//': field SFA must be > 0 '// &
             quoted_real(sfa))

@@ -10,7 +10,7 @@ module mefem_read_contact
   use mefem_kinds, only: wp
   use mefem_strings, only: itoa, rtoa
   use mefem_cards, only: reader_t, card_t, next_card, split_card, get_int, get_real, &
-                         card_error, keyword_error
+                         card_error, card_warning, keyword_error
   use mefem_card_helpers, only: has_option, read_id_card, quoted_real, reject_extra_cards, &
                                 skip_extra_cards, read_id_option
   use mefem_deck_source, only: deck_push_back
@@ -33,7 +33,7 @@ contains
     type(contact_t) :: contact
     type(card_t) :: card, card1, card2, card3, mpp
     logical :: got, ok, bad
-    integer :: k, sapr, sbpr, saboxid, sbboxid, penchk
+    integer :: k, sapr, sbpr, saboxid, sbboxid, penchk, mpp_ignore
     character(len=:), allocatable :: who
     contact%mortar = has_option(options, 'MORTAR')
     if (has_option(options, 'ID') .or. has_option(options, 'TITLE')) then
@@ -43,9 +43,14 @@ contains
         return
       end if
     end if
+    mpp_ignore = 0
     if (has_option(options, 'MPP')) then
       call next_card(rd, mpp, got, keep_blank=.true.)
       if (got) then
+        ! IGNORE of the MPP card (as card C's IGNORE, which wins when both are given)
+        call split_card(rd, mpp, W_10)
+        call get_int(mpp, 1, 'IGNORE', mpp_ignore)
+        if (mpp%bad) mpp_ignore = 0
         ! the optional second MPP card starts with '&'
         call next_card(rd, mpp, got, keep_blank=.true.)
         if (got) then
@@ -134,6 +139,13 @@ contains
     end do
     call reject_extra_cards(rd, who)
     if (bad) return
+    if (contact%ignore == 0 .and. mpp_ignore /= 0) contact%ignore = mpp_ignore
+    ! read, not used: say so where LS-DYNA would compute something else
+    if (contact%vc /= 0.0_wp .or. contact%vdc /= 0.0_wp) call card_warning(card2, who// &
+        ': VC and VDC ignored (no friction limit from VC, no viscous contact damping)')
+    if (contact%sast /= 0.0_wp .or. contact%sbst /= 0.0_wp) call card_warning(card3, who// &
+        ': SAST and SBST ignored: contact surfaces lie on the elements'' faces and on the '// &
+        'mid-surfaces of shells, with no thickness offset (doc/keywords.md 3.10)')
     call check_contact(card1, card2, card3, contact, who, saboxid, sbboxid, bad)
     if (.not. bad) call add_contact(model, contact)
   end subroutine read_contact_surface_to_surface

@@ -6,7 +6,7 @@ module mefem_read_controls
   use mefem_parameters, only: parameter_define
   use mefem_numbers, only: parse_real, parse_int
   use mefem_cards, only: reader_t, card_t, next_card, split_card, get_int, get_real, get_text, &
-                         card_error, keyword_error
+                         card_error, card_warning, keyword_error
   use mefem_errors, only: warn
   use mefem_deck_source, only: location
   use mefem_model, only: model_t, source_t
@@ -133,6 +133,9 @@ contains
       if (c%end_cycle < 0) call card_error(card, 'field ENDCYC must not be negative')
       if (c%end_time == 0.0_wp .and. c%end_cycle == 0) call card_error(card, &
           'field ENDTIM: the termination time must be positive (or give ENDCYC)')
+      if (.not. card%bad .and. (c%end_energy /= 0.0_wp .or. (c%end_mass > 0.0_wp .and. &
+          c%end_mass < 1.0e8_wp))) call card_warning(card, 'ENDENG and ENDMAS ignored: '// &
+          'mefem has no energy or mass-change stop (ENDTIM, ENDCYC and DTMIN end the run)')
       c%have_termination = .true.
     end associate
   end subroutine read_control_termination
@@ -176,8 +179,28 @@ contains
             itoa(c%lctm)//')')
         if (c%ms1st /= 0 .and. c%ms1st /= 1) call card_error(card, 'field MS1ST must be 0 '// &
             'or 1 (got '//itoa(c%ms1st)//')')
+        if (c%ms1st == 1 .and. c%dt2ms < 0.0_wp) call card_warning(card, 'MS1ST = 1 ignored: '// &
+            'the added mass is recomputed every cycle (as MS1ST = 0)')
       end if
     end associate
+    ! card 2 (DT2MSF DT2MSLC IMSCL ... RMSCL EMSCL IHDO): mass-scaling refinements mefem does
+    ! not take; say so when they are set
+    call next_card(rd, card, got, keep_blank=.true.)
+    if (got) then
+      block
+        real(wp) :: dt2msf, rmscl
+        integer :: dt2mslc, imscl
+        call split_card(rd, card, W_10)
+        call get_real(card, 1, 'DT2MSF', dt2msf)
+        call get_int(card, 2, 'DT2MSLC', dt2mslc)
+        call get_int(card, 3, 'IMSCL', imscl)
+        call get_real(card, 6, 'RMSCL', rmscl)
+        if (.not. card%bad .and. (dt2msf /= 0.0_wp .or. dt2mslc /= 0 .or. imscl /= 0 .or. &
+                                  rmscl /= 0.0_wp)) &
+          call card_warning(card, 'card 2 (DT2MSF, DT2MSLC, IMSCL, RMSCL) ignored: mass '// &
+              'scaling is DT2MS of card 1 alone, on every part (doc/keywords.md)')
+      end block
+    end if
     call skip_remaining(rd)
   end subroutine read_control_timestep
 

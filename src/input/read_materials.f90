@@ -9,7 +9,7 @@ module mefem_read_materials
   use mefem_kinds, only: wp
   use mefem_strings, only: itoa, rtoa
   use mefem_cards, only: reader_t, card_t, next_card, split_card, get_int, get_real, &
-                         card_error, keyword_error
+                         card_error, card_warning, keyword_error
   use mefem_card_helpers, only: read_title_card, reject_extra_cards, quoted_real
   use mefem_model, only: model_t, material_t, source_t, MAT_ELASTIC, MAT_PIECEWISE_LINEAR, &
                          MAT_POWER_LAW, MAT_RIGID, MAT_MOONEY_RIVLIN
@@ -121,6 +121,15 @@ contains
     end if
     bad = bad .or. card2%bad
     if (.not. bad) call check_piecewise_linear(card, card2, card3, card4, mat, bad)
+    if (.not. bad) then
+      ! read, not modelled: say so where LS-DYNA would compute something else
+      if (mat%cowper_c > 0.0_wp .or. mat%lcsr /= 0) call card_warning(card2, 'material '// &
+          itoa(mat%id)//': strain-rate effects (C, P, LCSR) are not modelled; the yield '// &
+          'stress is the quasi-static curve (doc/theory.md section 4)')
+      if (mat%failure_strain < NO_FAILURE) call card_warning(card, 'material '// &
+          itoa(mat%id)//': FAIL = '//rtoa(mat%failure_strain)//' ignored: mefem deletes '// &
+          'no elements')
+    end if
     if (.not. bad) call add_material(model, mat)
     call reject_extra_cards(rd, 'material '//itoa(mat%id))
   end subroutine read_mat_piecewise_linear
@@ -240,6 +249,13 @@ contains
           'field VP must be 0 or 1 '//quoted_real(mat%vp))
       if (mat%failure_strain < 0.0_wp) call fail(card2, who//'field EPSF must not be '// &
           'negative '//quoted_real(mat%failure_strain))
+    end if
+    if (.not. bad) then
+      if (mat%cowper_c > 0.0_wp) call card_warning(card, who//'strain-rate effects (SRC, '// &
+          'SRP) are not modelled; the yield stress is the quasi-static law (doc/theory.md '// &
+          'section 4)')
+      if (mat%failure_strain > 0.0_wp) call card_warning(card2, who//'EPSF = '// &
+          rtoa(mat%failure_strain)//' ignored: mefem deletes no elements')
     end if
     if (.not. bad) call add_material(model, mat)
     call reject_extra_cards(rd, 'material '//itoa(mat%id))

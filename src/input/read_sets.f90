@@ -130,6 +130,8 @@ contains
       return
     end if
     bad = .false.
+    set%generated = generate
+    set%generated = generate
     allocate(set%member_ids(64))
     do
       call next_card(rd, card, got)

@@ -112,6 +112,8 @@ module mefem_model
     integer :: n = 0
     integer, allocatable :: member_ids(:)   !< (n) node or part ids; segments: (4*n) node ids
     integer, allocatable :: members(:)      !< indices (after resolve)
+    logical :: generated = .false.          !< from _GENERATE ranges: ids in a range that no
+                                            !< node has are left out (as LS-DYNA does)
     type(source_t) :: src
   end type set_t
 
@@ -217,6 +219,7 @@ module mefem_model
     ! *CONTROL_TIMESTEP
     real(wp) :: dt_init = 0.0_wp, tssfac = 0.9_wp, dt2ms = 0.0_wp, tslimt = 0.0_wp
     integer :: isdo = 0, lctm = 0, ms1st = 0
+    integer :: lctm_curve = 0                 !< LCTM's curve index (0: none)
     type(source_t) :: lctm_src                !< where LCTM was given
     ! *CONTROL_IMPLICIT_GENERAL
     integer :: imflag = 0, imform = 2, nsbs = 1, igs = 2

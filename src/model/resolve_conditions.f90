@@ -248,8 +248,9 @@ contains
             'material '//itoa(mat%id)//': LCSR ')
       end associate
     end do
-    if (model%controls%lctm > 0) call resolve_curve(look, model%controls%lctm, index, &
-        where_is(model%controls%lctm_src, '*CONTROL_TIMESTEP'), 'LCTM ')
+    if (model%controls%lctm > 0) call resolve_curve(look, model%controls%lctm, &
+        model%controls%lctm_curve, where_is(model%controls%lctm_src, '*CONTROL_TIMESTEP'), &
+        'LCTM ')
   end subroutine resolve_materials
 
   !> Members of every set: node ids, part ids, segment node ids -> indices.
@@ -272,9 +273,18 @@ contains
           else
             set%members(i) = id_map_find(look%nodes, set%member_ids(i))
           end if
-          if (set%members(i) == 0) call input_error(where, set_name(set%kind)//' '// &
-              itoa(set%id)//': '//member//' '//itoa(set%member_ids(i))//' is not defined')
+          if (set%members(i) == 0 .and. .not. set%generated) call input_error(where, &
+              set_name(set%kind)//' '//itoa(set%id)//': '//member//' '// &
+              itoa(set%member_ids(i))//' is not defined')
         end do
+        ! _GENERATE: "all defined ids between B and E" (LS-DYNA); an empty set is an error
+        if (set%generated) then
+          set%member_ids = pack(set%member_ids, set%members > 0)
+          set%members = pack(set%members, set%members > 0)
+          set%n = size(set%members)
+          if (set%n == 0) call input_error(where, set_name(set%kind)//' '//itoa(set%id)// &
+              ': no '//member//' of its ranges is defined')
+        end if
       end associate
     end do
   end subroutine resolve_sets

@@ -144,6 +144,7 @@ contains
     if (dt < 0.0_wp) call stop_on_failure(model, decomp, cells, layout, s, schedule, cycle, t, &
                                           0.0_wp, timing)
     if (model%controls%dt_init > 0.0_wp) dt = min(dt, model%controls%dt_init)
+    call cap_by_lctm(model, t, dt)
     dt_first = dt
     dt_floor = model%controls%dt_min_fraction*dt_first
     dt_old = 0.0_wp
@@ -176,6 +177,7 @@ contains
       clock = comm_wtime()
       call next_time_step(s, dt)
       timing%reduction = timing%reduction + (comm_wtime() - clock)
+      call cap_by_lctm(model, t, dt)
       if (dt < 0.0_wp) call stop_on_failure(model, decomp, cells, layout, s, schedule, cycle, &
                                             t, dt_old, timing)
       call write_outputs(model, decomp, cells, layout, s, schedule, cycle, t, dt_old, .false., &
@@ -713,7 +715,7 @@ contains
     if (s%contact%n > 0) call set_to_zero(size(s%f_con_new), s%f_con_new)
     if (s%contact%n > 0 .and. dt > 0.0_wp) then
       clock = comm_wtime()
-      call contact_forces(s, dt)
+      call contact_forces(s, t, dt)
       timing%contact = timing%contact + (comm_wtime() - clock)
     end if
   end subroutine compute_forces
@@ -722,8 +724,9 @@ contains
   !> every rank (owners fill, one sum), the mortar kernels divided among the ranks and the
   !> rest of every interface computed on every rank alike (mefem_mortar_contact), the forces
   !> taken at this rank's local nodes.
-  subroutine contact_forces(s, dt)
+  subroutine contact_forces(s, t, dt)
     type(explicit_state_t), intent(inout) :: s        !< local state
+    real(wp), intent(in) :: t                         !< time of the positions (BT/DT)
     real(wp), intent(in) :: dt                        !< the step that reached the positions
     integer :: k, l
     s%contact_buffer = 0.0_wp
@@ -739,7 +742,7 @@ contains
     call comm_sum(s%contact_buffer)
     s%contact%x(:, s%contact%node_global) = s%contact_buffer(1:3, :)
     if (s%mass_scaling) call mortar_contact_set_masses(s%contact, s%contact_buffer(4, :))
-    call mortar_contact_forces(s%contact, dt)
+    call mortar_contact_forces(s%contact, dt, time=t)
     do k = 1, s%contact%nnode
       l = s%contact_local(k)
       if (l > 0) s%f_con_new(:, l) = s%contact%force(1:s%dim, k)
@@ -793,6 +796,18 @@ contains
                        s%owned, s%active, s%fixed, s%driven, s%mass, s%v, s%f_int, s%f_int, &
                        s%f_ext, s%f_ext, s%f_con, s%f_con, s%a, internal, external, sliding)
   end subroutine accelerations
+
+  !> *CONTROL_TIMESTEP LCTM: the step at time t is at most the curve's value there, where it
+  !> is positive (a failed cell's negative step is left as it is).
+  subroutine cap_by_lctm(model, t, dt)
+    type(model_t), intent(in) :: model                !< resolved model
+    real(wp), intent(in) :: t                         !< current time
+    real(wp), intent(inout) :: dt                     !< the next step
+    real(wp) :: cap
+    if (model%controls%lctm_curve <= 0 .or. dt < 0.0_wp) return
+    cap = curve_value(model%curves(model%controls%lctm_curve), t)
+    if (cap > 0.0_wp) dt = min(dt, cap)                ! (a value <= 0 sets no cap)
+  end subroutine cap_by_lctm
 
   !> After a step: the trapezoidal internal energy, external work and contact energy of the
   !> step (owned nodes) and the accelerations a^{n+1} (as accelerations does) in one pass

@@ -488,7 +488,7 @@ contains
           c%x(1:dim, g) = c%x(1:dim, g) + u(:, g)
         end if
       end do
-      call mortar_contact_forces(c, 0.0_wp, IMPLICIT_PENALTY_SCALE)
+      call mortar_contact_forces(c, 0.0_wp, IMPLICIT_PENALTY_SCALE, time=t)
       if (.not. comm_is_root()) return
       do k = 1, c%nnode
         g = c%node_global(k)

@@ -55,6 +55,11 @@ contains
     else if (n_input_errors == MAX_PRINTED + 1) then
       write(error_unit, '(a)') 'mefem: further input errors are counted but not printed'
     end if
+    ! unbuffered in effect: a log redirected to a file keeps every message in order with the
+    ! standard output's, and keeps it if the run is killed
+    if (n_input_errors <= MAX_PRINTED + 1) then
+      call flush_output()
+    end if
   end subroutine input_error
 
   !> Number of input errors recorded so far.
@@ -71,7 +76,10 @@ contains
   !> Print a warning on rank 0.
   subroutine warn(message)
     character(len=*), intent(in) :: message  !< the warning text
-    if (comm_is_root()) write(error_unit, '(a)') 'warning: '//trim(message)
+    if (comm_is_root()) then
+      write(error_unit, '(a)') 'warning: '//trim(message)
+      call flush_output()
+    end if
   end subroutine warn
 
   !> Print a warning once per key (e.g. once per ignored keyword name).
@@ -112,6 +120,13 @@ contains
     flush(error_unit)
     call comm_abort(1)
   end subroutine fatal_local
+
+  !> Flush standard output and standard error (rank 0's messages reach a redirected log at
+  !> once and in the order they were written).
+  subroutine flush_output()
+    flush(output_unit)
+    flush(error_unit)
+  end subroutine flush_output
 
   !> Finish MPI and end the program with the given exit code (0 = success).
   subroutine terminate(code)
