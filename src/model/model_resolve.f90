@@ -189,6 +189,15 @@ contains
     end do
   end function distinct
 
+  !> "file:line: *SECTION_SOLID" (or _SHELL) of section s, for messages.
+  function section_where(model, s) result(text)
+    type(model_t), intent(in) :: model   !< the model
+    integer, intent(in) :: s             !< section index
+    character(len=:), allocatable :: text
+    text = location(model%sections(s)%src%file, model%sections(s)%src%line)//': '// &
+           merge('*SECTION_SOLID', '*SECTION_SHELL', model%sections(s)%kind == SECTION_SOLID)
+  end function section_where
+
   !> "file:line: *ELEMENT_SOLID" (or _SHELL) of element e, for messages. Built only when a
   !> message is given: building it for every element costs more than checking the element.
   function element_where(model, e) result(s)
@@ -230,11 +239,12 @@ contains
     if (model%elements%keyword(e) == ELEM_SOLID) then
       n_solid_deformable = n_solid_deformable + 1
       if (elform /= ELFORM_TET_STANDARD .and. elform /= ELFORM_MEFEM) then
-        ! once per part: the section is wrong, not each element
-        if (.not. part_reported(p)) call input_error(element_where(model, e), &
-            'element '//itoa(model%elements%id(e))//': part '// &
-            itoa(model%parts(p)%id)//': solid ELFORM '//itoa(elform)//' is not supported '// &
-            '(deformable solids: 43 ME-FEM tetrahedron, 10 standard linear tetrahedron)')
+        ! once per part, where it is to be mended: the section, not each element
+        if (.not. part_reported(p)) call input_error(section_where(model, s), &
+            'section '//itoa(model%sections(s)%id)//': solid ELFORM '//itoa(elform)// &
+            ' is not supported for deformable parts (43 ME-FEM tetrahedron, 10 standard '// &
+            'linear tetrahedron); part '//itoa(model%parts(p)%id)//', first element '// &
+            itoa(model%elements%id(e))//' at '//element_where(model, e))
         part_reported(p) = .true.
       else if (topo /= TOPO_TET4) then
         call input_error(element_where(model, e), &
@@ -245,11 +255,12 @@ contains
     else
       n_shell_deformable = n_shell_deformable + 1
       if (elform /= ELFORM_TRI_PLANE_STRAIN .and. elform /= ELFORM_MEFEM) then
-        if (.not. part_reported(p)) call input_error(element_where(model, e), &
-            'element '//itoa(model%elements%id(e))//': part '// &
-            itoa(model%parts(p)%id)//': shell ELFORM '//itoa(elform)//' is not supported '// &
-            'for deformable parts (43 ME-FEM plane-strain triangle, 13 standard plane-strain '// &
-            'triangle; shells of *MAT_RIGID parts may be tool surfaces)')
+        if (.not. part_reported(p)) call input_error(section_where(model, s), &
+            'section '//itoa(model%sections(s)%id)//': shell ELFORM '//itoa(elform)// &
+            ' is not supported for deformable parts (43 ME-FEM plane-strain triangle, 13 '// &
+            'standard plane-strain triangle; shells of *MAT_RIGID parts may be tool '// &
+            'surfaces); part '//itoa(model%parts(p)%id)//', first element '// &
+            itoa(model%elements%id(e))//' at '//element_where(model, e))
         part_reported(p) = .true.
       else if (topo /= TOPO_TRI3) then
         call input_error(element_where(model, e), &
