@@ -8,11 +8,11 @@
 !> A keyword name is matched against the longest registered base name; what follows it
 !> (`_TITLE`, `_ID`, `_SET`, `_GENERATE` ...) are options, each checked against the list.
 module mefem_keyword_reader
-  use mefem_errors, only: input_error, input_error_count, warn_once
+  use mefem_errors, only: input_error, input_error_count, warn, warn_once
   use mefem_strings, only: to_upper, starts_with
   use mefem_deck_source, only: deck_open, deck_next_line, deck_close, location, &
                                LINE_KEYWORD, LINE_DATA, LINE_EOF
-  use mefem_cards, only: reader_t, card_t, next_card, keyword_error
+  use mefem_cards, only: reader_t, card_t, next_card, keyword_error, keyword_where
   use mefem_model, only: model_t, ON_NODE, ON_NODE_SET, ON_PART
   use mefem_read_mesh, only: read_node, read_element_solid, read_element_shell, read_part, &
                              read_section_solid, read_section_shell
@@ -62,7 +62,7 @@ module mefem_keyword_reader
     character(len=64) :: options = ''    !< options accepted, as ' OPT1 OPT2 '
   end type keyword_entry_t
 
-  integer, parameter :: N_ENTRIES = 50
+  integer, parameter :: N_ENTRIES = 52
   type(keyword_entry_t), parameter :: REGISTRY(N_ENTRIES) = [ &
     keyword_entry_t('NODE', H_NODE, ' '), &
     keyword_entry_t('ELEMENT_SOLID', H_ELEMENT_SOLID, ' '), &
@@ -107,6 +107,11 @@ module mefem_keyword_reader
     ! contact and rigid walls
     keyword_entry_t('CONTACT_AUTOMATIC_SURFACE_TO_SURFACE', H_CONTACT_SURFACE_TO_SURFACE, &
                     ' MORTAR ID TITLE MPP '), &
+    ! the forming contacts of DYNAFORM/eta decks: the same cards, read as the mortar contact
+    keyword_entry_t('CONTACT_FORMING_ONE_WAY_SURFACE_TO_SURFACE', &
+                    H_CONTACT_SURFACE_TO_SURFACE, ' ID TITLE MPP '), &
+    keyword_entry_t('CONTACT_FORMING_SURFACE_TO_SURFACE', H_CONTACT_SURFACE_TO_SURFACE, &
+                    ' ID TITLE MPP '), &
     keyword_entry_t('RIGIDWALL_PLANAR', H_RIGIDWALL_PLANAR, ' ID '), &
     ! controls and output requests (matched before the DATABASE_ skip rule)
     keyword_entry_t('CONTROL_TIMESTEP', H_CONTROL_TIMESTEP, ' '), &
@@ -358,6 +363,10 @@ contains
     case (H_INITIAL_VELOCITY_GENERATION)
       call read_initial_velocity_generation(rd, model)
     case (H_CONTACT_SURFACE_TO_SURFACE)
+      if (starts_with(rd%keyword, '*CONTACT_FORMING_')) call warn(keyword_where(rd)// &
+          ': read as *CONTACT_AUTOMATIC_SURFACE_TO_SURFACE_MORTAR (mortar penalty contact; '// &
+          'SURFA, the blank, is the slave side); the forming contact''s own treatment of '// &
+          'shell blanks is not used (doc/keywords.md 3.10)')
       call read_contact_surface_to_surface(rd, options, model)
     case (H_RIGIDWALL_PLANAR)
       call read_rigidwall_planar(rd, options, model)
