@@ -400,6 +400,13 @@ contains
                             contact%surf_a, where, who//'SURFA ')
         call resolve_target(look, surface_kind(contact%surf_b_type), contact%surf_b_id, &
                             contact%surf_b, where, who//'SURFB ')
+        ! the penalty comes from SURFA's elements: a SURFA of rigid parts only has none
+        if (contact%surf_a > 0 .and. surface_kind(contact%surf_a_type) /= ON_SEGMENT_SET) then
+          if (all_rigid(surface_kind(contact%surf_a_type), contact%surf_a)) &
+            call input_error(where, who//'SURFA holds *MAT_RIGID parts only; mefem takes '// &
+                'the penalty from SURFA''s elements, so SURFA must be the deformable body '// &
+                '(swap SURFA and SURFB: the rigid tool is SURFB)')
+        end if
       end associate
     end do
     do k = 1, model%n_rigid_walls
@@ -411,6 +418,39 @@ contains
             wall%exempt_set_id, wall%exempt_set, where, 'NSIDEX: ')
       end associate
     end do
+
+  contains
+
+    !> Every part of a contact surface (a part, or a part set) is *MAT_RIGID.
+    logical function all_rigid(kind, target)
+      integer, intent(in) :: kind               !< ON_PART or ON_PART_SET
+      integer, intent(in) :: target             !< part or set index
+      integer :: i
+      all_rigid = .false.
+      if (kind == ON_PART) then
+        all_rigid = part_is_rigid(target)
+      else
+        associate (set => model%sets(target))
+          if (.not. allocated(set%members)) return
+          if (size(set%members) == 0) return
+          if (any(set%members <= 0)) return
+          all_rigid = .true.
+          do i = 1, size(set%members)
+            all_rigid = all_rigid .and. part_is_rigid(set%members(i))
+          end do
+        end associate
+      end if
+    end function all_rigid
+
+    !> Part p's material is *MAT_RIGID (false when it is not defined).
+    logical function part_is_rigid(p)
+      integer, intent(in) :: p                  !< part index
+      integer :: m
+      m = id_map_find(look%materials, model%parts(p)%material_id)
+      part_is_rigid = .false.
+      if (m > 0) part_is_rigid = model%materials(m)%kind == MAT_RIGID
+    end function part_is_rigid
+
   end subroutine resolve_contacts
 
   !> ON_* kind of a contact surface type (0 segment set, 2 part set, 3 part).
