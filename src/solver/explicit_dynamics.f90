@@ -145,6 +145,9 @@ contains
                                           0.0_wp, timing)
     if (model%controls%dt_init > 0.0_wp) dt = min(dt, model%controls%dt_init)
     call cap_by_lctm(model, t, dt)
+    if (dt >= huge(1.0_wp)) call fatal('explicit: no deformable element bounds the time step '// &
+        '(the model has rigid parts only); give the step with *CONTROL_TIMESTEP DTINIT '// &
+        '(or a curve LCTM)')
     dt_first = dt
     dt_floor = model%controls%dt_min_fraction*dt_first
     dt_old = 0.0_wp
@@ -177,6 +180,8 @@ contains
       clock = comm_wtime()
       call next_time_step(s, dt)
       timing%reduction = timing%reduction + (comm_wtime() - clock)
+      if (dt >= huge(1.0_wp) .and. model%controls%dt_init > 0.0_wp) &
+        dt = model%controls%dt_init                     ! rigid parts only: DTINIT
       call cap_by_lctm(model, t, dt)
       if (dt < 0.0_wp) call stop_on_failure(model, decomp, cells, layout, s, schedule, cycle, &
                                             t, dt_old, timing)
@@ -371,10 +376,12 @@ contains
     allocate(s%was_driven(count_entries))
     s%was_driven = .false.
 
-    ! initial velocities: mesh nodes from the deck, an enriched node the mean of its element's
-    ! corners (the value of the linear field at the centroid, which the enrichment reproduces)
+    ! initial velocities: mesh nodes from the deck, zero at the dofs SPCs fix, then an
+    ! enriched node the mean of its element's corners (the value of the linear field at the
+    ! centroid, which the enrichment reproduces)
     allocate(v_global(dim, cells%n_mesh_nodes))
     call initial_velocities(model, v_global)
+    where (fixed_global) v_global = 0.0_wp
     allocate(s%v(dim, s%nnode), s%a(dim, s%nnode), &
              s%f_int(dim, s%nnode), s%f_int_new(dim, s%nnode), s%f_ext(dim, s%nnode), &
              s%f_ext_new(dim, s%nnode), s%f_con(dim, s%nnode), s%f_con_new(dim, s%nnode))
@@ -1140,7 +1147,11 @@ contains
     if (my_element == element .and. element /= huge(1)) &
       part = model%parts(model%elements%part(s%dt_element))%id
     call comm_min(part)
-    text = trim(element_kind(s%dim))//' '//itoa(element)//' of part '//itoa(part)
+    if (element == huge(1)) then
+      text = 'no element (rigid parts only: DTINIT or LCTM)'
+    else
+      text = trim(element_kind(s%dim))//' '//itoa(element)//' of part '//itoa(part)
+    end if
   end function step_controlled_by
 
   !> The part of the prescribed-motion reactions' work not booked yet at an output time:
@@ -1331,7 +1342,7 @@ contains
     call comm_max(loop)
     ranks = real(comm_size(), wp)
     call say('explicit: '//itoa(cycle)//' cycles, '//rtoa(wall)//' s')
-    if (cycle > 0 .and. loop > 0.0_wp) then
+    if (cycle > 0 .and. loop > 0.0_wp .and. counts(1) > 0.0_wp) then
       call say('explicit: '//rtoa(1.0e9_wp*loop*ranks/(counts(1)*cycle))// &
                ' ns per element-cycle, '//rtoa(1.0e9_wp*loop*ranks/(counts(2)*cycle))// &
                ' ns per cell-cycle (core time = wall x '//itoa(comm_size())//' ranks)')

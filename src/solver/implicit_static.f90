@@ -129,6 +129,9 @@ contains
                                   prescribed(:, 1:cells%n_mesh_nodes))
     call number_equations(cells, fixed, equation, n_equations)
     call say('implicit: '//itoa(n_equations)//' equations, '//itoa(cells%n)//' cells')
+    if (n_equations == 0) call fatal('implicit: nothing to solve: every degree of freedom is '// &
+        'fixed or belongs to a rigid part (the analysis needs deformable elements with free '// &
+        'degrees of freedom)')
     call set_up_tools(model, cells)
     call mumps_init(solver, MUMPS_UNSYMMETRIC, status)
     if (.not. status%ok) call fatal('implicit: '//status%message)

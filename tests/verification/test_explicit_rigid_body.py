@@ -113,6 +113,35 @@ if rc == 0:
     checks.check(np.all(abs(ke / (0.5 * mass * v0 @ v0) - 1) < 1e-12), 'free rigid body: '
                  'kinetic energy 1/2 m v0^2 throughout', '%s' % ke[:3])
 
+# ---- rigid parts only: the step is DTINIT -----------------------------------------------------
+# The rigid block driven in x by a velocity curve (VAD 0) that ramps from 0 at 20 us to 1 m/s at
+# 30 us, 100 us in all: no deformable element bounds the step, so it is DTINIT (1e-7 s) every
+# cycle and the block moves by the curve's integral, 75 um (the build before took one step of
+# 100 us and moved it 100 um); without DTINIT (or LCTM) the run stops with a message.
+def driven_block(timestep_cards):
+    return [nodes_card(xr), elements_card('ELEMENT_SOLID', connr),
+            ['*PART', 'rigid block', f10(1, 1, 1), '*SECTION_SOLID', f10(1, 1),
+             '*MAT_RIGID', free(1, DENSITY, YOUNG, POISSON), f10(1.0, 5, 7)],
+            ['*BOUNDARY_PRESCRIBED_MOTION_RIGID', f10(1, 1, 0, 1, 1.0)],
+            curve(1, [(0.0, 0.0), (2.0e-5, 0.0), (3.0e-5, 1000.0), (1.0, 1000.0)]),
+            ['*CONTROL_TERMINATION', f10(1.0e-4), '*DATABASE_GLSTAT', f10(1.0e-5)] +
+            timestep_cards]
+
+
+rc, text, out = run_case('rigid_only_dtinit', driven_block(['*CONTROL_TIMESTEP', f10(1.0e-7)]))
+checks.check(rc == 0, 'rigid parts only, DTINIT: run succeeds', text[-600:])
+if rc == 0:
+    r = read_rbdout(os.path.join(out, 'rbdout'))[1]
+    cycles = int(glstat(out)['cycle'][-1])
+    print('    rigid parts only: %d cycles, x-disp %.9e mm (curve integral 0.075)' % (
+        cycles, r['x-disp'][-1]))
+    checks.check(cycles == 1000 and abs(r['x-disp'][-1] / 0.075 - 1) < 1e-9, 'rigid parts '
+                 'only: the step is DTINIT (1000 cycles) and the block moves by the velocity '
+                 'curve\'s integral', '%d cycles, %.9e' % (cycles, r['x-disp'][-1]))
+rc, text, out = run_case('rigid_only_no_step', driven_block([]))
+checks.check(rc != 0 and 'no deformable element bounds the time step' in text, 'rigid parts '
+             'only without DTINIT: the run stops and says to give DTINIT', text[-400:])
+
 # ---- a free rigid plate struck by a block, on 1-4 ranks -----------------------------------
 # An elastic block 1 x 2 x 2 mm (4 x 8 x 8 hexahedra of 6 standard tets) flies at 10 m/s
 # (with 2 m/s sideways) into a free rigid plate 0.2 x 2 x 2 mm, 0.01
