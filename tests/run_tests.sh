@@ -4,9 +4,10 @@
 # Kinds of tests (each prints lines "PASS: ..." or "FAIL: ..."; those lines are counted):
 #  1. unit tests: build/debug/tests/test_* (Fortran, debug build). A line "! ranks: 1 2 3" in
 #     the test's source runs it under mpirun with each of those rank counts.
-#  2. deck tests: every deck in input/ and tests/decks/good/ must pass `mefem --check`;
-#     every deck in tests/decks/broken/ must fail with a non-zero exit and print each
-#     message given on its "$ expect: ..." lines.
+#  2. deck tests: every deck in input/ and tests/decks/good/ must pass `mefem --check` (and
+#     print each warning given on its "$ expect-warning: ..." lines); every deck in
+#     tests/decks/broken/ must fail with a non-zero exit and print each message given on its
+#     "$ expect: ..." lines.
 #  3. script tests: tests/*/test_*.sh and tests/*/test_*.py (output round trips, MPI runs).
 # A program that exits non-zero without printing a FAIL line counts as one failure.
 set -u
@@ -52,6 +53,11 @@ for deck in input/*.k tests/decks/good/*.k; do
   [ -f "$deck" ] || continue
   if bin/mefem_debug --check "$deck" > "$out.o" 2>&1; then echo "PASS: check accepts $deck"
   else echo "FAIL: check rejects $deck:"; sed 's/^/    /' "$out.o" | head -20; fi
+  # a good deck may name warnings it must get ("$ expect-warning: text")
+  while IFS= read -r want; do
+    if grep -qF -- "$want" "$out.o"; then echo "PASS: $deck warns: $want"
+    else echo "FAIL: $deck: missing warning: $want"; fi
+  done < <(grep -aoP '^\$ expect-warning: \K.*' "$deck")
 done > "$out"
 tally "good decks" 0 "$out"
 for deck in tests/decks/broken/*.k; do

@@ -19,6 +19,7 @@ program mefem
   use mefem_linear_static, only: linear_static_run
   use mefem_implicit_static, only: implicit_static_run
   use mefem_explicit_dynamics, only: explicit_dynamics_run
+  use mefem_boundary_conditions, only: warn_loads_on_free_nodes
   use mefem_errors, only: input_error_count
   implicit none
 
@@ -46,6 +47,7 @@ program mefem
   end if
   t_read = comm_wtime() - t_start
   call print_model_summary(model, t_read, peak_memory_mib())
+  call warn_loads_on_free_nodes(model)
   if (options%check_only) then
     call say(options%deck//': deck accepted')
     call terminate(0)

@@ -2,7 +2,7 @@
 !> and material, and the analysis controls, so users see what mefem understood.
 module mefem_model_summary
   use mefem_kinds, only: wp
-  use mefem_errors, only: say
+  use mefem_errors, only: say, warn
   use mefem_strings, only: itoa, rtoa
   use mefem_model, only: model_t, MAT_ELASTIC, MAT_PIECEWISE_LINEAR, MAT_POWER_LAW, MAT_RIGID, &
                          MAT_MOONEY_RIVLIN
@@ -33,6 +33,8 @@ contains
           ' (material '//itoa(model%parts(p)%material_id)//')'
       if (len_trim(model%parts(p)%title) > 0) line = line//' "'//trim(model%parts(p)%title)//'"'
       call say(line)
+      if (count_p == 0) call warn('part '//itoa(model%parts(p)%id)//' has no elements (a '// &
+          'mesh file missing from the *INCLUDE list, or an element card with the wrong PID?)')
     end do
     if (model%controls%have_termination) call say('  end time '// &
         rtoa(model%controls%end_time))

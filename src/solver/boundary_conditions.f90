@@ -9,13 +9,17 @@
 module mefem_boundary_conditions
   use mefem_kinds, only: wp
   use mefem_vector_math, only: cross
-  use mefem_model, only: model_t, ON_NODE, ON_NODE_SET, ON_ALL_NODES, ON_PART, ON_PART_SET
+  use mefem_model, only: model_t, source_t, ON_NODE, ON_NODE_SET, ON_ALL_NODES, ON_PART, &
+                         ON_PART_SET
+  use mefem_errors, only: warn
+  use mefem_strings, only: itoa
+  use mefem_deck_source, only: location
   use mefem_curves, only: curve_value
   implicit none
   private
 
   public :: fixed_dofs, prescribed_displacements, external_forces, target_nodes
-  public :: initial_velocities
+  public :: initial_velocities, warn_loads_on_free_nodes
 
   !> TC code of *NODE -> fixed x, y, z (1 x, 2 y, 3 z, 4 xy, 5 yz, 6 zx, 7 xyz).
   logical, parameter :: TC_FIXED(3, 0:7) = reshape([ &
@@ -62,6 +66,54 @@ contains
       allocate(nodes(0))
     end select
   end subroutine target_nodes
+
+  !> Warn about loads and initial velocities given to nodes that no element has: the analyses
+  !> compute the nodes of elements only, so these are not applied (LS-DYNA would move such a
+  !> node on its own). One warning per card, with the number of such nodes and the first.
+  subroutine warn_loads_on_free_nodes(model)
+    type(model_t), intent(in) :: model                !< resolved model
+    logical, allocatable :: attached(:)
+    integer, allocatable :: nodes(:)
+    integer :: e, k, lonely
+    allocate(attached(model%nodes%n))
+    attached = .false.
+    do e = 1, model%elements%n
+      do k = 1, size(model%elements%conn, 1)
+        if (model%elements%conn(k, e) > 0) attached(model%elements%conn(k, e)) = .true.
+      end do
+    end do
+    do k = 1, model%n_nodal_loads
+      associate (load => model%nodal_loads(k))
+        if (load%target <= 0) cycle
+        call target_nodes(model, load%target_kind, load%target, nodes)
+        call report(load%src, 'load')
+      end associate
+    end do
+    do k = 1, model%n_initial_velocities
+      associate (iv => model%initial_velocities(k))
+        if (iv%target_kind /= ON_NODE .and. iv%target_kind /= ON_NODE_SET) cycle
+        if (iv%target <= 0) cycle
+        call target_nodes(model, iv%target_kind, iv%target, nodes)
+        call report(iv%src, 'initial velocity')
+      end associate
+    end do
+
+  contains
+
+    !> The warning for one card whose target nodes are `nodes`.
+    subroutine report(src, what)
+      type(source_t), intent(in) :: src               !< where the card was read
+      character(len=*), intent(in) :: what            !< 'load' or 'initial velocity'
+      integer :: first
+      lonely = count(.not. attached(nodes))
+      if (lonely == 0) return
+      first = nodes(findloc(attached(nodes), .false., dim=1))
+      call warn(location(src%file, src%line)//': '//itoa(lonely)//' node(s) of this '// &
+          what//' belong to no element (the first: node '//itoa(model%nodes%id(first))// &
+          '): mefem computes the nodes of elements only, so the '//what//' is not applied there')
+    end subroutine report
+
+  end subroutine warn_loads_on_free_nodes
 
   !> Initial velocities of the mesh nodes (*INITIAL_VELOCITY, _NODE, _GENERATION), applied
   !> in deck order (a later card overrides an earlier one at the same node); v(dim, nnode).
