@@ -11,6 +11,7 @@ and the tests run the same problems. Run time about 2-3 minutes on 2 cores.
 Usage: /usr/bin/python3 post/convergence_study.py [--quick]   (--quick: coarse meshes only,
 to try the script; it does not overwrite the doc's data).
 """
+import argparse
 import csv
 import os
 import sys
@@ -26,11 +27,9 @@ sys.path.insert(0, os.path.join(ROOT, 'tests', 'verification'))
 from benchmarks import (COOK_REFERENCE, cook_case, kirsch_case, kirsch_measures,  # noqa: E402
                         lame_case, lame_exact, lame_measures)
 
-QUICK = '--quick' in sys.argv
+QUICK = False                        # --quick (set by the command line below)
 RUNS = os.path.join(ROOT, 'tests', 'out', 'convergence_study')
-DATA = os.path.join(ROOT, 'tests', 'out', 'convergence_study_data') if QUICK else \
-    os.path.join(ROOT, 'doc', 'verification_data')
-os.makedirs(DATA, exist_ok=True)
+DATA = os.path.join(ROOT, 'doc', 'verification_data')     # (--quick: under tests/out)
 
 
 def write_csv(name, header, rows):
@@ -230,6 +229,14 @@ def kirsch_study():
 
 
 if __name__ == '__main__':
+    parser = argparse.ArgumentParser(description=__doc__,
+                                     formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument('--quick', action='store_true', help='coarse meshes only, to try the '
+                        'script (the doc\'s data are not overwritten)')
+    QUICK = parser.parse_args().quick
+    if QUICK:
+        DATA = os.path.join(ROOT, 'tests', 'out', 'convergence_study_data')
+    os.makedirs(DATA, exist_ok=True)
     start = time.time()
     cook_study()
     cook_support_study()

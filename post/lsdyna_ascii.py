@@ -13,7 +13,7 @@ import re
 
 import numpy as np
 
-_GLSTAT_LINE = re.compile(r'^ (\S[^.]*?)\s*\.{2,}\s*(\S+)\s*$')
+_GLSTAT_LINE = re.compile(r'^ (\S[^.]*?)\s*\.+\s*(\S+)\s*$')
 _CYCLE_LINE = re.compile(r'dt of cycle\s*(\d+)')
 _NODOUT_HEAD = re.compile(r'n o d a l\s+p r i n t\s+o u t.*?s t e p\s*(\d+)\s*\(\s*at time\s*(\S+)\s*\)')
 NODOUT_COLUMNS = ['x-disp', 'y-disp', 'z-disp', 'x-vel', 'y-vel', 'z-vel', 'x-accl', 'y-accl',
@@ -169,3 +169,9 @@ def read_rcforc(path):
             out[interface][role] = {k: np.array([r.get(k, np.nan) for r in records])
                                     for k in labels}
     return out
+
+
+if __name__ == '__main__':
+    print(__doc__)
+    print('A library: import it (sys.path.insert(0, "post")); post/plot_histories.py plots a '
+          'run\'s histories.')

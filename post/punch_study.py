@@ -27,6 +27,7 @@ Usage: /usr/bin/python3 post/punch_study.py [--no-run] [--jobs N] [--exe PATH]
 cores shared with other jobs).
 """
 import csv
+import argparse
 import os
 import subprocess
 import sys
@@ -234,10 +235,17 @@ def plot_pressure(mesh, model, states, path):
 
 
 def main():
-    jobs = int(sys.argv[sys.argv.index('--jobs') + 1]) if '--jobs' in sys.argv else 2
-    exe = os.path.abspath(sys.argv[sys.argv.index('--exe') + 1]) if '--exe' in sys.argv \
-        else os.path.join(ROOT, 'bin', 'mefem')
-    if '--no-run' not in sys.argv:
+    parser = argparse.ArgumentParser(description=__doc__,
+                                     formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument('--no-run', action='store_true', help='reuse the results in '
+                        'tests/out/punch/ (only measure and plot)')
+    parser.add_argument('--jobs', type=int, default=2, help='runs at the same time (default 2)')
+    parser.add_argument('--exe', default=os.path.join(ROOT, 'bin', 'mefem'),
+                        help='the mefem executable (default bin/mefem)')
+    args = parser.parse_args()
+    jobs = args.jobs
+    exe = os.path.abspath(args.exe)
+    if not args.no_run:
         start = time.time()
         run_all(jobs, exe)
         print('all runs: %.0f s' % (time.time() - start))

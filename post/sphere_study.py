@@ -38,6 +38,7 @@ Usage: /usr/bin/python3 post/sphere_study.py [--no-run] [--stand-in] [--ranks N]
 two otherwise idle cores).
 """
 import csv
+import argparse
 import os
 import re
 import subprocess
@@ -591,24 +592,35 @@ def force_at(h, target):
 
 
 def main():
-    args = sys.argv[1:]
-    ranks = int(args[args.index('--ranks') + 1]) if '--ranks' in args else 2
-    exe = os.path.abspath(args[args.index('--exe') + 1]) if '--exe' in args \
-        else os.path.join(ROOT, 'bin', 'mefem')
-    stand_in = '--stand-in' in args
+    parser = argparse.ArgumentParser(description=__doc__,
+                                     formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument('--no-run', action='store_true', help='reuse the results (only '
+                        'measure and plot)')
+    parser.add_argument('--stand-in', action='store_true', help='the mesh squeezed between '
+                        'two rigid plates without contact (tries the script)')
+    parser.add_argument('--ranks', type=int, default=2, help='MPI ranks per run (default 2)')
+    parser.add_argument('--exe', default=os.path.join(ROOT, 'bin', 'mefem'),
+                        help='the mefem executable (default bin/mefem)')
+    parser.add_argument('--results', help='results directory of the runs (default '
+                        'tests/out/sphere)')
+    parser.add_argument('--figures', help='where figures and tables go (default '
+                        'doc/verification_data)')
+    args = parser.parse_args()
+    ranks = args.ranks
+    exe = os.path.abspath(args.exe)
+    stand_in = args.stand_in
     if stand_in:
         cases = [stand_in_case()]
         data = os.path.join(OUT_STAND_IN, 'figures')
         stroke_unit = (1e-3, 'mm')
     else:
-        results = os.path.abspath(args[args.index('--results') + 1]) if '--results' in args \
-            else OUT
+        results = os.path.abspath(args.results) if args.results else OUT
         cases = [deck_case(name, results) for name in deck.FRICTION]
         data = DATA
         stroke_unit = (1e-3, 'mm')
-    if '--figures' in args:
-        data = os.path.abspath(args[args.index('--figures') + 1])
-    if '--no-run' not in args:
+    if args.figures:
+        data = os.path.abspath(args.figures)
+    if not args.no_run:
         for case in cases:
             rc, _ = run_case(case, ranks, exe)
             if rc != 0:

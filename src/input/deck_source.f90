@@ -352,7 +352,8 @@ contains
       f%pos = 1
       ! a UTF-8 byte-order mark (some Windows editors write one) is not part of the deck
       if (nbytes >= 3) then
-        if (f%buf(1:3) == achar(239)//achar(187)//achar(191)) f%pos = 4
+        if (ichar(f%buf(1:1)) == 239 .and. ichar(f%buf(2:2)) == 187 .and. &
+            ichar(f%buf(3:3)) == 191) f%pos = 4
       end if
       f%line = 0
       f%garbage = 0
