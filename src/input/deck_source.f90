@@ -296,7 +296,7 @@ contains
     character(len=:), allocatable :: path, where
     integer :: k, unit, ios
     integer(i8) :: nbytes
-    logical :: exists
+    logical :: exists, is_directory
     character(len=256) :: msg
 
     ok = .false.
@@ -323,6 +323,11 @@ contains
       else
         call input_error('', 'cannot open deck "'//name//'": no such file')
       end if
+      return
+    end if
+    inquire(file=path//'/.', exist=is_directory)
+    if (is_directory) then
+      call input_error(where, '"'//name//'" is a directory, not a keyword deck')
       return
     end if
     do k = 1, deck%depth
