@@ -51,7 +51,7 @@ module mefem_explicit_dynamics
   use mefem_boundary_conditions, only: fixed_dofs, external_forces, target_nodes, &
                                        initial_velocities
   use mefem_output_mesh, only: output_field_t
-  use mefem_results, only: results_write_state, results_directory
+  use mefem_results, only: results_write_state, results_directory, node_set_fields
   use mefem_solver_common, only: cell_result_fields
   use mefem_history_output, only: glstat_record_t, glstat_open, glstat_write, glstat_close, &
                                   glstat_total_energy, glstat_energy_ratio, nodout_open, &
@@ -73,7 +73,7 @@ module mefem_explicit_dynamics
   implicit none
   private
 
-  public :: explicit_dynamics_run
+  public :: explicit_dynamics_run, explicit_writes_initial_state
 
   integer, parameter :: VAD_VELOCITY = 0, VAD_ACCELERATION = 1, VAD_DISPLACEMENT = 2
   real(wp), parameter :: SPC_FOREVER = 1.0e20_wp   !< DEATH default of *BOUNDARY_SPC
@@ -86,7 +86,7 @@ module mefem_explicit_dynamics
     real(wp) :: rcforc_interval = 0.0_wp, next_rcforc = 0.0_wp
     real(wp) :: last_plot = -1.0_wp, last_glstat = -1.0_wp, last_nodout = -1.0_wp
     real(wp) :: last_rcforc = -1.0_wp
-    integer :: plot_state = 1                  !< next output state number
+    integer :: plot_state = 0                  !< next output state number (0: t = 0)
     real(wp) :: initial_energy = 0.0_wp        !< total energy at t = 0
     logical :: have_initial_energy = .false.
   end type schedule_t
@@ -958,7 +958,7 @@ contains
       plot = .true.
       schedule%last_plot = t
     end if
-    if (plot .and. t > 0.0_wp) then
+    if (plot) then
       call write_state(model, decomp, cells, layout, s, schedule%plot_state, t, dt)
       schedule%plot_state = schedule%plot_state + 1
     end if
@@ -994,9 +994,19 @@ contains
     end if
   end function due
 
+  !> Whether the explicit analysis of this model writes the output's state 0 (at t = 0, with
+  !> its fields and the node sets) itself: when it runs and writes result states at all.
+  logical function explicit_writes_initial_state(model)
+    type(model_t), intent(in) :: model                !< resolved model
+    explicit_writes_initial_state = model%controls%imflag /= 1 .and. &
+        model%controls%have_termination .and. &
+        (model%controls%plot_interval > 0.0_wp .or. model%controls%plot_count > 0)
+  end function explicit_writes_initial_state
+
   !> One result state: displacement and velocity at the nodes; stress, pressure, von Mises
   !> and plastic strain at nodes and elements (each rank evaluates its cells; the output
-  !> piece's means read the cells the layout's output plan gathers).
+  !> piece's means read the cells the layout's output plan gathers); state 0 (t = 0) also
+  !> carries the node sets, as the model-only state 0 of the other analyses does.
   subroutine write_state(model, decomp, cells, layout, s, state, t, dt)
     type(model_t), intent(in) :: model                !< resolved model
     type(decomposition_t), intent(in) :: decomp       !< this rank's output piece
@@ -1062,6 +1072,13 @@ contains
         point_fields(7)%values(1, k) = s%contact%pressure(local)
         point_fields(8)%values(1, k) = s%contact%gap(local)
       end do
+    end if
+    if (state == 0) then
+      block
+        type(output_field_t), allocatable :: sets(:)
+        call node_set_fields(model, decomp, sets)
+        point_fields = [point_fields, sets]
+      end block
     end if
     call results_write_state(state, t, point_fields, cell_fields)
   end subroutine write_state
@@ -1276,7 +1293,7 @@ contains
     schedule%plot_interval = model%controls%plot_interval
     if (model%controls%plot_count > 0) schedule%plot_interval = model%controls%end_time/ &
         real(model%controls%plot_count, wp)
-    schedule%next_plot = schedule%plot_interval
+    schedule%next_plot = 0.0_wp                       ! state 0 at t = 0, then every interval
     schedule%glstat_interval = model%controls%glstat_interval
     schedule%next_glstat = 0.0_wp
     if (schedule%glstat_interval > 0.0_wp) call glstat_open(results_directory(), &
