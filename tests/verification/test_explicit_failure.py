@@ -37,6 +37,19 @@ if ok:
         ok = len(states) >= 2 and 'displacement' in f['states/%s/point' % states[-1]]
         t_last = f['states/%s' % states[-1]].attrs['time'] if ok else None
 checks.check(ok, 'the state reached is written to the HDF5 file', h5)
+if ok:
+    # state 0 is the explicit run's t = 0 state: the initial velocity (and the fields the
+    # later states have), not the model alone
+    with h5py.File(h5) as f:
+        first = f['states/000000']
+        ids = f['mesh/node_ids'][()]
+        fields = sorted(first['point'].keys())
+        v0 = first['point/velocity'][()][int(np.nonzero(ids == corner + 1)[0][0])] \
+            if 'velocity' in first['point'] else None
+        t0 = first.attrs['time']
+    checks.check(t0 == 0.0 and v0 is not None and np.array_equal(v0, [-1.0e9] * 3) and
+                 'displacement' in fields, 'state 0 is t = 0 with the fields, the thrown '
+                 'node\'s initial velocity among them', '%s %s %s' % (t0, fields, v0))
 if ok and c is not None:
     checks.check(abs(t_last - float(c.group(2))) <= 1e-5 * float(c.group(2)),   # 6 digits
                  'the last state is at the failure time', '%s vs %s' % (t_last, c.group(2)))
