@@ -42,13 +42,9 @@ def plot_energies(path, units, out):
     for name in ENERGIES:
         if name in g and np.any(g[name] != 0):
             top.plot(g['time'], g[name], label=name)
-    top.set_ylabel('energy [%s %s]' % (units.force, units.length))
-    top.legend(fontsize=8)
-    top.grid(alpha=0.3)
+    label(top, None, 'energy [%s %s]' % (units.force, units.length))
     bottom.plot(g['time'], g['total energy / initial energy'], color='k')
-    bottom.set_ylabel('energy ratio')
-    bottom.set_xlabel('time [%s]' % units.time)
-    bottom.grid(alpha=0.3)
+    label(bottom, 'time [%s]' % units.time, 'energy ratio', legend=False)
     return save(fig, out, 'energies.png')
 
 
@@ -62,10 +58,7 @@ def plot_contact(path, units, out):
         if np.any(side.get('tangential', np.zeros(1)) != 0):
             ax.plot(side['time'], side['tangential'], '--', label='interface %s: tangential'
                     % cid)
-    ax.set_xlabel('time [%s]' % units.time)
-    ax.set_ylabel('contact force [%s]' % units.force)
-    ax.legend(fontsize=8)
-    ax.grid(alpha=0.3)
+    label(ax, 'time [%s]' % units.time, 'contact force [%s]' % units.force)
     return save(fig, out, 'contact_forces.png')
 
 
@@ -75,10 +68,7 @@ def plot_walls(path, units, out):
     fig, ax = plt.subplots(figsize=(7, 4))
     for wid, wall in sorted(walls.items()):
         ax.plot(wall['time'], wall['normal'], label='wall %s' % wid)
-    ax.set_xlabel('time [%s]' % units.time)
-    ax.set_ylabel('normal force [%s]' % units.force)
-    ax.legend(fontsize=8)
-    ax.grid(alpha=0.3)
+    label(ax, 'time [%s]' % units.time, 'normal force [%s]' % units.force)
     return save(fig, out, 'wall_forces.png')
 
 
@@ -94,13 +84,8 @@ def plot_rigid_bodies(path, units, out):
         stroke.plot(abs(disp[axis]), abs(body[name + '-reaction']),
                     label='part %s (%s)' % (pid, name))
         history.plot(body['time'], disp[axis], label='part %s (%s)' % (pid, name))
-    stroke.set_xlabel('|displacement| [%s]' % units.length)
-    stroke.set_ylabel('|reaction force| [%s]' % units.force)
-    history.set_xlabel('time [%s]' % units.time)
-    history.set_ylabel('displacement [%s]' % units.length)
-    for ax in (stroke, history):
-        ax.legend(fontsize=8)
-        ax.grid(alpha=0.3)
+    label(stroke, '|displacement| [%s]' % units.length, '|reaction force| [%s]' % units.force)
+    label(history, 'time [%s]' % units.time, 'displacement [%s]' % units.length)
     return save(fig, out, 'rigid_bodies.png')
 
 
@@ -111,12 +96,19 @@ def plot_nodes(path, units, out):
     for k, nid in enumerate(n['ids']):
         magnitude = np.sqrt(sum(n[c + '-disp'][:, k] ** 2 for c in 'xyz'))
         ax.plot(n['time'], magnitude, label='node %d' % nid)
-    ax.set_xlabel('time [%s]' % units.time)
-    ax.set_ylabel('|displacement| [%s]' % units.length)
-    if len(n['ids']) <= 12:
+    label(ax, 'time [%s]' % units.time, '|displacement| [%s]' % units.length,
+          legend=len(n['ids']) <= 12)
+    return save(fig, out, 'nodes.png')
+
+
+def label(ax, xlabel, ylabel, legend=True):
+    """Axis labels (xlabel None: shared with the axes below), legend and grid."""
+    if xlabel:
+        ax.set_xlabel(xlabel)
+    ax.set_ylabel(ylabel)
+    if legend:
         ax.legend(fontsize=8)
     ax.grid(alpha=0.3)
-    return save(fig, out, 'nodes.png')
 
 
 def save(fig, out, name):
