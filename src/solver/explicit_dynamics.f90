@@ -1294,6 +1294,9 @@ contains
     if (model%controls%plot_count > 0) schedule%plot_interval = model%controls%end_time/ &
         real(model%controls%plot_count, wp)
     schedule%next_plot = 0.0_wp                       ! state 0 at t = 0, then every interval
+    ! (without an interval the model's state 0 is written before the run, the final state
+    ! after it is state 1)
+    schedule%plot_state = merge(0, 1, explicit_writes_initial_state(model))
     schedule%glstat_interval = model%controls%glstat_interval
     schedule%next_glstat = 0.0_wp
     if (schedule%glstat_interval > 0.0_wp) call glstat_open(results_directory(), &
