@@ -410,9 +410,47 @@ contains
       end if
     end do
     call keyword_error(rd, 'keyword not supported by mefem; it could change the analysis, '// &
-        'so it is not ignored (see doc/keywords.md for the supported keywords)')
+        'so it is not ignored (see doc/keywords.md for the supported keywords)'// &
+        trim(suggestion(name)))
     call skip_cards(rd)
   end subroutine skip_or_reject
+
+  !> "; did you mean *NAME?" when a registered keyword is within a few edits of an unknown
+  !> name (a typo: *SECTON_SOLID, *BOUNDRY_SPC_SET), else blank.
+  function suggestion(name) result(text)
+    character(len=*), intent(in) :: name     !< the unknown keyword name, upper case, no '*'
+    character(len=80) :: text
+    integer :: k, best, distance, best_distance
+    text = ''
+    best = 0
+    best_distance = huge(1)
+    do k = 1, N_ENTRIES
+      distance = edit_distance(name, trim(REGISTRY(k)%base))
+      if (distance < best_distance) then
+        best = k
+        best_distance = distance
+      end if
+    end do
+    ! at most 2 edits, and fewer than a quarter of the name's letters
+    if (best > 0 .and. best_distance <= min(2, len_trim(name)/4)) &
+      text = '; did you mean *'//trim(REGISTRY(best)%base)//'?'
+  end function suggestion
+
+  !> Levenshtein distance of two strings (insertions, deletions, substitutions).
+  pure integer function edit_distance(a, b)
+    character(len=*), intent(in) :: a, b     !< the strings
+    integer :: row(0:len(b)), previous(0:len(b)), i, j
+    previous = [(j, j = 0, len(b))]
+    do i = 1, len(a)
+      row(0) = i
+      do j = 1, len(b)
+        row(j) = min(previous(j) + 1, row(j - 1) + 1, &
+                     previous(j - 1) + merge(0, 1, a(i:i) == b(j:j)))
+      end do
+      previous = row
+    end do
+    edit_distance = previous(len(b))
+  end function edit_distance
 
   !> True when a keyword name starts with one of the skipped (output/cosmetic) prefixes.
   logical function is_skipped(name)
