@@ -143,11 +143,7 @@ contains
     call next_time_step(s, dt)
     if (dt < 0.0_wp) call stop_on_failure(model, decomp, cells, layout, s, schedule, cycle, t, &
                                           0.0_wp, timing)
-    if (model%controls%dt_init > 0.0_wp) dt = min(dt, model%controls%dt_init)
-    call cap_by_lctm(model, t, dt)
-    if (dt >= huge(1.0_wp)) call fatal('explicit: no deformable element bounds the time step '// &
-        '(the model has rigid parts only); give the step with *CONTROL_TIMESTEP DTINIT '// &
-        '(or a curve LCTM)')
+    call bound_step(model, t, .true., dt)
     dt_first = dt
     dt_floor = model%controls%dt_min_fraction*dt_first
     dt_old = 0.0_wp
@@ -180,9 +176,7 @@ contains
       clock = comm_wtime()
       call next_time_step(s, dt)
       timing%reduction = timing%reduction + (comm_wtime() - clock)
-      if (dt >= huge(1.0_wp) .and. model%controls%dt_init > 0.0_wp) &
-        dt = model%controls%dt_init                     ! rigid parts only: DTINIT
-      call cap_by_lctm(model, t, dt)
+      call bound_step(model, t, .false., dt)
       if (dt < 0.0_wp) call stop_on_failure(model, decomp, cells, layout, s, schedule, cycle, &
                                             t, dt_old, timing)
       call write_outputs(model, decomp, cells, layout, s, schedule, cycle, t, dt_old, .false., &
@@ -804,17 +798,27 @@ contains
                        s%f_ext, s%f_ext, s%f_con, s%f_con, s%a, internal, external, sliding)
   end subroutine accelerations
 
-  !> *CONTROL_TIMESTEP LCTM: the step at time t is at most the curve's value there, where it
-  !> is positive (a failed cell's negative step is left as it is).
-  subroutine cap_by_lctm(model, t, dt)
+  !> The step from the cells' stable bound (huge when no deformable cell bounds it, negative
+  !> when a cell failed: left as it is) and *CONTROL_TIMESTEP: DTINIT caps the first step and
+  !> is every step of a model of rigid parts only; LCTM caps the step at time t where its
+  !> curve is positive. A step still unbounded stops the run with a message (every rank alike).
+  subroutine bound_step(model, t, first, dt)
     type(model_t), intent(in) :: model                !< resolved model
     real(wp), intent(in) :: t                         !< current time
+    logical, intent(in) :: first                      !< the first step
     real(wp), intent(inout) :: dt                     !< the next step
     real(wp) :: cap
-    if (model%controls%lctm_curve <= 0 .or. dt < 0.0_wp) return
-    cap = curve_value(model%curves(model%controls%lctm_curve), t)
-    if (cap > 0.0_wp) dt = min(dt, cap)                ! (a value <= 0 sets no cap)
-  end subroutine cap_by_lctm
+    if (dt < 0.0_wp) return
+    if (model%controls%dt_init > 0.0_wp .and. (first .or. dt >= huge(1.0_wp))) &
+      dt = min(dt, model%controls%dt_init)
+    if (model%controls%lctm_curve > 0) then
+      cap = curve_value(model%curves(model%controls%lctm_curve), t)
+      if (cap > 0.0_wp) dt = min(dt, cap)              ! (a value <= 0 sets no cap)
+    end if
+    if (dt >= huge(1.0_wp)) call fatal('explicit: no deformable element bounds the time '// &
+        'step at t = '//rtoa(t)//' (the model has rigid parts only); give the step with '// &
+        '*CONTROL_TIMESTEP DTINIT (or a curve LCTM, positive at all times)')
+  end subroutine bound_step
 
   !> After a step: the trapezoidal internal energy, external work and contact energy of the
   !> step (owned nodes) and the accelerations a^{n+1} (as accelerations does) in one pass
