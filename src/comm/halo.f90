@@ -15,19 +15,22 @@
 !> halo_assemble (layouts only): bit-identical for any number of ranks. The input is the
 !>   per-cell contributions cell_values(ncomp, slots, ncell_local) (cell l's value for its j-th
 !>   node, cells%nodes order); each local node gets the sum of all contributions to it, from
-!>   every rank's cells, added in ascending global cell order (the plan of
-!>   mefem_explicit_layout), exactly what a one-rank run adds.
-!>
+!>   every rank's cells, summed per chunk in ascending global cell order and over the chunks
+!>   in ascending chunk order (the plan of mefem_explicit_layout), exactly what a one-rank run
+!>   adds. The nodal array has the layout's ntarget columns: the nodes', then the partial
+!>   sums of nodes touched by several chunks. _start sums this rank's contributions into
+!>   their columns and sends the neighbours the sums they need (one per shared node and own
+!>   chunk); _finish receives theirs and adds every node's chunk sums in chunk order.
 !> Both come split into _start (post receives, pack and post sends) and _finish (wait, add),
 !> so that work on the interior can run in between:
 !>   compute outer cells; call halo_..._start; compute inner cells; call halo_..._finish.
 !> Between start and finish, halo_sum needs f unchanged at shared nodes (inner cells do not
-!> touch them) and halo_assemble needs the outer cells' values unchanged.
+!> touch them) and halo_assemble needs f's columns unchanged.
 !> Halos whose exchanges may be in flight at the same time must have different tags.
 !>
 !> halo_assembly_share_on_node (collective, once after halo_build) moves the assembly's buffer
 !> into node-shared memory (mefem_comm's arena): then the neighbours on this node take the
-!> contributions packed for them straight from this rank's buffer (comm_mail_*: posted when
+!> sums packed for them straight from this rank's buffer (comm_mail_*: posted when
 !> packed, read once by each of them before anything writes the buffer again) and only the
 !> neighbours on other nodes get messages. The same contributions are summed in the same
 !> order either way: the same bits.
@@ -82,37 +85,34 @@ module mefem_halo
     logical :: has_assembly = .false.            !< assembly plan present
     integer :: ncell_local = 0                   !< size(cell_values, 3) expected
     integer :: slots = 0                         !< size(cell_values, 2) expected
-    integer, allocatable :: send_start(:)
-    integer, allocatable :: send_source(:)
-    integer, allocatable :: receive_start(:)
-    integer, allocatable :: source_node(:)       !< (slots*ncell_local) local node of each
-                                                 !< contribution when all of that node's
-                                                 !< contributions are local, else 0
-    integer, allocatable :: mixed_nodes(:)       !< nodes with received contributions
-    integer, allocatable :: mixed_start(:)       !< (size(mixed_nodes)+1) their plans: node
-    integer, allocatable :: mixed_entry(:)       !< mixed_nodes(m) sums mixed_entry(mixed_
-                                                 !< start(m):mixed_start(m+1)-1) in this order
-                                                 !< (the layout's plan): the contributions'
-                                                 !< places in assembly_buffer: own ones where
-                                                 !< halo_assemble_start packed them (the first
-                                                 !< copy), then the received ones
-    integer :: nsent = 0                         !< contributions sent (size(send_source))
+    integer :: ntarget = 0                       !< size(f, 2) of the assembly: node columns,
+                                                 !< then partial (per chunk) sums
+    integer, allocatable :: source_target(:)     !< (slots*ncell_local) column of each
+                                                 !< contribution (0: an unused slot)
+    integer, allocatable :: send_start(:)        !< (nneighbour+1) offsets into send_source
+    integer, allocatable :: send_source(:)       !< columns sent, per neighbour in order
+    integer, allocatable :: receive_start(:)     !< (nneighbour+1) offsets of the received
+    integer, allocatable :: combine_node(:)      !< nodes summed over their chunks: node m
+    integer, allocatable :: combine_start(:)     !< adds combine_source(combine_start(m):
+    integer, allocatable :: combine_source(:)    !< combine_start(m+1)-1) left to right: > 0 a
+                                                 !< column, < 0 -(received position)
+    integer :: nsent = 0                         !< sums sent (size(send_source))
     real(wp), pointer, contiguous :: assembly_buffer(:) => null()
-                                                 !< (ncomp_max * (sent + received contributions))
-                                                 !< for ncomp components: contribution e at
-                                                 !< ncomp*(e-1)+1 : ncomp*e, the sent ones
-                                                 !< first (e = send position), the received
-                                                 !< after them (e = nsent + receive position)
+                                                 !< (ncomp_max * (sent + received sums)) for
+                                                 !< ncomp components: sum e at ncomp*(e-1)+1 :
+                                                 !< ncomp*e, the sent ones first (e = send
+                                                 !< position), the received after them (e =
+                                                 !< nsent + receive position)
     type(comm_requests_t) :: assembly_requests   !< halo_assemble transfers in flight
     integer :: assembly_ncomp = 0                !< components of the assembly in flight
     real(wp) :: assembly_wait = 0.0_wp           !< wall time spent waiting for neighbours'
-                                                 !< contributions (s, summed over calls)
+                                                 !< sums (s, summed over calls)
     ! pushed assembly (halo_assembly_push_nodes): the caller adds the contributions to the
-    ! pushed nodes itself; the rest is summed from the kept lists
+    ! pushed columns itself; the rest is summed from the kept lists
     logical :: has_push = .false.                !< halo_assembly_push_nodes was called
-    integer, allocatable :: kept_source(:)       !< own contributions to nodes neither pushed
-    integer, allocatable :: kept_node(:)         !< nor mixed, ascending source, and their node
-    integer, allocatable :: kept_zero(:)         !< nodes not pushed (zeroed before summing)
+    integer, allocatable :: kept_source(:)       !< contributions to columns not pushed,
+    integer, allocatable :: kept_target(:)       !< ascending source, and their columns
+    integer, allocatable :: kept_zero(:)         !< columns not pushed (zeroed before summing)
     ! assembly through node-shared memory (halo_assembly_share_on_node)
     logical :: on_node = .false.                 !< assembly_buffer is in `mailbox`
     type(comm_arena_t) :: mailbox                !< assembly_buffer and the send lists
@@ -152,96 +152,18 @@ contains
     halo%has_assembly = .true.
     halo%ncell_local = layout%ncell_local
     halo%slots = layout%slots
+    halo%ntarget = layout%ntarget
+    halo%source_target = reshape(layout%cell_target, [layout%slots*layout%ncell_local])
     halo%send_start = layout%send_start
     halo%send_source = layout%send_source
     halo%receive_start = layout%receive_start
-    call plan_scatter(halo, layout%assembly_start, layout%assembly_source)
+    halo%combine_node = layout%combine_node
+    halo%combine_start = layout%combine_start
+    halo%combine_source = layout%combine_source
     halo%nsent = size(layout%send_source)
     allocate(halo%assembly_buffer(ncomp_max*(halo%nsent + layout%receive_start(layout% &
                                                                    nneighbour + 1) - 1)))
-    call plan_mixed_entries(halo, layout%assembly_start, layout%assembly_source)
   end subroutine halo_build_layout
-
-  !> Split the layout's assembly plan: a node whose contributions all come from this rank's
-  !> cells gets them in ascending local cell order, which is ascending global cell order
-  !> (local cells are numbered so), i.e. its plan order. Such nodes are summed by one
-  !> streaming pass over the cell array (source_node); only the nodes with received
-  !> contributions keep their plan (mixed_*).
-  subroutine plan_scatter(halo, assembly_start, assembly_source)
-    type(halo_t), intent(inout) :: halo            !< halo being built
-    integer, intent(in) :: assembly_start(:)       !< (nnode_local+1) the layout's plan
-    integer, intent(in) :: assembly_source(:)      !< its sources, ascending cell order per node
-    integer :: i, p, nmixed, nentries
-    allocate(halo%source_node(halo%slots*halo%ncell_local))
-    halo%source_node = 0
-    nmixed = 0
-    nentries = 0
-    do i = 1, halo%nnode_local
-      if (any(assembly_source(assembly_start(i):assembly_start(i + 1) - 1) < 0)) then
-        nmixed = nmixed + 1
-        nentries = nentries + assembly_start(i + 1) - assembly_start(i)
-      end if
-    end do
-    allocate(halo%mixed_nodes(nmixed), halo%mixed_start(nmixed + 1), halo%mixed_entry(nentries))
-    halo%mixed_start(1) = 1
-    nmixed = 0
-    do i = 1, halo%nnode_local
-      associate (sources => assembly_source(assembly_start(i):assembly_start(i + 1) - 1))
-        if (any(sources < 0)) then
-          nmixed = nmixed + 1
-          halo%mixed_nodes(nmixed) = i
-          halo%mixed_start(nmixed + 1) = halo%mixed_start(nmixed) + size(sources)
-          halo%mixed_entry(halo%mixed_start(nmixed):halo%mixed_start(nmixed + 1) - 1) = sources
-        else
-          do p = 1, size(sources)
-            halo%source_node(sources(p)) = i
-          end do
-        end if
-      end associate
-    end do
-  end subroutine plan_scatter
-
-  !> Point the mixed nodes' contributions at their places in assembly_buffer: the own ones at
-  !> their packed copies in the sent part, the received ones in the received part, so that
-  !> the mixed sums stream the buffer (the send list is walked node by node of the shared
-  !> lists, each node's own contributions in plan order, as the mixed sums walk them).
-  !> Every own contribution to a mixed node is sent: the ranks it receives from share it.
-  subroutine plan_mixed_entries(halo, assembly_start, assembly_source)
-    type(halo_t), intent(inout) :: halo            !< halo with plan_scatter's mixed plan
-    integer, intent(in) :: assembly_start(:)       !< (nnode_local+1) the layout's plan
-    integer, intent(in) :: assembly_source(:)      !< its sources, ascending cell order per node
-    integer, allocatable :: first_sent(:)
-    integer :: k, s, i, m, p, position, own
-    allocate(first_sent(halo%nnode_local))
-    first_sent = 0
-    position = 0
-    do k = 1, halo%nneighbour
-      do s = halo%shared_start(k), halo%shared_start(k + 1) - 1
-        i = halo%shared_nodes(s)
-        if (first_sent(i) == 0) first_sent(i) = position + 1
-        position = position + &
-                   count(assembly_source(assembly_start(i):assembly_start(i + 1) - 1) > 0)
-      end do
-    end do
-    if (position /= size(halo%send_source)) call fatal_local('halo_build: the send list '// &
-        'does not follow the shared nodes')
-    do m = 1, size(halo%mixed_nodes)
-      i = halo%mixed_nodes(m)
-      own = 0
-      do p = halo%mixed_start(m), halo%mixed_start(m + 1) - 1
-        if (halo%mixed_entry(p) < 0) then
-          halo%mixed_entry(p) = halo%nsent - halo%mixed_entry(p)
-          cycle
-        end if
-        if (first_sent(i) == 0) call fatal_local('halo_build: a mixed node is not sent')
-        position = first_sent(i) + own
-        if (halo%send_source(position) /= halo%mixed_entry(p)) call fatal_local('halo_build: '// &
-            'the send list does not hold a mixed node''s contributions in plan order')
-        halo%mixed_entry(p) = position
-        own = own + 1
-      end do
-    end do
-  end subroutine plan_mixed_entries
 
   !> Copy the neighbour lists, allocate the buffers and plan the ascending-rank sums.
   subroutine set_lists(halo, rank, nnode_local, neighbour_rank, shared_start, shared_nodes, &
@@ -390,23 +312,38 @@ contains
   subroutine halo_assemble(halo, cell_values, f)
     type(halo_t), intent(inout) :: halo            !< halo built from an explicit layout
     real(wp), intent(in) :: cell_values(:,:,:)     !< (ncomp, slots, ncell_local) contributions
-    real(wp), intent(out) :: f(:,:)                !< (ncomp, nnode_local) nodal sums
-    call halo_assemble_start(halo, cell_values)
-    call halo_assemble_finish(halo, cell_values, f)
+    real(wp), intent(out) :: f(:,:)                !< (ncomp, ntarget) nodal sums (node columns)
+    call halo_assemble_start(halo, cell_values, f)
+    call halo_assemble_finish(halo, f)
   end subroutine halo_assemble
 
-  !> Post the receives, pack the contributions neighbours need (outer cells) and send them.
-  subroutine halo_assemble_start(halo, cell_values)
+  !> Sum this rank's contributions into their columns of f (every column, or with pushed =
+  !> .true. after halo_assembly_push_nodes only those the caller did not push: f holds the
+  !> pushed ones' sums already), then post the receives and send the neighbours their sums.
+  subroutine halo_assemble_start(halo, cell_values, f, pushed)
     type(halo_t), intent(inout), asynchronous :: halo !< halo built from an explicit layout
-    real(wp), intent(in) :: cell_values(:,:,:)     !< (ncomp, slots, ncell_local); outer cells
-                                                   !< must be final
+    real(wp), intent(in) :: cell_values(:,:,:)     !< (ncomp, slots, ncell_local), all final
+    real(wp), intent(inout) :: f(:,:)              !< (ncomp, ntarget) sums of own chunks
+    logical, intent(in), optional :: pushed        !< the pushed columns are summed in f already
     integer :: ncomp, k, first, last
+    logical :: use_push
 
     ncomp = size(cell_values, 1)
-    call check_cells(halo, cell_values, 'halo_assemble_start')
+    call check_cells(halo, cell_values, f, 'halo_assemble_start')
     if (halo%assembly_ncomp /= 0) &
       call fatal_local('halo_assemble_start: previous exchange not finished')
     halo%assembly_ncomp = ncomp
+    use_push = .false.
+    if (present(pushed)) use_push = pushed
+    if (use_push) then
+      if (.not. halo%has_push) call fatal_local('halo_assemble_start: pushed = .true. '// &
+                                                'without halo_assembly_push_nodes')
+      call sum_kept_in_plan_order(halo, ncomp, size(cell_values, 2)*size(cell_values, 3), &
+                                  cell_values, f)
+    else
+      call sum_in_plan_order(halo, ncomp, size(cell_values, 2)*size(cell_values, 3), &
+                             cell_values, f)
+    end if
     ! the neighbours of this node have read the last exchange before any of the buffer is
     ! written again, by this rank or by a message (with another number of components the
     ! parts lie elsewhere: a receive may land where they were reading)
@@ -422,8 +359,7 @@ contains
                            halo%tag + 1, halo%assembly_requests)
     end do
     do k = 1, halo%nneighbour
-      call pack_contributions(halo, k, ncomp, size(cell_values, 2)*size(cell_values, 3), &
-                              cell_values)
+      call pack_sums(halo, k, ncomp, f)
       if (halo%direct(k)) cycle
       first = ncomp*(halo%send_start(k) - 1) + 1
       last = ncomp*(halo%send_start(k + 1) - 1)
@@ -433,41 +369,25 @@ contains
     if (halo%on_node) call comm_mail_post(halo%mailbox, halo%exchanges)
   end subroutine halo_assemble_start
 
-  !> Wait for the neighbours' contributions and sum every local node in ascending cell order.
-  !> With pushed = .true. (after halo_assembly_push_nodes) f already holds the sums at the
-  !> pushed nodes, which are left as they are, and cell_values needs only the contributions
-  !> to the other nodes.
-  subroutine halo_assemble_finish(halo, cell_values, f, pushed)
+  !> Wait for the neighbours' sums and add, at every node touched by several chunks (or by
+  !> another rank's only), the chunks' sums in ascending chunk order into its column.
+  subroutine halo_assemble_finish(halo, f)
     type(halo_t), intent(inout), asynchronous :: halo !< halo built from an explicit layout
-    real(wp), intent(in) :: cell_values(:,:,:)     !< (ncomp, slots, ncell_local), all final
-    real(wp), intent(inout) :: f(:,:)              !< (ncomp, nnode_local) nodal sums
-    logical, intent(in), optional :: pushed        !< the pushed nodes are summed in f already
+    real(wp), intent(inout) :: f(:,:)              !< (ncomp, ntarget) nodal sums
     real(wp) :: clock
     integer :: ncomp
-    logical :: use_push
 
-    ncomp = size(cell_values, 1)
+    ncomp = size(f, 1)
     if (halo%assembly_ncomp /= ncomp) &
       call fatal_local('halo_assemble_finish: no matching halo_assemble_start')
-    call check_cells(halo, cell_values, 'halo_assemble_finish')
-    call check_nodal(halo, f, 'halo_assemble_finish')
+    if (size(f, 2) /= halo%ntarget) call fatal_local('halo_assemble_finish: f does not have '// &
+                                                     'the layout''s columns')
     if (halo%on_node) call take_from_node(halo, ncomp)
     clock = comm_wtime()
     call comm_waitall(halo%assembly_requests)
     halo%assembly_wait = halo%assembly_wait + (comm_wtime() - clock)
     halo%assembly_ncomp = 0
-    use_push = .false.
-    if (present(pushed)) use_push = pushed
-    if (use_push) then
-      if (.not. halo%has_push) call fatal_local('halo_assemble_finish: pushed = .true. '// &
-                                                'without halo_assembly_push_nodes')
-      call sum_kept_in_plan_order(halo, ncomp, size(cell_values, 2)*size(cell_values, 3), &
-                                  cell_values, f)
-    else
-      call sum_in_plan_order(halo, ncomp, size(cell_values, 2)*size(cell_values, 3), &
-                             cell_values, f)
-    end if
-    call sum_mixed_in_plan_order(halo, ncomp, f)
+    call combine_chunks(halo, ncomp, f)
   end subroutine halo_assemble_finish
 
   !> The contributions of the neighbours on this node: copied from their buffers into the
@@ -567,59 +487,46 @@ contains
     end if
   end subroutine halo_free
 
-  !> Let the caller assemble the nodes marked in `pushed` itself: it adds each contribution to
-  !> such a node straight into the nodal array, in ascending global cell order, starting from
-  !> zero (the same bits as the plan), and halo_assemble_finish(..., pushed=.true.) sums only
-  !> the other nodes. A pushed node must not receive contributions from other ranks (not one
-  !> of mixed_nodes); contributions other ranks need must still be in cell_values at
-  !> halo_assemble_start.
+  !> Let the caller assemble the columns marked in `pushed` itself: it adds each contribution
+  !> to such a column straight into the nodal array, in ascending global cell order, starting
+  !> from zero (the same bits as the plan), and halo_assemble_start(..., pushed=.true.) sums
+  !> only the other columns.
   subroutine halo_assembly_push_nodes(halo, pushed)
     type(halo_t), intent(inout) :: halo            !< halo built from an explicit layout
-    logical, intent(in) :: pushed(:)               !< (nnode_local) nodes the caller assembles
-    integer :: source, i, nkept
+    logical, intent(in) :: pushed(:)               !< (ntarget) columns the caller assembles
+    integer :: source, i, nkept, pass
     if (.not. halo%has_assembly) call fatal_local('halo_assembly_push_nodes: the halo was '// &
                                                   'not built from an explicit layout')
-    if (size(pushed) /= halo%nnode_local) call fatal_local('halo_assembly_push_nodes: '// &
-                                                           'pushed does not fit the halo')
-    if (any(pushed(halo%mixed_nodes))) call fatal_local('halo_assembly_push_nodes: a node '// &
-        'with contributions from other ranks cannot be pushed')
-    nkept = 0
-    do source = 1, size(halo%source_node)
-      i = halo%source_node(source)
-      if (i > 0) then
-        if (.not. pushed(i)) nkept = nkept + 1
-      end if
+    if (size(pushed) /= halo%ntarget) call fatal_local('halo_assembly_push_nodes: '// &
+                                                       'pushed does not fit the halo')
+    do pass = 1, 2
+      if (pass == 2) allocate(halo%kept_source(nkept), halo%kept_target(nkept))
+      nkept = 0
+      do source = 1, size(halo%source_target)
+        i = halo%source_target(source)
+        if (i == 0) cycle
+        if (pushed(i)) cycle
+        nkept = nkept + 1
+        if (pass == 1) cycle
+        halo%kept_source(nkept) = source
+        halo%kept_target(nkept) = i
+      end do
     end do
-    allocate(halo%kept_source(nkept), halo%kept_node(nkept))
-    nkept = 0
-    do source = 1, size(halo%source_node)
-      i = halo%source_node(source)
-      if (i > 0) then
-        if (.not. pushed(i)) then
-          nkept = nkept + 1
-          halo%kept_source(nkept) = source
-          halo%kept_node(nkept) = i
-        end if
-      end if
-    end do
-    halo%kept_zero = pack([(i, i = 1, halo%nnode_local)], .not. pushed)
+    halo%kept_zero = pack([(i, i = 1, halo%ntarget)], .not. pushed)
     halo%has_push = .true.
   end subroutine halo_assembly_push_nodes
 
-  !> The nodal sums of halo_assemble_finish, each in its plan order (ascending global cell
-  !> order; the order fixes the bits; zero without contributions): the nodes fed by this
-  !> rank's cells only by one pass over the cell array in ascending order (values(:, source),
-  !> source = j + slots*(l-1) the column of slot j of cell l: streamed, the nodal array is
-  !> the one accessed at random); the others (shared nodes with received contributions) are
-  !> summed by their plan afterwards (sum_mixed_in_plan_order). 0 + x = x, so starting from
-  !> zero gives the same bits as starting from the first contribution (up to the sign of a
-  !> zero sum).
+  !> This rank's chunk sums, each in ascending global cell order (the order fixes the bits;
+  !> zero without contributions): one pass over the cell array in ascending order
+  !> (values(:, source), source = j + slots*(l-1) the column of slot j of cell l: streamed, the
+  !> nodal array is the one accessed at random). 0 + x = x, so starting from zero gives the
+  !> same bits as starting from the first contribution (up to the sign of a zero sum).
   subroutine sum_in_plan_order(halo, ncomp, nsource, values, f)
     type(halo_t), intent(in) :: halo               !< halo with its assembly plan
     integer, intent(in) :: ncomp                   !< components per contribution
     integer, intent(in) :: nsource                 !< slots x local cells
     real(wp), intent(in) :: values(ncomp, nsource) !< cell contributions, one per column
-    real(wp), intent(inout) :: f(:,:)              !< (ncomp, nnode_local) nodal sums
+    real(wp), intent(inout) :: f(:,:)              !< (ncomp, ntarget) sums
     integer :: i, source
     if (ncomp == 3) then
       do i = 1, size(f, 2)                        ! (not f = 0: one memset call per node)
@@ -628,7 +535,7 @@ contains
         f(3, i) = 0.0_wp
       end do
       do source = 1, nsource
-        i = halo%source_node(source)
+        i = halo%source_target(source)
         if (i == 0) cycle
         f(1, i) = f(1, i) + values(1, source)
         f(2, i) = f(2, i) + values(2, source)
@@ -637,90 +544,73 @@ contains
     else
       f(1:ncomp, :) = 0.0_wp
       do source = 1, nsource
-        i = halo%source_node(source)
+        i = halo%source_target(source)
         if (i == 0) cycle
         f(1:ncomp, i) = f(1:ncomp, i) + values(:, source)
       end do
     end if
   end subroutine sum_in_plan_order
 
-  !> sum_in_plan_order for the pushed assembly: only the kept nodes are zeroed and summed
+  !> sum_in_plan_order for the pushed assembly: only the kept columns are zeroed and summed
   !> (the pushed ones hold their sums already).
   subroutine sum_kept_in_plan_order(halo, ncomp, nsource, values, f)
     type(halo_t), intent(in) :: halo               !< halo with its assembly plan
     integer, intent(in) :: ncomp                   !< components per contribution
     integer, intent(in) :: nsource                 !< slots x local cells
     real(wp), intent(in) :: values(ncomp, nsource) !< cell contributions, one per column
-    real(wp), intent(inout) :: f(:,:)              !< (ncomp, nnode_local) nodal sums
+    real(wp), intent(inout) :: f(:,:)              !< (ncomp, ntarget) sums
     integer :: k, i
     do k = 1, size(halo%kept_zero)
       f(1:ncomp, halo%kept_zero(k)) = 0.0_wp
     end do
     do k = 1, size(halo%kept_source)
-      i = halo%kept_node(k)
+      i = halo%kept_target(k)
       f(1:ncomp, i) = f(1:ncomp, i) + values(:, halo%kept_source(k))
     end do
   end subroutine sum_kept_in_plan_order
 
-  !> The nodes with received contributions (shared nodes), each summed by its plan (ascending
-  !> global cell order, own and received contributions interleaved), after the own-only nodes.
-  !> The own contributions are read from their packed copies, the received ones from where
-  !> they arrived: both in assembly_buffer, in the order the sums take them.
-  subroutine sum_mixed_in_plan_order(halo, ncomp, f)
+  !> The nodes touched by several chunks (or only by other ranks' chunks): their chunks' sums,
+  !> own columns and received values, added left to right in ascending chunk order.
+  subroutine combine_chunks(halo, ncomp, f)
     type(halo_t), intent(in) :: halo               !< halo after the exchange
-    integer, intent(in) :: ncomp                   !< components per contribution
-    real(wp), intent(inout) :: f(:,:)              !< (ncomp, nnode_local) nodal sums
-    real(wp) :: sum1, sum2, sum3
-    integer :: i, m, p, offset
-    if (ncomp == 3) then                           ! (forces: the sums in registers)
-      do m = 1, size(halo%mixed_nodes)
-        i = halo%mixed_nodes(m)
-        sum1 = f(1, i)
-        sum2 = f(2, i)
-        sum3 = f(3, i)
-        do p = halo%mixed_start(m), halo%mixed_start(m + 1) - 1
-          offset = 3*(halo%mixed_entry(p) - 1)
-          sum1 = sum1 + halo%assembly_buffer(offset + 1)
-          sum2 = sum2 + halo%assembly_buffer(offset + 2)
-          sum3 = sum3 + halo%assembly_buffer(offset + 3)
-        end do
-        f(1, i) = sum1
-        f(2, i) = sum2
-        f(3, i) = sum3
+    integer, intent(in) :: ncomp                   !< components per sum
+    real(wp), intent(inout) :: f(:,:)              !< (ncomp, ntarget) sums
+    real(wp) :: total(ncomp)
+    integer :: m, p, source, offset
+    do m = 1, size(halo%combine_node)
+      do p = halo%combine_start(m), halo%combine_start(m + 1) - 1
+        source = halo%combine_source(p)
+        if (source > 0) then
+          if (p == halo%combine_start(m)) then
+            total = f(1:ncomp, source)
+          else
+            total = total + f(1:ncomp, source)
+          end if
+        else
+          offset = ncomp*(halo%nsent - source - 1)
+          if (p == halo%combine_start(m)) then
+            total = halo%assembly_buffer(offset + 1:offset + ncomp)
+          else
+            total = total + halo%assembly_buffer(offset + 1:offset + ncomp)
+          end if
+        end if
       end do
-      return
-    end if
-    do m = 1, size(halo%mixed_nodes)
-      i = halo%mixed_nodes(m)
-      do p = halo%mixed_start(m), halo%mixed_start(m + 1) - 1
-        offset = ncomp*(halo%mixed_entry(p) - 1)
-        f(1:ncomp, i) = f(1:ncomp, i) + halo%assembly_buffer(offset + 1:offset + ncomp)
-      end do
+      f(1:ncomp, halo%combine_node(m)) = total
     end do
-  end subroutine sum_mixed_in_plan_order
+  end subroutine combine_chunks
 
-  !> The contributions neighbour k needs, packed into the sent part of assembly_buffer
-  !> (columns as above).
-  subroutine pack_contributions(halo, k, ncomp, nsource, values)
+  !> The sums neighbour k needs, packed into the sent part of assembly_buffer (columns as
+  !> above).
+  subroutine pack_sums(halo, k, ncomp, f)
     type(halo_t), intent(inout) :: halo            !< halo with its assembly plan
     integer, intent(in) :: k                       !< neighbour
-    integer, intent(in) :: ncomp                   !< components per contribution
-    integer, intent(in) :: nsource                 !< slots x local cells
-    real(wp), intent(in) :: values(ncomp, nsource) !< cell contributions, one per column
-    integer :: t, source
-    if (ncomp == 3) then                  ! (forces: three stores, not a memcpy call each)
-      do t = halo%send_start(k), halo%send_start(k + 1) - 1
-        source = halo%send_source(t)
-        halo%assembly_buffer(3*t - 2) = values(1, source)
-        halo%assembly_buffer(3*t - 1) = values(2, source)
-        halo%assembly_buffer(3*t) = values(3, source)
-      end do
-      return
-    end if
+    integer, intent(in) :: ncomp                   !< components per sum
+    real(wp), intent(in) :: f(:,:)                 !< (ncomp, ntarget) sums
+    integer :: t
     do t = halo%send_start(k), halo%send_start(k + 1) - 1
-      halo%assembly_buffer(ncomp*(t - 1) + 1:ncomp*t) = values(:, halo%send_source(t))
+      halo%assembly_buffer(ncomp*(t - 1) + 1:ncomp*t) = f(1:ncomp, halo%send_source(t))
     end do
-  end subroutine pack_contributions
+  end subroutine pack_sums
 
   !> Stop with a message if a nodal array does not fit the halo.
   subroutine check_nodal(halo, f, where)
@@ -735,10 +625,11 @@ contains
     end if
   end subroutine check_nodal
 
-  !> Stop with a message if a cell array does not fit the halo's assembly plan.
-  subroutine check_cells(halo, cell_values, where)
+  !> Stop with a message if a cell array or the nodal sums do not fit the halo's assembly plan.
+  subroutine check_cells(halo, cell_values, f, where)
     type(halo_t), intent(in) :: halo               !< the halo
     real(wp), intent(in) :: cell_values(:,:,:)     !< cell contributions
+    real(wp), intent(in) :: f(:,:)                 !< nodal sums
     character(len=*), intent(in) :: where          !< calling routine
     character(len=200) :: text
     if (.not. halo%has_assembly) call fatal_local(where//': the halo was not built from an '// &
@@ -748,6 +639,11 @@ contains
       write(text, '(a,3(i0,a),3(i0,a))') where//': cell_values is (', size(cell_values, 1), &
           ', ', size(cell_values, 2), ', ', size(cell_values, 3), '), the halo takes (1..', &
           halo%ncomp_max, ', ', halo%slots, ', ', halo%ncell_local, ')'
+      call fatal_local(text)
+    end if
+    if (size(f, 1) /= size(cell_values, 1) .or. size(f, 2) /= halo%ntarget) then
+      write(text, '(a,4(i0,a))') where//': f is (', size(f, 1), ', ', size(f, 2), &
+          '), the assembly needs (', size(cell_values, 1), ', ', halo%ntarget, ')'
       call fatal_local(text)
     end if
   end subroutine check_cells

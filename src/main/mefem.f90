@@ -18,7 +18,8 @@ program mefem
   use mefem_progress, only: peak_memory_mib
   use mefem_linear_static, only: linear_static_run
   use mefem_implicit_static, only: implicit_static_run
-  use mefem_explicit_dynamics, only: explicit_dynamics_run, explicit_writes_initial_state
+  use mefem_explicit_dynamics, only: explicit_dynamics_run, explicit_writes_initial_state, &
+                                     explicit_analysis
   use mefem_boundary_conditions, only: warn_loads_on_free_nodes
   use mefem_errors, only: input_error_count
   implicit none
@@ -27,7 +28,7 @@ program mefem
   type(model_t) :: model
   type(decomposition_t) :: decomp
   type(output_field_t), allocatable :: point_fields(:), cell_fields(:)
-  integer, allocatable :: element_rank(:)
+  integer, allocatable :: element_rank(:), element_chunk(:)
   integer :: n_errors
   real(wp) :: t_start, t_read
 
@@ -53,8 +54,12 @@ program mefem
     call terminate(0)
   end if
 
-  ! split the mesh over the ranks (METIS)
-  call partition_model(model, decomp, element_rank)
+  ! split the mesh over the ranks (METIS; the explicit solver in whole chunks of elements)
+  if (explicit_analysis(model)) then
+    call partition_model(model, decomp, element_rank, element_chunk)
+  else
+    call partition_model(model, decomp, element_rank)
+  end if
 
   ! write the model as read: the mesh, its parts and node sets (state 0; the explicit
   ! analysis writes state 0 itself, with its fields at t = 0)
@@ -70,8 +75,8 @@ program mefem
     call linear_static_run(model, decomp)
   else if (model%controls%imflag == 1) then
     call implicit_static_run(model, decomp)
-  else if (model%controls%have_termination) then
-    call explicit_dynamics_run(model, decomp, element_rank)
+  else if (explicit_analysis(model)) then
+    call explicit_dynamics_run(model, decomp, element_rank, element_chunk)
   else
     call say('no *CONTROL_TERMINATION: nothing to run; the model was read, checked and written')
   end if

@@ -16,13 +16,20 @@
 !> communicated here; the work per rank is linear in the global mesh plus the number of ranks.
 !>
 !> Order-fixed assembly (what makes forces bit-identical for any number of ranks): the force of
-!> a cell on its j-th node is its "contribution" (c, j). The nodal force at node n is summed
-!> over all contributions to n in ascending global cell order, whichever ranks computed them.
-!> For that, this module lists, per local node, where each contribution is found: in this
-!> rank's cell array, or in the receive buffer from the rank that computed the cell. Each rank
-!> sends a neighbour, for each node they share (in the shared-list order), the contributions
-!> of its own cells to that node in ascending cell order; the receiver derives the same order
-!> from the global data. The exchange itself is mefem_halo's halo_assemble.
+!> a cell on its j-th node is its "contribution" (c, j). The cells are grouped into chunks
+!> that do not depend on the number of ranks (mefem_model_partition: the chunk of a cell is
+!> its first element's; every rank computes whole chunks). The nodal force at node n is
+!>   f(n) = S(n, k1) + S(n, k2) + ...   (added left to right, chunks k1 < k2 < ... touching n)
+!> where S(n, k) is the sum of chunk k's contributions to n in ascending global cell order.
+!> The rank of chunk k computes S(n, k) in its cell loop into a "target" column of its nodal
+!> arrays: node n's own column when k is the only chunk touching n, otherwise an extra
+!> "partial" column after the nodes; the ranks that hold n and not chunk k receive S(n, k)
+!> (one value per node and chunk, not the contributions), and every rank holding n adds the
+!> S(n, k) in chunk order ("combine"). This module lists, per own contribution, its target
+!> column; per combined node, where each S(n, k) is found (a partial column or a received
+!> position); per neighbour, the columns sent, node by node of the shared list and chunk by
+!> chunk, which the receiver derives in the same order from the global data. The exchange
+!> itself is mefem_halo's halo_assemble.
 module mefem_explicit_layout
   use mefem_errors, only: status_t, fatal_local
   use mefem_decomposition, only: decomposition_t
@@ -67,17 +74,22 @@ module mefem_explicit_layout
                                                   !< shared_start(k):shared_start(k+1)-1
     integer, allocatable :: shared_nodes(:)       !< local nodes, ascending per neighbour
     ! order-fixed assembly plan
-    integer, allocatable :: assembly_start(:)     !< (nnode_local+1) node i's contributions are
-                                                  !< assembly_start(i):assembly_start(i+1)-1,
-                                                  !< in ascending global cell order
-    integer, allocatable :: assembly_source(:)    !< > 0: slot j of local cell l, stored as
-                                                  !< j + slots*(l-1); < 0: -(position in the
+    integer :: npartial = 0                       !< partial columns (after the nnode_local
+                                                  !< node columns)
+    integer :: ntarget = 0                        !< nnode_local + npartial
+    integer, allocatable :: cell_target(:,:)      !< (slots, ncell_local) target column of each
+                                                  !< own contribution (0 past cells%nnodes)
+    integer, allocatable :: combine_node(:)       !< local nodes summed over their chunks
+    integer, allocatable :: combine_start(:)      !< (size(combine_node)+1) node m adds the
+    integer, allocatable :: combine_source(:)     !< sources combine_start(m):combine_start(m+1)
+                                                  !< -1 in this (ascending chunk) order: > 0 a
+                                                  !< target column, < 0 -(position in the
                                                   !< concatenated receive buffer)
     integer, allocatable :: send_start(:)         !< (nneighbour+1) offsets into send_source
-    integer, allocatable :: send_source(:)        !< contributions sent to neighbour k, in order
-                                                  !< (same encoding as a positive source)
-    integer, allocatable :: receive_start(:)      !< (nneighbour+1) neighbour k's contributions
-                                                  !< are receive_start(k):receive_start(k+1)-1
+    integer, allocatable :: send_source(:)        !< target columns sent to neighbour k, in
+                                                  !< order
+    integer, allocatable :: receive_start(:)      !< (nneighbour+1) neighbour k's values are
+                                                  !< receive_start(k):receive_start(k+1)-1
     ! output plan: the cell results the means of this rank's output piece read (the cells of
     ! its elements and the cells touching its elements' nodes), gathered from the ranks that
     ! compute them (mefem_halo's halo_gather_cell_results)
@@ -97,21 +109,25 @@ contains
 
   !> Build this rank's explicit layout. elem_part, elem_start and elem_nodes are the global
   !> element partition and corner connectivity that built decomp (model_partition's
-  !> element_csr). Inconsistent input sets status (or, without status, stops with a message).
-  subroutine explicit_layout_build(decomp, elem_part, elem_start, elem_nodes, cells, layout, &
-                                   status)
+  !> element_csr), elem_chunk the chunks of the assembly (every chunk's elements on one rank).
+  !> Inconsistent input sets status (or, without status, stops with a message).
+  subroutine explicit_layout_build(decomp, elem_part, elem_chunk, elem_start, elem_nodes, &
+                                   cells, layout, status)
     type(decomposition_t), intent(in) :: decomp       !< this rank's decomposition
     integer, intent(in) :: elem_part(:)               !< (nelem) rank of every element
+    integer, intent(in) :: elem_chunk(:)              !< (nelem) chunk of every element (>= 0)
     integer, intent(in) :: elem_start(:)              !< (nelem+1) element starts
     integer, intent(in) :: elem_nodes(:)              !< 1-based global mesh node indices
     type(cells_t), intent(in) :: cells                !< all cells of the model
     type(explicit_layout_t), intent(out) :: layout    !< the result
     type(status_t), intent(out), optional :: status   !< failure and its reason
-    integer, allocatable :: cell_rank(:), node_rank_start(:), node_ranks(:), global_to_local(:)
+    integer, allocatable :: cell_rank(:), cell_chunk(:), node_rank_start(:), node_ranks(:)
+    integer, allocatable :: global_to_local(:)
     type(status_t) :: check_status
     integer :: c
 
-    call check_layout_input(decomp, elem_part, elem_start, elem_nodes, cells, check_status)
+    call check_layout_input(decomp, elem_part, elem_chunk, elem_start, elem_nodes, cells, &
+                            check_status)
     if (present(status)) status = check_status
     if (.not. check_status%ok) then
       if (present(status)) return
@@ -124,9 +140,10 @@ contains
     layout%nnode_global = decomp%nnode_global + cells%n_enriched
     layout%ncell_global = cells%n
 
-    allocate(cell_rank(cells%n))
+    allocate(cell_rank(cells%n), cell_chunk(cells%n))
     do c = 1, cells%n
       cell_rank(c) = elem_part(cells%elements(1, c))
+      cell_chunk(c) = elem_chunk(cells%elements(1, c))
     end do
     call collect_node_ranks(layout, elem_part, elem_start, elem_nodes, cells, cell_rank, &
                             node_rank_start, node_ranks)
@@ -134,7 +151,7 @@ contains
                             node_ranks, global_to_local)
     call build_shared_lists(layout, node_rank_start, node_ranks)
     call select_local_cells(layout, cells, cell_rank, node_rank_start, global_to_local)
-    call build_assembly_plan(layout, cells, cell_rank)
+    call build_assembly_plan(layout, cells, cell_rank, cell_chunk)
     call collect_node_ranks(layout, elem_part, elem_start, elem_nodes, cells, cell_rank, &
                             node_rank_start, node_ranks, with_cells=.false.)
     call build_result_plan(layout, elem_part, cells, cell_rank, node_rank_start, node_ranks)
@@ -171,17 +188,21 @@ contains
     if (allocated(layout%cell_outer)) deallocate(layout%cell_outer)
     if (allocated(layout%outer_cells)) deallocate(layout%outer_cells)
     if (allocated(layout%inner_cells)) deallocate(layout%inner_cells)
-    if (allocated(layout%assembly_start)) deallocate(layout%assembly_start)
-    if (allocated(layout%assembly_source)) deallocate(layout%assembly_source)
+    if (allocated(layout%cell_target)) deallocate(layout%cell_target)
+    if (allocated(layout%combine_node)) deallocate(layout%combine_node)
+    if (allocated(layout%combine_start)) deallocate(layout%combine_start)
+    if (allocated(layout%combine_source)) deallocate(layout%combine_source)
     if (allocated(layout%send_start)) deallocate(layout%send_start)
     if (allocated(layout%send_source)) deallocate(layout%send_source)
     if (allocated(layout%receive_start)) deallocate(layout%receive_start)
   end subroutine explicit_layout_release_plan
 
   !> Sizes and ranges that must agree between the decomposition, the partition and the cells.
-  subroutine check_layout_input(decomp, elem_part, elem_start, elem_nodes, cells, status)
+  subroutine check_layout_input(decomp, elem_part, elem_chunk, elem_start, elem_nodes, cells, &
+                                status)
     type(decomposition_t), intent(in) :: decomp       !< this rank's decomposition
     integer, intent(in) :: elem_part(:)               !< rank of every element
+    integer, intent(in) :: elem_chunk(:)              !< chunk of every element
     integer, intent(in) :: elem_start(:)              !< element starts
     integer, intent(in) :: elem_nodes(:)              !< global node indices
     type(cells_t), intent(in) :: cells                !< all cells
@@ -191,8 +212,9 @@ contains
 
     nelem = decomp%nelem_global
     text = ''
-    if (size(elem_part) < nelem .or. size(elem_start) < nelem + 1) then
-      write(text, '(a,i0,a)') 'elem_part/elem_start are shorter than the ', nelem, &
+    if (size(elem_part) < nelem .or. size(elem_chunk) < nelem .or. &
+        size(elem_start) < nelem + 1) then
+      write(text, '(a,i0,a)') 'elem_part/elem_chunk/elem_start are shorter than the ', nelem, &
           ' elements of the decomposition'
     else if (cells%n_mesh_nodes /= decomp%nnode_global) then
       write(text, '(a,i0,a,i0,a)') 'the cells know ', cells%n_mesh_nodes, &
@@ -206,6 +228,10 @@ contains
     if (len_trim(text) == 0 .and. nelem > 0) then
       if (any(elem_part(1:nelem) < 0 .or. elem_part(1:nelem) >= decomp%nranks)) then
         text = 'an element part is outside 0..nranks-1'
+      else if (any(elem_chunk(1:nelem) < 0)) then
+        text = 'an element chunk is negative'
+      else if (.not. whole_chunks(elem_part(1:nelem), elem_chunk(1:nelem))) then
+        text = 'a chunk''s elements are on more than one rank'
       else if (decomp%nelem_local > 0) then
         if (any(elem_part(decomp%elem_global) /= decomp%rank)) &
           text = 'elem_part does not match the decomposition'' elements'
@@ -463,17 +489,35 @@ contains
     end do
   end subroutine select_local_cells
 
-  !> The order-fixed assembly plan: per local node, the source of every contribution in
-  !> ascending global cell order; per neighbour, what to send and where its data lands.
-  subroutine build_assembly_plan(layout, cells, cell_rank)
+  !> Every chunk's elements on one rank.
+  pure logical function whole_chunks(elem_part, elem_chunk)
+    integer, intent(in) :: elem_part(:)               !< rank of every element
+    integer, intent(in) :: elem_chunk(:)              !< chunk (>= 0) of every element
+    integer :: chunk_rank(0:max(0, maxval(elem_chunk)))
+    integer :: e
+    chunk_rank = -1
+    whole_chunks = .true.
+    do e = 1, size(elem_part)
+      if (chunk_rank(elem_chunk(e)) == -1) chunk_rank(elem_chunk(e)) = elem_part(e)
+      if (chunk_rank(elem_chunk(e)) /= elem_part(e)) whole_chunks = .false.
+    end do
+  end function whole_chunks
+
+  !> The order-fixed assembly plan (see the module's header): the target column of every own
+  !> contribution, the combined nodes' sources in ascending chunk order, and per neighbour
+  !> the columns sent and the count received (node by node of the shared list, chunk by chunk).
+  subroutine build_assembly_plan(layout, cells, cell_rank, cell_chunk)
     type(explicit_layout_t), intent(inout) :: layout      !< cells, nodes and halo lists in
     type(cells_t), intent(in) :: cells                    !< all cells
     integer, intent(in) :: cell_rank(:)                   !< rank computing each cell
-    integer, allocatable :: touch_start(:), touch_cell(:), touch_slot(:), next(:)
-    integer, allocatable :: cell_local(:)
-    integer :: nall, c, j, n, i, k, s, t, q, position, nsend
+    integer, intent(in) :: cell_chunk(:)                  !< chunk of each cell
+    integer, allocatable :: touch_start(:), touch_cell(:), next(:)
+    integer, allocatable :: chunk_start(:), chunk_of(:), chunk_source(:), node_chunks(:)
+    integer, allocatable :: chunk_rank(:)
+    integer :: nall, c, j, n, i, k, s, q, m, position, nsend, nchunk_node, l, chunk, pass
+    integer :: nchunk_total, column
 
-    ! node -> (cell, slot) incidence over the whole model, cells ascending per node
+    ! node -> cells touching it over the whole model, ascending
     nall = layout%nnode_global
     allocate(touch_start(nall + 1), next(nall))
     touch_start = 0
@@ -486,78 +530,149 @@ contains
     do n = 1, nall
       touch_start(n + 1) = touch_start(n + 1) + touch_start(n)
     end do
-    allocate(touch_cell(touch_start(nall + 1) - 1), touch_slot(touch_start(nall + 1) - 1))
+    allocate(touch_cell(touch_start(nall + 1) - 1))
     next = touch_start(1:nall)
     do c = 1, cells%n
       do j = 1, cells%nnodes(c)
         n = cells%nodes(j, c)
         touch_cell(next(n)) = c
-        touch_slot(next(n)) = j
         next(n) = next(n) + 1
       end do
     end do
-    allocate(cell_local(cells%n))
-    cell_local = 0
-    cell_local(layout%cell_global) = [(i, i = 1, layout%ncell_local)]
 
-    ! every contribution to a local node: own cells point into the cell array
-    allocate(layout%assembly_start(layout%nnode_local + 1))
-    layout%assembly_start(1) = 1
-    do i = 1, layout%nnode_local
-      n = layout%node_global(i)
-      layout%assembly_start(i + 1) = layout%assembly_start(i) + touch_start(n + 1) - touch_start(n)
+    allocate(chunk_rank(0:max(0, maxval(cell_chunk))))
+    chunk_rank = -1
+    do c = 1, cells%n                       ! (every chunk's cells are on one rank)
+      chunk_rank(cell_chunk(c)) = cell_rank(c)
     end do
-    allocate(layout%assembly_source(layout%assembly_start(layout%nnode_local + 1) - 1))
-    layout%assembly_source = 0
-    do i = 1, layout%nnode_local
-      n = layout%node_global(i)
-      do t = touch_start(n), touch_start(n + 1) - 1
-        c = touch_cell(t)
-        if (cell_rank(c) == layout%rank) layout%assembly_source(layout%assembly_start(i) + &
-            t - touch_start(n)) = touch_slot(t) + layout%slots*(cell_local(c) - 1)
+
+    ! per local node, the chunks touching it (ascending) and where each S(n, k) is: its own
+    ! column (the only chunk, this rank's), a new partial column (this rank's chunk), or a
+    ! receive position (filled below; 0 until then)
+    allocate(chunk_start(layout%nnode_local + 1), node_chunks(32))
+    do pass = 1, 2
+      if (pass == 2) then
+        allocate(chunk_of(chunk_start(layout%nnode_local + 1) - 1), &
+                 chunk_source(chunk_start(layout%nnode_local + 1) - 1))
+        chunk_source = 0
+      end if
+      chunk_start(1) = 1
+      layout%npartial = 0
+      do i = 1, layout%nnode_local
+        call chunks_of_node(layout%node_global(i))
+        chunk_start(i + 1) = chunk_start(i) + nchunk_node
+        if (pass == 1) cycle
+        chunk_of(chunk_start(i):chunk_start(i + 1) - 1) = node_chunks(1:nchunk_node)
+        do k = 1, nchunk_node
+          if (chunk_rank(node_chunks(k)) /= layout%rank) cycle
+          if (nchunk_node == 1) then
+            chunk_source(chunk_start(i)) = i
+          else
+            layout%npartial = layout%npartial + 1
+            chunk_source(chunk_start(i) + k - 1) = layout%nnode_local + layout%npartial
+          end if
+        end do
       end do
     end do
+    layout%ntarget = layout%nnode_local + layout%npartial
 
-    ! others' cells: neighbour q sends, node by node of the shared list, its cells ascending
+    ! the exchange: neighbour q's S(n, k) of its chunks, and ours for it, node by node of the
+    ! shared list, chunk by chunk
     allocate(layout%receive_start(layout%nneighbour + 1), layout%send_start(layout%nneighbour + 1))
     layout%receive_start(1) = 1
     layout%send_start(1) = 1
     position = 0
     nsend = 0
-    do k = 1, layout%nneighbour
-      q = layout%neighbour_rank(k)
-      do s = layout%shared_start(k), layout%shared_start(k + 1) - 1
-        i = layout%shared_nodes(s)
-        n = layout%node_global(i)
-        do t = touch_start(n), touch_start(n + 1) - 1
-          if (cell_rank(touch_cell(t)) == q) then
-            position = position + 1
-            layout%assembly_source(layout%assembly_start(i) + t - touch_start(n)) = -position
-          else if (cell_rank(touch_cell(t)) == layout%rank) then
-            nsend = nsend + 1
+    do pass = 1, 2
+      if (pass == 2) allocate(layout%send_source(nsend))
+      position = 0
+      nsend = 0
+      do k = 1, layout%nneighbour
+        q = layout%neighbour_rank(k)
+        do s = layout%shared_start(k), layout%shared_start(k + 1) - 1
+          i = layout%shared_nodes(s)
+          do m = chunk_start(i), chunk_start(i + 1) - 1
+            if (chunk_rank(chunk_of(m)) == q) then
+              position = position + 1
+              if (pass == 2) chunk_source(m) = -position
+            else if (chunk_rank(chunk_of(m)) == layout%rank) then
+              nsend = nsend + 1
+              if (pass == 2) layout%send_source(nsend) = chunk_source(m)
+            end if
+          end do
+        end do
+        layout%receive_start(k + 1) = position + 1
+        layout%send_start(k + 1) = nsend + 1
+      end do
+    end do
+    if (any(chunk_source == 0)) call fatal_local('explicit_layout_build: a chunk touching a '// &
+        'local node is computed by a rank that does not share the node')
+
+    ! the combined nodes: all but those whose only chunk is this rank's
+    nchunk_total = 0
+    m = 0
+    do i = 1, layout%nnode_local
+      if (chunk_start(i + 1) == chunk_start(i)) cycle
+      if (chunk_source(chunk_start(i)) == i) cycle
+      m = m + 1
+      nchunk_total = nchunk_total + chunk_start(i + 1) - chunk_start(i)
+    end do
+    allocate(layout%combine_node(m), layout%combine_start(m + 1), &
+             layout%combine_source(nchunk_total))
+    layout%combine_start(1) = 1
+    m = 0
+    do i = 1, layout%nnode_local
+      if (chunk_start(i + 1) == chunk_start(i)) cycle
+      if (chunk_source(chunk_start(i)) == i) cycle
+      m = m + 1
+      layout%combine_node(m) = i
+      layout%combine_start(m + 1) = layout%combine_start(m) + chunk_start(i + 1) - chunk_start(i)
+      layout%combine_source(layout%combine_start(m):layout%combine_start(m + 1) - 1) = &
+          chunk_source(chunk_start(i):chunk_start(i + 1) - 1)
+    end do
+
+    ! the target of every own contribution: the column of its node's S(n, chunk of the cell)
+    allocate(layout%cell_target(layout%slots, layout%ncell_local))
+    layout%cell_target = 0
+    do l = 1, layout%ncell_local
+      c = layout%cell_global(l)
+      chunk = cell_chunk(c)
+      do j = 1, cells%nnodes(c)
+        i = layout%cell_nodes(j, l)
+        column = 0
+        do m = chunk_start(i), chunk_start(i + 1) - 1
+          if (chunk_of(m) == chunk) then
+            column = chunk_source(m)
+            exit
           end if
         end do
+        if (column <= 0) call fatal_local('explicit_layout_build: a contribution has no column')
+        layout%cell_target(j, l) = column
       end do
-      layout%receive_start(k + 1) = position + 1
-      layout%send_start(k + 1) = nsend + 1
     end do
-    if (any(layout%assembly_source == 0)) call fatal_local('explicit_layout_build: a '// &
-        'contribution to a local node comes from a rank that does not share the node')
 
-    ! what this rank sends: the same walk, its own cells' contributions
-    allocate(layout%send_source(nsend))
-    nsend = 0
-    do k = 1, layout%nneighbour
-      do s = layout%shared_start(k), layout%shared_start(k + 1) - 1
-        n = layout%node_global(layout%shared_nodes(s))
-        do t = touch_start(n), touch_start(n + 1) - 1
-          c = touch_cell(t)
-          if (cell_rank(c) /= layout%rank) cycle
-          nsend = nsend + 1
-          layout%send_source(nsend) = touch_slot(t) + layout%slots*(cell_local(c) - 1)
+  contains
+
+    !> node_chunks(1:nchunk_node): the chunks of the cells touching global node n, ascending.
+    subroutine chunks_of_node(n)
+      integer, intent(in) :: n                    !< global node
+      integer :: t, chunk_t, p
+      nchunk_node = 0
+      do t = touch_start(n), touch_start(n + 1) - 1
+        chunk_t = cell_chunk(touch_cell(t))
+        if (any(node_chunks(1:nchunk_node) == chunk_t)) cycle
+        if (nchunk_node == size(node_chunks)) node_chunks = [node_chunks, node_chunks]
+        p = nchunk_node                           ! insertion, ascending
+        do while (p > 0)
+          if (node_chunks(p) < chunk_t) exit
+          node_chunks(p + 1) = node_chunks(p)
+          p = p - 1
         end do
+        node_chunks(p + 1) = chunk_t
+        nchunk_node = nchunk_node + 1
       end do
-    end do
+    end subroutine chunks_of_node
+
   end subroutine build_assembly_plan
 
   !> The output plan (layout%result_*): a cell's results go to the ranks of its elements and

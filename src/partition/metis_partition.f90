@@ -19,6 +19,8 @@ module mefem_metis
   integer, parameter :: METIS_OK = 1               !< return code: success
   integer, parameter :: METIS_ERROR_INPUT = -2     !< return code: erroneous input or options
   integer, parameter :: METIS_ERROR_MEMORY = -3    !< return code: out of memory
+  integer, parameter :: METIS_OPTION_PTYPE = 0     !< 0-based position of the method option
+  integer, parameter :: METIS_PTYPE_RB = 0         !< method: recursive bisection
   integer, parameter :: METIS_OPTION_SEED = 8      !< 0-based position of the seed option
   integer, parameter :: METIS_OPTION_NUMBERING = 17 !< 0-based position of the numbering option
   integer, parameter :: PARTITION_SEED = 20130101  !< fixed seed: deterministic partitions
@@ -73,9 +75,12 @@ contains
   !> Elements sharing at least ncommon nodes are neighbours in the dual graph: use 2 for 2D
   !> triangle/quadrilateral meshes, 3 for tetrahedra (and mixed 3D meshes), 4 for hexahedra
   !> only. nparts == 1 gives all zeros without calling METIS. Bad input or a METIS failure
-  !> gives status%ok = .false. with a message, and elem_part = 0.
+  !> gives status%ok = .false. with a message, and elem_part = 0. With bisection = .true.,
+  !> METIS bisects recursively instead: the first bisection splits the parts into
+  !> 0..nparts/2-1 and nparts/2..nparts-1, and so on down the tree, so that contiguous ranges
+  !> of parts are compact pieces of the mesh (mefem_model_partition's chunks).
   subroutine metis_partition_elements(nelem, nnode, elem_start, elem_nodes, ncommon, nparts, &
-                                      elem_weight, elem_part, status)
+                                      elem_weight, elem_part, status, bisection)
     integer, intent(in) :: nelem                  !< number of elements
     integer, intent(in) :: nnode                  !< number of nodes
     integer, intent(in) :: elem_start(:)          !< (nelem+1) e has elem_start(e):elem_start(e+1)-1
@@ -85,6 +90,7 @@ contains
     integer, intent(in), optional :: elem_weight(:) !< (nelem) element costs (>= 0), default 1
     integer, intent(out) :: elem_part(:)          !< (nelem) part of each element, 0..nparts-1
     type(status_t), intent(out) :: status         !< failure and its reason
+    logical, intent(in), optional :: bisection    !< recursive bisection (default: k-way)
     integer(c_int), allocatable :: eptr(:), eind(:), epart(:), npart(:)
     integer(c_int), allocatable, target :: weights(:)
     integer(c_int) :: options(METIS_NOPTIONS), objval, code
@@ -116,6 +122,9 @@ contains
     code = metis_set_default_options(options)
     options(METIS_OPTION_SEED + 1) = int(PARTITION_SEED, c_int)
     options(METIS_OPTION_NUMBERING + 1) = 0_c_int
+    if (present(bisection)) then
+      if (bisection) options(METIS_OPTION_PTYPE + 1) = int(METIS_PTYPE_RB, c_int)
+    end if
     nelem_c = int(nelem, c_int)
     nnode_c = int(nnode, c_int)
     ncommon_c = int(ncommon, c_int)
@@ -137,7 +146,7 @@ contains
     part_count = 0
     if (minval(elem_part(1:nelem)) >= 0 .and. maxval(elem_part(1:nelem)) < nparts) then
       call count_parts(elem_part(1:nelem), part_count)
-      if (any(part_count == 0)) then
+      if (any(part_count == 0) .and. .not. present(bisection)) then    ! (chunks may be empty)
         write(text, '(a,i0,a,i0,a)') 'METIS left ', count(part_count == 0), ' of ', nparts, &
             ' parts empty; those ranks get no elements'
         call warn(trim(text))

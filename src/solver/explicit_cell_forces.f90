@@ -3,14 +3,14 @@
 !>
 !> 3D cells are computed in blocks of up to BLOCK_CELLS cells of one material and node count
 !> (build_blocks, block_forces: structure-of-arrays kernels vectorised across the cells), all
-!> of them in ascending cell order, and the halo exchange of the contributions to shared
-!> nodes starts after the last block; 2D cells one by one (cell_forces), the outer cells
-!> (touching a shared node) first, so that the exchange overlaps the inner ones.
+!> of them in ascending cell order; 2D cells one by one (cell_forces). Then the halo exchange
+!> of the sums other ranks need starts.
 !>
-!> Assembly in ascending global cell order at every node, so that forces have the same bits
-!> on any number of ranks: in 3D, a contribution is added at once to its node when the blocks
-!> reach that node's cells in that order (pushed assembly: plan_pushed_assembly); the others
-!> are stored per cell and summed by mefem_halo's order-fixed plan, with other ranks' ones.
+!> Assembly per chunk in ascending global cell order, then over the chunks in chunk order
+!> (mefem_explicit_layout), so that forces have the same bits on any number of ranks: in 3D,
+!> a contribution is added at once to its column (its node's, or its node's partial sum of
+!> the cell's chunk) when the blocks reach that column's cells in ascending order (pushed
+!> assembly: plan_pushed_assembly); the others are stored per cell and summed by mefem_halo.
 module mefem_explicit_cell_forces
   use mefem_kinds, only: wp
   use mefem_errors, only: status_t
@@ -48,21 +48,21 @@ contains
     call plan_pushed_assembly(s, halo)
   end subroutine explicit_cells_set_up
 
-  !> All local cells at the current displacements: internal forces into f_int_new (pushed
-  !> nodes) and cell_force (the others; their halo exchange is started here and finished by
-  !> the caller), the smallest stable step (dt_stable, dt_element) and the first failure
-  !> (failed, failure).
+  !> All local cells at the current displacements: internal forces into f_int_new (the
+  !> sums of this rank's chunks; the halo exchange of those other ranks need is started here
+  !> and finished by the caller), the smallest stable step (dt_stable, dt_element) and the
+  !> first failure (failed, failure).
   !>
-  !> 3D: the blocks in ascending cell order, then the exchange. Computing the outer cells
-  !> first so that the exchange overlaps the inner ones (as in 2D) was measured slower
-  !> (doc/performance.md, fifth round): the ranks meet at the time-step reduction right
-  !> after anyway, and keeping the pushed sums in cell order then took a second store of
-  !> the outer cells' forces and a replay of them between the inner blocks.
+  !> 3D: the blocks in ascending cell order (with the other ranks of the node taking some of
+  !> them: blocks_shared_with_node), then the exchange. Computing the cells next to other
+  !> ranks first so that the exchange overlaps the others was measured slower
+  !> (doc/performance.md, fifth round): the ranks meet at the time-step reduction right after
+  !> anyway.
   subroutine explicit_cell_loop(model, s, halo)
     type(model_t), intent(in) :: model                !< resolved model
     type(explicit_state_t), intent(inout) :: s        !< local state
     type(halo_t), intent(inout) :: halo               !< force exchange (started here)
-    integer :: k, own
+    integer :: k, own, l
     s%dt_stable = huge(1.0_wp)
     s%dt_element = 0
     s%failed = .false.
@@ -72,22 +72,16 @@ contains
         do k = 1, s%nblock
           call block_forces(model, s, k, .false.)
         end do
-        call halo_assemble_start(halo, s%cell_force)
       else
         call blocks_shared_with_node(model, s, own)
-        call halo_assemble_start(halo, s%cell_force)
-        ! the neighbours need only what was just posted: the stolen blocks' pushed
-        ! contributions are added after it, while they go on
         call add_stolen_blocks(s, own)
       end if
+      call halo_assemble_start(halo, s%cell_force, s%f_int_new, pushed=allocated(s%push_node))
     else
-      do k = 1, size(s%outer)
-        call cell_forces(model, s, s%outer(k))
+      do l = 1, s%ncell
+        call cell_forces(model, s, l)
       end do
-      call halo_assemble_start(halo, s%cell_force)
-      do k = 1, size(s%inner)
-        call cell_forces(model, s, s%inner(k))
-      end do
+      call halo_assemble_start(halo, s%cell_force, s%f_int_new)
     end if
   end subroutine explicit_cell_loop
 
@@ -532,31 +526,30 @@ contains
     end do
   end subroutine block_forces
 
-  !> Pushed assembly of the 3D cell loop: block_forces adds a cell's contribution to a node
-  !> straight into f_int_new when the blocks reach the node's cells in ascending global cell
-  !> order (the order of the halo's plan, so the sums have the same bits on any number of
-  !> ranks) and no other rank adds to it. That pushes every node without contributions from
-  !> other ranks, except where materials or cell kinds change (the blocks group cells by
-  !> those); those nodes and the ones other ranks add to keep the halo's order-fixed assembly.
+  !> Pushed assembly of the 3D cell loop: block_forces adds a cell's contribution straight
+  !> into its column of f_int_new (the layout's target: its node's, or its node's partial sum
+  !> of the cell's chunk) when the blocks reach that column's cells in ascending global cell
+  !> order (the order of the layout's plan, so the sums have the same bits on any number of
+  !> ranks). That pushes every column except where materials or cell kinds change (the blocks
+  !> group cells by those); those columns are summed by the halo from the cell array.
   subroutine plan_pushed_assembly(s, halo)
     type(explicit_state_t), intent(inout) :: s        !< local state (blocks built)
-    type(halo_t), intent(inout) :: halo               !< force exchange: told the pushed nodes
+    type(halo_t), intent(inout) :: halo               !< force exchange: told the pushed columns
     integer, allocatable :: position(:), last_position(:)
     logical, allocatable :: pushed(:)
-    integer :: m, l, a, node
+    integer :: m, l, a, column
     ! the order in which contributions reach the nodal array: the blocks' cells
-    allocate(position(s%ncell), last_position(s%nnode), pushed(s%nnode))
+    allocate(position(s%ncell), last_position(halo%ntarget), pushed(halo%ntarget))
     do m = 1, s%ncell
       position(s%block_cell(m)) = m
     end do
     pushed = .true.
-    pushed(halo%mixed_nodes) = .false.                ! they get other ranks' contributions
     last_position = 0
     do l = 1, s%ncell                                 ! ascending local = global cell order
       do a = 1, s%nnodes(l)
-        node = s%nodes(a, l)
-        if (position(l) < last_position(node)) pushed(node) = .false.
-        last_position(node) = position(l)
+        column = halo%source_target(a + halo%slots*(l - 1))
+        if (position(l) < last_position(column)) pushed(column) = .false.
+        last_position(column) = position(l)
       end do
     end do
     call halo_assembly_push_nodes(halo, pushed)
@@ -564,7 +557,8 @@ contains
     s%push_node = 0
     do l = 1, s%ncell
       do a = 1, s%nnodes(l)
-        if (pushed(s%nodes(a, l))) s%push_node(a, l) = s%nodes(a, l)
+        column = halo%source_target(a + halo%slots*(l - 1))
+        if (pushed(column)) s%push_node(a, l) = column
       end do
     end do
   end subroutine plan_pushed_assembly

@@ -73,7 +73,7 @@ module mefem_explicit_dynamics
   implicit none
   private
 
-  public :: explicit_dynamics_run, explicit_writes_initial_state
+  public :: explicit_dynamics_run, explicit_writes_initial_state, explicit_analysis
 
   integer, parameter :: VAD_VELOCITY = 0, VAD_ACCELERATION = 1, VAD_DISPLACEMENT = 2
   real(wp), parameter :: SPC_FOREVER = 1.0e20_wp   !< DEATH default of *BOUNDARY_SPC
@@ -105,10 +105,11 @@ module mefem_explicit_dynamics
 contains
 
   !> Run the explicit analysis from t = 0 to ENDTIM (or ENDCYC cycles).
-  subroutine explicit_dynamics_run(model, decomp, element_rank)
+  subroutine explicit_dynamics_run(model, decomp, element_rank, element_chunk)
     type(model_t), intent(in) :: model                !< resolved model
     type(decomposition_t), intent(in) :: decomp       !< this rank's output piece
-    integer, intent(in) :: element_rank(:)            !< rank of every element (METIS)
+    integer, intent(in) :: element_rank(:)            !< rank of every element
+    integer, intent(in) :: element_chunk(:)           !< chunk of every element (assembly)
     type(cells_t) :: cells
     type(explicit_layout_t) :: layout
     type(halo_t) :: halo
@@ -125,10 +126,11 @@ contains
     call cells_build(model, cells, status)
     if (.not. status%ok) call fatal('element set-up: '//status%message)
     call cells_summary(cells)
-    call set_up(model, decomp, element_rank, cells, layout, halo, s)
+    call set_up(model, decomp, element_rank, element_chunk, cells, layout, halo, s)
     deallocate(cells%grad)            ! read by the set-up only: the cells' copies are in s
     call say('explicit: '//itoa(layout%nnode_global)//' nodes (with enriched), '// &
              itoa(cells%n)//' cells on '//itoa(comm_size())//' rank(s)')
+    call report_chunks(layout, max(-1, maxval(element_chunk)) + 1)
 
     ! initial state: forces and accelerations at t = 0, the first stable step
     t = 0.0_wp
@@ -233,10 +235,11 @@ contains
   end subroutine check_supported
 
   !> This rank's layout, halo, local cells and nodes, masses, conditions and initial state.
-  subroutine set_up(model, decomp, element_rank, cells, layout, halo, s)
+  subroutine set_up(model, decomp, element_rank, element_chunk, cells, layout, halo, s)
     type(model_t), intent(in) :: model                !< resolved model
     type(decomposition_t), intent(in) :: decomp       !< this rank's decomposition
     integer, intent(in) :: element_rank(:)            !< rank of every element
+    integer, intent(in) :: element_chunk(:)           !< chunk of every element
     type(cells_t), intent(in) :: cells                !< all cells
     type(explicit_layout_t), intent(out) :: layout    !< this rank's share
     type(halo_t), intent(out) :: halo                 !< force exchange
@@ -256,7 +259,8 @@ contains
     s%dim = dim
     nv = dim + 1
     call element_csr(model, elem_start, elem_nodes)
-    call explicit_layout_build(decomp, element_rank, elem_start, elem_nodes, cells, layout)
+    call explicit_layout_build(decomp, element_rank, element_chunk, elem_start, elem_nodes, &
+                               cells, layout)
     call halo_build(halo, layout, dim)
     ! the ranks of a node exchange their contributions through shared memory, not messages
     ! (MEFEM_HALO_MESSAGES=1: messages with every neighbour, for the tests of that path)
@@ -301,10 +305,6 @@ contains
                            s%hist(NHIST, s%ncell))      ! 3D: in the blocks (build_blocks)
     s%cell_element = cells%elements(1, s%cell_global)
     s%node_global = layout%node_global
-    if (dim == 2) then                  ! 2D computes its outer cells first (3D: blocks)
-      s%outer = layout%outer_cells
-      s%inner = layout%inner_cells
-    end if
     s%nodes = layout%cell_nodes(:, 1:s%ncell)
     ! the local cells' mass shares and inverse-mass metrics (time step; the shares again
     ! for the mass added by scaling)
@@ -377,7 +377,7 @@ contains
     call initial_velocities(model, v_global)
     where (fixed_global) v_global = 0.0_wp
     allocate(s%v(dim, s%nnode), s%a(dim, s%nnode), &
-             s%f_int(dim, s%nnode), s%f_int_new(dim, s%nnode), s%f_ext(dim, s%nnode), &
+             s%f_int(dim, halo%ntarget), s%f_int_new(dim, halo%ntarget), s%f_ext(dim, s%nnode), &
              s%f_ext_new(dim, s%nnode), s%f_con(dim, s%nnode), s%f_con_new(dim, s%nnode))
     s%f_con = 0.0_wp                   ! without loads or contact these stay zero: they are
     s%f_con_new = 0.0_wp               ! neither written nor read in the cycle
@@ -701,14 +701,13 @@ contains
       call comm_min_start(s%dt_reduction, s%dt_stable)
     end if
     clock = comm_wtime()
-    call halo_assemble_finish(halo, s%cell_force, s%f_int_new, &
-                              pushed=allocated(s%push_node))
+    call halo_assemble_finish(halo, s%f_int_new)
     call comm_min_progress(s%dt_reduction)     ! (the others' steps have come by now)
     if (s%mass_scaling) then
       block
-        real(wp) :: added(1, s%nnode)
+        real(wp) :: added(1, halo%ntarget)
         call halo_assemble(halo, s%added, added)
-        s%mass = s%physical_mass + added(1, :)
+        s%mass = s%physical_mass + added(1, 1:s%nnode)
       end block
     end if
     timing%exchange = timing%exchange + (comm_wtime() - clock)
@@ -998,12 +997,32 @@ contains
     end if
   end function due
 
+  !> The assembly's chunks in the log: how many (the rank counts that give the same bits),
+  !> the partial sums they take (columns over all ranks) and the sums exchanged per cycle.
+  subroutine report_chunks(layout, nchunk)
+    type(explicit_layout_t), intent(in) :: layout     !< this rank's layout
+    integer, intent(in) :: nchunk                     !< chunks of the model
+    integer :: npartial, nsent
+    npartial = layout%npartial
+    nsent = size(layout%send_source)
+    call comm_sum(npartial)
+    call comm_sum(nsent)
+    call say('explicit: forces summed in '//itoa(nchunk)//' chunks (the same bits on 1 to '// &
+             itoa(nchunk)//' ranks): '//itoa(npartial)//' partial sums at nodes on chunk '// &
+             'cuts, '//itoa(nsent)//' sums exchanged per cycle')
+  end subroutine report_chunks
+
+  !> Whether the deck asks for the explicit analysis (not implicit, and a termination).
+  logical function explicit_analysis(model)
+    type(model_t), intent(in) :: model                !< resolved model
+    explicit_analysis = model%controls%imflag /= 1 .and. model%controls%have_termination
+  end function explicit_analysis
+
   !> Whether the explicit analysis of this model writes the output's state 0 (at t = 0, with
   !> its fields and the node sets) itself: when it runs and writes result states at all.
   logical function explicit_writes_initial_state(model)
     type(model_t), intent(in) :: model                !< resolved model
-    explicit_writes_initial_state = model%controls%imflag /= 1 .and. &
-        model%controls%have_termination .and. &
+    explicit_writes_initial_state = explicit_analysis(model) .and. &
         (model%controls%plot_interval > 0.0_wp .or. model%controls%plot_count > 0)
   end function explicit_writes_initial_state
 

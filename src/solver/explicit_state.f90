@@ -51,7 +51,8 @@ module mefem_explicit_state
                                                !< rigid walls, which read it)
     real(wp), allocatable :: a(:,:)            !< (dim, nnode) accelerations a^n
     real(wp), allocatable :: f_int(:,:)        !< (dim, nnode) internal forces at t^n
-    real(wp), allocatable :: f_int_new(:,:)    !< (dim, nnode) internal forces being assembled
+    real(wp), allocatable :: f_int_new(:,:)    !< (dim, ntarget) internal forces being assembled
+                                               !< (nodes, then the layout's partial sums)
     real(wp), allocatable :: f_ext(:,:)        !< (dim, nnode) external forces at t^n
     real(wp), allocatable :: f_ext_new(:,:)    !< (dim, nnode) external forces at t^{n+1}
     real(wp), allocatable :: f_con(:,:)        !< (dim, nnode) contact forces at t^n
@@ -79,10 +80,6 @@ module mefem_explicit_state
     logical, allocatable :: was_driven(:)      !< (nprescribed) the dof was driven in the
                                                !< last cycle (update_velocities)
     ! cells
-    integer, allocatable :: outer(:)           !< local cells touching a shared node (2D:
-                                               !< computed first, the exchange overlaps
-                                               !< the inner ones)
-    integer, allocatable :: inner(:)           !< the other local cells
     ! blocks of the 3D cell loop: the cells grouped by (material, number of nodes) in
     ! ascending cell order and cut into at most BLOCK_CELLS
     integer :: nblock = 0                      !< blocks (3D; 0 in 2D)

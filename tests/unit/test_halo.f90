@@ -1,15 +1,19 @@
 !> Halo exchange (halo_sum, halo_assemble), explicit layout and lumped mass on a tet box and a
-!> triangle rectangle, each with an ME-FEM part and a standard part, partitioned by METIS and
-!> by a scattered element-to-rank map.
+!> triangle rectangle, each with an ME-FEM part and a standard part, cut into chunks by METIS
+!> (recursive bisection, ranks get contiguous ranges of chunks) and by a scattered
+!> element-to-chunk map (chunks dealt round-robin to the ranks), the same chunks for every
+!> number of ranks.
 !> - layouts of every rank for 1..4 ranks (built serially): each cell computed by exactly one
 !>   rank, local nodes = exactly the nodes touched by the rank's elements and cells (plus its
 !>   decomposition nodes), shared lists = the intersections of the node sets, in the same
 !>   order on both sides, one owner per node, send/receive counts that match;
 !> - under MPI: halo_sum on the decomposition and on the layout (outer cells, start, inner
 !>   cells, finish) against the serial sum (1e-14) and bit for bit against the same
-!>   ascending-rank rule; halo_assemble (same overlap) bit for bit against a serial sum in
-!>   ascending cell order, which does not depend on the number of ranks; the same through
-!>   node-shared memory (halo_assembly_share_on_node), six exchanges in a row;
+!>   ascending-rank rule; halo_assemble bit for bit against a serial sum per chunk in
+!>   ascending cell order, the chunks' sums added in ascending chunk order, which does not
+!>   depend on the number of ranks; the pushed assembly (the caller adds two thirds of the
+!>   columns); the same through node-shared memory (halo_assembly_share_on_node), six
+!>   exchanges in a row;
 !> - lumped masses: total = rho x volume, all positive, enriched share = psibar.
 ! ranks: 1 2 3 4
 program test_halo
@@ -34,6 +38,7 @@ program test_halo
   real(wp), parameter :: DENSITY_MEFEM = 7.8_wp, DENSITY_STANDARD = 2.7_wp
   integer, parameter :: NCOMP = 3
   integer, parameter :: SCHEME_METIS = 1, SCHEME_SCATTERED = 2
+  integer, parameter :: NCHUNK_METIS = 16, NCHUNK_SCATTERED = 12
 
   call test_start('halo')
   call run_case('tet', 3, 8, 4, 4)
@@ -52,7 +57,7 @@ contains
     type(model_t) :: model
     type(cells_t) :: cells
     type(status_t) :: status
-    integer, allocatable :: elem_start(:), elem_nodes(:), elem_part(:)
+    integer, allocatable :: elem_start(:), elem_nodes(:), elem_part(:), elem_chunk(:)
     integer :: scheme, nparts
     character(len=60) :: tag
 
@@ -65,19 +70,22 @@ contains
     call check_order_sensitivity(mesh, cells)
 
     do scheme = SCHEME_METIS, SCHEME_SCATTERED
+      call make_chunks(scheme, model, elem_start, elem_nodes, elem_chunk)
       do nparts = 1, 4
-        call make_partition(scheme, nparts, model, elem_start, elem_nodes, elem_part)
+        call make_partition(scheme, nparts, elem_chunk, elem_part)
         write(tag, '(a,a,a,i0)') mesh, trim(merge(' metis    ', ' scattered', &
             scheme == SCHEME_METIS)), ' nparts=', nparts
-        call check_layouts(trim(tag), nparts, model, cells, elem_part, elem_start, elem_nodes)
+        call check_layouts(trim(tag), nparts, model, cells, elem_part, elem_chunk, elem_start, &
+                           elem_nodes)
       end do
       nparts = comm_size()
-      call make_partition(scheme, nparts, model, elem_start, elem_nodes, elem_part)
+      call make_partition(scheme, nparts, elem_chunk, elem_part)
       call comm_bcast(elem_part)
       write(tag, '(a,a,a,i0)') mesh, trim(merge(' metis    ', ' scattered', &
           scheme == SCHEME_METIS)), ' np=', nparts
       call check_decomposition_sum(trim(tag), model, elem_part, elem_start, elem_nodes)
-      call check_layout_exchanges(trim(tag), model, cells, elem_part, elem_start, elem_nodes)
+      call check_layout_exchanges(trim(tag), model, cells, elem_part, elem_chunk, elem_start, &
+                                  elem_nodes)
     end do
   end subroutine run_case
 
@@ -232,24 +240,39 @@ contains
     elem_start(model%elements%n + 1) = nv*model%elements%n + 1
   end subroutine element_connectivity
 
-  !> Element-to-rank map: METIS (deterministic seed) or a scattered map that makes many
-  !> nodes shared by several ranks.
-  subroutine make_partition(scheme, nparts, model, elem_start, elem_nodes, elem_part)
-    integer, intent(in) :: scheme, nparts                 !< scheme, number of parts
+  !> Element-to-chunk map, the same for every number of ranks: METIS recursive bisection
+  !> into NCHUNK_METIS chunks (deterministic seed) or a scattered map into NCHUNK_SCATTERED.
+  subroutine make_chunks(scheme, model, elem_start, elem_nodes, elem_chunk)
+    integer, intent(in) :: scheme                         !< scheme
     type(model_t), intent(in) :: model                    !< model
     integer, intent(in) :: elem_start(:), elem_nodes(:)   !< CSR
-    integer, allocatable, intent(out) :: elem_part(:)     !< (nelem) parts
+    integer, allocatable, intent(out) :: elem_chunk(:)    !< (nelem) chunks (0-based)
     type(status_t) :: status
     integer :: e
-    allocate(elem_part(model%elements%n))
+    allocate(elem_chunk(model%elements%n))
     if (scheme == SCHEME_METIS) then
       call metis_partition_elements(model%elements%n, model%nodes%n, elem_start, elem_nodes, &
-                                    model%dimension, nparts, elem_part=elem_part, status=status)
-      if (.not. status%ok) elem_part = 0
+                                    model%dimension, NCHUNK_METIS, elem_part=elem_chunk, &
+                                    status=status, bisection=.true.)
+      call check(status%ok, 'METIS bisection into chunks', status%message)
+      if (.not. status%ok) elem_chunk = 0
     else
       do e = 1, model%elements%n
-        elem_part(e) = mod(7*e + e/5, nparts)
+        elem_chunk(e) = mod(7*e + e/5, NCHUNK_SCATTERED)
       end do
+    end if
+  end subroutine make_chunks
+
+  !> Element-to-rank map of whole chunks: contiguous ranges of the METIS chunks (as the
+  !> solver deals them), the scattered chunks round-robin (many nodes shared by several ranks).
+  subroutine make_partition(scheme, nparts, elem_chunk, elem_part)
+    integer, intent(in) :: scheme, nparts                 !< scheme, number of parts
+    integer, intent(in) :: elem_chunk(:)                  !< (nelem) chunks
+    integer, allocatable, intent(out) :: elem_part(:)     !< (nelem) parts
+    if (scheme == SCHEME_METIS) then
+      elem_part = (elem_chunk*nparts)/NCHUNK_METIS
+    else
+      elem_part = mod(elem_chunk, nparts)
     end if
   end subroutine make_partition
 
@@ -289,6 +312,45 @@ contains
     end do
   end subroutine serial_cell_sum
 
+  !> Serial nodal sums of the cell values as the explicit assembly defines them: per chunk in
+  !> ascending cell order, then the chunks' sums in ascending chunk order.
+  subroutine chunked_cell_sum(cells, elem_chunk, total)
+    type(cells_t), intent(in) :: cells                    !< cells
+    integer, intent(in) :: elem_chunk(:)                  !< (nelem) chunks
+    real(wp), allocatable, intent(out) :: total(:,:)      !< (NCOMP, all nodes)
+    real(wp), allocatable :: partial(:,:,:)
+    logical, allocatable :: touched(:,:), started(:)
+    integer :: nall, nchunk, c, j, n, k, k2
+    nall = cells%n_mesh_nodes + cells%n_enriched
+    nchunk = maxval(elem_chunk) + 1
+    allocate(partial(NCOMP, nall, 0:nchunk - 1), touched(nall, 0:nchunk - 1), total(NCOMP, nall), &
+             started(nall))
+    partial = 0.0_wp
+    touched = .false.
+    do c = 1, cells%n
+      k = elem_chunk(cells%elements(1, c))
+      do j = 1, cells%nnodes(c)
+        n = cells%nodes(j, c)
+        touched(n, k) = .true.
+        partial(:, n, k) = partial(:, n, k) + [(cell_value(c, j, k2, cells%weight(c)), &
+                                                k2 = 1, NCOMP)]
+      end do
+    end do
+    total = 0.0_wp
+    started = .false.
+    do k = 0, nchunk - 1
+      do n = 1, nall
+        if (.not. touched(n, k)) cycle
+        if (started(n)) then
+          total(:, n) = total(:, n) + partial(:, n, k)
+        else
+          total(:, n) = partial(:, n, k)
+          started(n) = .true.
+        end if
+      end do
+    end do
+  end subroutine chunked_cell_sum
+
   !> The bit-for-bit checks are meaningful only if the order of additions changes the bits.
   subroutine check_order_sensitivity(mesh, cells)
     character(len=*), intent(in) :: mesh                  !< name
@@ -305,12 +367,14 @@ contains
   ! ------------------------------------------------------------------ layouts (serial)
 
   !> Build the layouts of all nparts ranks and check their properties.
-  subroutine check_layouts(tag, nparts, model, cells, elem_part, elem_start, elem_nodes)
+  subroutine check_layouts(tag, nparts, model, cells, elem_part, elem_chunk, elem_start, &
+                           elem_nodes)
     character(len=*), intent(in) :: tag                   !< name
     integer, intent(in) :: nparts                         !< ranks
     type(model_t), intent(in) :: model                    !< model
     type(cells_t), intent(in) :: cells                    !< cells
-    integer, intent(in) :: elem_part(:), elem_start(:), elem_nodes(:) !< partition, CSR
+    integer, intent(in) :: elem_part(:), elem_chunk(:)    !< partition, chunks
+    integer, intent(in) :: elem_start(:), elem_nodes(:)   !< CSR
     type(decomposition_t) :: decomp(0:nparts - 1)
     type(explicit_layout_t) :: layout(0:nparts - 1)
     type(status_t) :: status
@@ -327,8 +391,8 @@ contains
                                elem_nodes, elem_part, decomp(r), status)
       ok_build = ok_build .and. status%ok
       if (.not. status%ok) exit
-      call explicit_layout_build(decomp(r), elem_part, elem_start, elem_nodes, cells, &
-                                 layout(r), status)
+      call explicit_layout_build(decomp(r), elem_part, elem_chunk, elem_start, elem_nodes, &
+                                 cells, layout(r), status)
       ok_build = ok_build .and. status%ok
       if (.not. status%ok) exit
     end do
@@ -430,7 +494,7 @@ contains
     end do
     call check(ok_lists, tag//': shared lists = intersections of the node sets, same order '// &
         'on both sides')
-    call check(ok_counts, tag//': contributions sent to q = contributions q expects')
+    call check(ok_counts, tag//': chunk sums sent to q = chunk sums q expects')
     ok_outer = .true.
     do r = 0, nparts - 1
       do l = 1, layout(r)%ncell_local
@@ -547,18 +611,21 @@ contains
     if (nparts > 1) call check(nshared > 0, tag//': decomposition has shared nodes')
   end subroutine check_decomposition_sum
 
-  !> On the explicit layout: halo_assemble and halo_sum, both overlapped with inner cells.
-  subroutine check_layout_exchanges(tag, model, cells, elem_part, elem_start, elem_nodes)
+  !> On the explicit layout: halo_assemble (all, and pushed), and halo_sum overlapped with
+  !> the inner cells.
+  subroutine check_layout_exchanges(tag, model, cells, elem_part, elem_chunk, elem_start, &
+                                    elem_nodes)
     character(len=*), intent(in) :: tag                   !< name
     type(model_t), intent(in) :: model                    !< model
     type(cells_t), intent(in) :: cells                    !< cells
-    integer, intent(in) :: elem_part(:), elem_start(:), elem_nodes(:) !< partition, CSR
+    integer, intent(in) :: elem_part(:), elem_chunk(:)    !< partition, chunks
+    integer, intent(in) :: elem_start(:), elem_nodes(:)   !< CSR
     type(decomposition_t) :: decomp
     type(explicit_layout_t) :: layout
     type(halo_t) :: halo
     type(status_t) :: status
     real(wp), allocatable :: cell_values(:,:,:), f(:,:), g(:,:), reference(:,:), partial(:,:,:)
-    real(wp), allocatable :: ordered(:,:), h(:,:)
+    real(wp), allocatable :: ordered(:,:), h(:,:), plain(:,:)
     logical, allocatable :: shared(:), pushed(:)
     type(halo_t) :: pushed_halo, shared_halo
     integer :: nparts, r, k, c, j, comp, l
@@ -567,47 +634,51 @@ contains
     nparts = comm_size()
     call build_decomposition(comm_rank(), nparts, model%elements%n, model%nodes%n, elem_start, &
                              elem_nodes, elem_part, decomp, status)
-    call explicit_layout_build(decomp, elem_part, elem_start, elem_nodes, cells, layout, status)
+    call explicit_layout_build(decomp, elem_part, elem_chunk, elem_start, elem_nodes, cells, &
+                               layout, status)
     call check(.not. comm_any(.not. status%ok), tag//': layout built')
     if (.not. status%ok) return
     call halo_build(halo, layout, NCOMP, tag=200)
 
-    ! order-fixed assembly: outer cells, start, inner cells, finish
+    ! order-fixed assembly: all cells, start, finish
     allocate(cell_values(NCOMP, layout%slots, layout%ncell_local))
     cell_values = 0.0_wp
-    call fill_cells(layout, cells, layout%outer_cells, cell_values)
-    call halo_assemble_start(halo, cell_values)
-    call fill_cells(layout, cells, layout%inner_cells, cell_values)
-    allocate(f(NCOMP, layout%nnode_local))
-    call halo_assemble_finish(halo, cell_values, f)
-    call serial_cell_sum(cells, .false., reference)
-    ok_assembly = all(f == reference(:, layout%node_global))
-    call check(.not. comm_any(.not. ok_assembly), tag//': halo_assemble = serial sum in '// &
-        'ascending cell order, bit for bit (independent of the number of ranks)')
+    call fill_cells(layout, cells, [(l, l = 1, layout%ncell_local)], cell_values)
+    allocate(f(NCOMP, layout%ntarget))
+    call halo_assemble_start(halo, cell_values, f)
+    call halo_assemble_finish(halo, f)
+    call chunked_cell_sum(cells, elem_chunk, reference)
+    ok_assembly = all(f(:, 1:layout%nnode_local) == reference(:, layout%node_global))
+    call check(.not. comm_any(.not. ok_assembly), tag//': halo_assemble = serial sum per '// &
+        'chunk in ascending cell order, chunks in ascending order, bit for bit (independent '// &
+        'of the number of ranks)')
+    call serial_cell_sum(cells, .false., plain)
+    call check(.not. comm_any(.not. all(abs(f(:, 1:layout%nnode_local) - plain(:, layout% &
+        node_global)) <= 1.0e-14_wp*abs(plain(:, layout%node_global)))), tag//': ... within '// &
+        '1e-14 of the plain serial sum')
 
-    ! pushed assembly: the caller adds the contributions to two thirds of the nodes without
-    ! other ranks' contributions itself (ascending cell order); the halo sums the rest
+    ! pushed assembly: the caller adds the contributions to two thirds of the columns itself
+    ! (ascending cell order); the halo sums the rest
     call halo_build(pushed_halo, layout, NCOMP, tag=300)
-    allocate(pushed(layout%nnode_local))
-    pushed = [(mod(k, 3) /= 0, k = 1, layout%nnode_local)]
-    pushed(pushed_halo%mixed_nodes) = .false.
+    allocate(pushed(layout%ntarget))
+    pushed = [(mod(k, 3) /= 0, k = 1, layout%ntarget)]
     call halo_assembly_push_nodes(pushed_halo, pushed)
-    call halo_assemble_start(pushed_halo, cell_values)
-    allocate(h(NCOMP, layout%nnode_local))
-    h = -1.0_wp                                  ! kept nodes: zeroed by the halo
-    do k = 1, layout%nnode_local
+    allocate(h(NCOMP, layout%ntarget))
+    h = -1.0_wp                                  ! kept columns: zeroed by the halo
+    do k = 1, layout%ntarget
       if (pushed(k)) h(:, k) = 0.0_wp
     end do
     do l = 1, layout%ncell_local                 ! ascending local = global cell order
       do j = 1, cells%nnodes(layout%cell_global(l))
-        k = layout%cell_nodes(j, l)
+        k = layout%cell_target(j, l)
         if (pushed(k)) h(:, k) = h(:, k) + cell_values(:, j, l)
       end do
     end do
-    call halo_assemble_finish(pushed_halo, cell_values, h, pushed=.true.)
-    ok_pushed = all(h == reference(:, layout%node_global))
+    call halo_assemble_start(pushed_halo, cell_values, h, pushed=.true.)
+    call halo_assemble_finish(pushed_halo, h)
+    ok_pushed = all(h(:, 1:layout%nnode_local) == reference(:, layout%node_global))
     call check(.not. comm_any(.not. ok_pushed), tag//': pushed assembly (caller adds two '// &
-        'thirds of the nodes) = serial sum, bit for bit')
+        'thirds of the columns) = serial chunked sum, bit for bit')
 
     ! the assembly with the buffer in node-shared memory (the neighbours on this node take
     ! each other's packed contributions): six exchanges in a row, 3 and 1 components
@@ -667,8 +738,8 @@ contains
     do k = 1, layout%nnode_local
       if (shared(k)) ok_bits = ok_bits .and. all(g(:, k) == ordered(:, layout%node_global(k)))
     end do
-    ok_close = all(abs(g - reference(:, layout%node_global)) <= &
-                   1.0e-14_wp*abs(reference(:, layout%node_global)))
+    ok_close = all(abs(g - plain(:, layout%node_global)) <= &
+                   1.0e-14_wp*abs(plain(:, layout%node_global)))
     call check(.not. comm_any(.not. ok_bits), tag//': halo_sum (layout, overlapped) at '// &
         'shared nodes = partials in ascending rank order, bit for bit')
     call check(.not. comm_any(.not. ok_close), tag//': ... within 1e-14 of the serial sum '// &
@@ -688,15 +759,16 @@ contains
     real(wp), allocatable :: scaled(:,:,:), f(:,:)
     real(wp) :: factor
     integer :: round, ncomp_round
-    allocate(f(NCOMP, layout%nnode_local))
+    allocate(f(NCOMP, layout%ntarget))
     ok = .true.
     do round = 1, rounds
       factor = (-2.0_wp)**round
       scaled = factor*cell_values
       ncomp_round = merge(NCOMP, 1, mod(round, 2) == 1)
-      call halo_assemble_start(halo, scaled(1:ncomp_round, :, :))
-      call halo_assemble_finish(halo, scaled(1:ncomp_round, :, :), f(1:ncomp_round, :))
-      ok = ok .and. all(f(1:ncomp_round, :) == factor*reference(1:ncomp_round, layout%node_global))
+      call halo_assemble_start(halo, scaled(1:ncomp_round, :, :), f(1:ncomp_round, :))
+      call halo_assemble_finish(halo, f(1:ncomp_round, :))
+      ok = ok .and. all(f(1:ncomp_round, 1:layout%nnode_local) == &
+                        factor*reference(1:ncomp_round, layout%node_global))
     end do
   end function scaled_exchanges_match
 
