@@ -22,17 +22,18 @@
 !>   their columns and sends the neighbours the sums they need (one per shared node and own
 !>   chunk); _finish receives theirs and adds every node's chunk sums in chunk order.
 !> Both come split into _start (post receives, pack and post sends) and _finish (wait, add),
-!> so that work on the interior can run in between:
-!>   compute outer cells; call halo_..._start; compute inner cells; call halo_..._finish.
-!> Between start and finish, halo_sum needs f unchanged at shared nodes (inner cells do not
-!> touch them) and halo_assemble needs f's columns unchanged.
+!> so that other work can run in between; halo_sum's partials at shared nodes must be final
+!> at its start (compute the cells touching shared nodes first; call halo_sum_start; compute
+!> the others; call halo_sum_finish), halo_assemble's contributions all at its start.
+!> Between start and finish, halo_sum needs f unchanged at shared nodes and halo_assemble
+!> needs f unchanged.
 !> Halos whose exchanges may be in flight at the same time must have different tags.
 !>
 !> halo_assembly_share_on_node (collective, once after halo_build) moves the assembly's buffer
 !> into node-shared memory (mefem_comm's arena): then the neighbours on this node take the
 !> sums packed for them straight from this rank's buffer (comm_mail_*: posted when
 !> packed, read once by each of them before anything writes the buffer again) and only the
-!> neighbours on other nodes get messages. The same contributions are summed in the same
+!> neighbours on other nodes get messages. The same values are summed in the same
 !> order either way: the same bits.
 module mefem_halo
   use, intrinsic :: iso_c_binding, only: c_f_pointer
@@ -58,7 +59,7 @@ module mefem_halo
   !> A neighbour's assembly buffer in node-shared memory, up to the end of its part for us.
   type :: peer_buffer_t
     real(wp), pointer, contiguous :: values(:) => null()
-    integer :: first = 1                         !< our first contribution in it (send position)
+    integer :: first = 1                         !< our first sum in it (send position)
   end type peer_buffer_t
 
   !> Neighbours, shared nodes, summation plans and buffers of one halo (read-only for users).
@@ -95,7 +96,10 @@ module mefem_halo
     integer, allocatable :: combine_node(:)      !< nodes summed over their chunks: node m
     integer, allocatable :: combine_start(:)     !< adds combine_source(combine_start(m):
     integer, allocatable :: combine_source(:)    !< combine_start(m+1)-1) left to right: > 0 a
-                                                 !< column, < 0 -(received position)
+                                                 !< column, < 0 -(received position); the
+                                                 !< first ncombine_local nodes have no
+                                                 !< received source
+    integer :: ncombine_local = 0                !< combined nodes of own chunks only
     integer :: nsent = 0                         !< sums sent (size(send_source))
     real(wp), pointer, contiguous :: assembly_buffer(:) => null()
                                                  !< (ncomp_max * (sent + received sums)) for
@@ -117,7 +121,7 @@ module mefem_halo
     logical :: on_node = .false.                 !< assembly_buffer is in `mailbox`
     type(comm_arena_t) :: mailbox                !< assembly_buffer and the send lists
     logical, allocatable :: direct(:)            !< (nneighbour) neighbour on this node: its
-                                                 !< contributions are read from its buffer
+                                                 !< sums are read from its buffer
     integer :: ndirect = 0                       !< count(direct)
     type(peer_buffer_t), allocatable :: peer(:)  !< (nneighbour) the direct ones' buffers
     integer(i8) :: exchanges = 0                 !< assembly exchanges started
@@ -157,13 +161,44 @@ contains
     halo%send_start = layout%send_start
     halo%send_source = layout%send_source
     halo%receive_start = layout%receive_start
-    halo%combine_node = layout%combine_node
-    halo%combine_start = layout%combine_start
-    halo%combine_source = layout%combine_source
+    call order_combine_plan(halo, layout%combine_node, layout%combine_start, &
+                            layout%combine_source)
     halo%nsent = size(layout%send_source)
     allocate(halo%assembly_buffer(ncomp_max*(halo%nsent + layout%receive_start(layout% &
                                                                    nneighbour + 1) - 1)))
   end subroutine halo_build_layout
+
+  !> The layout's combine plan with the nodes whose sums are all this rank's first (they are
+  !> combined at halo_assemble_start, while the neighbours' sums are on their way), then those
+  !> with received sums.
+  subroutine order_combine_plan(halo, combine_node, combine_start, combine_source)
+    type(halo_t), intent(inout) :: halo            !< halo being built
+    integer, intent(in) :: combine_node(:)         !< the layout's combined nodes
+    integer, intent(in) :: combine_start(:)        !< their offsets
+    integer, intent(in) :: combine_source(:)       !< their sources
+    logical :: local(size(combine_node))
+    integer :: m, n, pass, next, nsource
+    do m = 1, size(combine_node)
+      local(m) = all(combine_source(combine_start(m):combine_start(m + 1) - 1) > 0)
+    end do
+    halo%ncombine_local = count(local)
+    allocate(halo%combine_node(size(combine_node)), halo%combine_start(size(combine_node) + 1), &
+             halo%combine_source(size(combine_source)))
+    halo%combine_start(1) = 1
+    n = 0
+    do pass = 1, 2
+      do m = 1, size(combine_node)
+        if (local(m) .neqv. (pass == 1)) cycle
+        n = n + 1
+        nsource = combine_start(m + 1) - combine_start(m)
+        next = halo%combine_start(n)
+        halo%combine_node(n) = combine_node(m)
+        halo%combine_start(n + 1) = next + nsource
+        halo%combine_source(next:next + nsource - 1) = &
+            combine_source(combine_start(m):combine_start(m + 1) - 1)
+      end do
+    end do
+  end subroutine order_combine_plan
 
   !> Copy the neighbour lists, allocate the buffers and plan the ascending-rank sums.
   subroutine set_lists(halo, rank, nnode_local, neighbour_rank, shared_start, shared_nodes, &
@@ -367,10 +402,12 @@ contains
                            halo%tag + 1, halo%assembly_requests)
     end do
     if (halo%on_node) call comm_mail_post(halo%mailbox, halo%exchanges)
+    call combine_chunks(halo, ncomp, 1, halo%ncombine_local, f)
   end subroutine halo_assemble_start
 
-  !> Wait for the neighbours' sums and add, at every node touched by several chunks (or by
-  !> another rank's only), the chunks' sums in ascending chunk order into its column.
+  !> Wait for the neighbours' sums and add, at every node with some of them, the chunks' sums
+  !> in ascending chunk order into its column (the nodes of own chunks only were combined by
+  !> halo_assemble_start).
   subroutine halo_assemble_finish(halo, f)
     type(halo_t), intent(inout), asynchronous :: halo !< halo built from an explicit layout
     real(wp), intent(inout) :: f(:,:)              !< (ncomp, ntarget) nodal sums
@@ -387,10 +424,10 @@ contains
     call comm_waitall(halo%assembly_requests)
     halo%assembly_wait = halo%assembly_wait + (comm_wtime() - clock)
     halo%assembly_ncomp = 0
-    call combine_chunks(halo, ncomp, f)
+    call combine_chunks(halo, ncomp, halo%ncombine_local + 1, size(halo%combine_node), f)
   end subroutine halo_assemble_finish
 
-  !> The contributions of the neighbours on this node: copied from their buffers into the
+  !> The sums of the neighbours on this node: copied from their buffers into the
   !> received part of assembly_buffer once they have posted this exchange, as a message
   !> would have put them (the wait counts in assembly_wait, the copy does not).
   subroutine take_from_node(halo, ncomp)
@@ -414,10 +451,10 @@ contains
   end subroutine take_from_node
 
   !> Move the assembly's buffer into node-shared memory, so that the neighbours on this node
-  !> exchange contributions without messages (collective over all ranks; after halo_build
+  !> exchange their sums without messages (collective over all ranks; after halo_build
   !> from a layout, before any exchange). Each rank publishes its buffer and send lists; each
   !> finds its part in every neighbour's buffer on the node (the neighbour's send list for it
-  !> must hold as many contributions as this rank's receive list from it). `messages_with`
+  !> must hold as many sums as this rank's receive list from it). `messages_with`
   !> keeps messages with some ranks of the node (tests of a mix of both ways, as between
   !> nodes; both sides of a pair must name each other).
   subroutine halo_assembly_share_on_node(halo, messages_with)
@@ -426,7 +463,7 @@ contains
     integer, parameter :: REAL_BYTES = storage_size(1.0_wp)/8, INT_BYTES = storage_size(1)/8
     integer, pointer, contiguous :: info(:), peer_info(:)
     real(wp), pointer, contiguous :: shared(:)
-    integer :: nbuffer, ninfo, nn, k, j, peer_nn, first, ncontribution
+    integer :: nbuffer, ninfo, nn, k, j, peer_nn, first, nsum
     if (.not. halo%has_assembly) call fatal_local('halo_assembly_share_on_node: the halo was '// &
                                                   'not built from an explicit layout')
     if (halo%assembly_ncomp /= 0 .or. halo%on_node) call fatal_local( &
@@ -463,11 +500,11 @@ contains
       if (j == 0) call fatal_local('halo_assembly_share_on_node: a neighbour does not list '// &
                                    'this rank')
       first = peer_info(2 + peer_nn + j)
-      ncontribution = peer_info(2 + peer_nn + j + 1) - first
-      if (ncontribution /= halo%receive_start(k + 1) - halo%receive_start(k)) call fatal_local( &
-        'halo_assembly_share_on_node: a neighbour sends a different number of contributions')
+      nsum = peer_info(2 + peer_nn + j + 1) - first
+      if (nsum /= halo%receive_start(k + 1) - halo%receive_start(k)) call fatal_local( &
+        'halo_assembly_share_on_node: a neighbour sends a different number of sums')
       call c_f_pointer(comm_arena_peer_array(halo%mailbox, halo%neighbour_rank(k), 1), &
-                       halo%peer(k)%values, [halo%ncomp_max*(first - 1 + ncontribution)])
+                       halo%peer(k)%values, [halo%ncomp_max*(first - 1 + nsum)])
       halo%peer(k)%first = first
     end do
     halo%ndirect = count(halo%direct)
@@ -569,15 +606,18 @@ contains
     end do
   end subroutine sum_kept_in_plan_order
 
-  !> The nodes touched by several chunks (or only by other ranks' chunks): their chunks' sums,
-  !> own columns and received values, added left to right in ascending chunk order.
-  subroutine combine_chunks(halo, ncomp, f)
-    type(halo_t), intent(in) :: halo               !< halo after the exchange
+  !> Combined nodes first..last (touched by several chunks, or only by other ranks' chunks):
+  !> their chunks' sums, own columns and received values, added left to right in ascending
+  !> chunk order.
+  subroutine combine_chunks(halo, ncomp, first, last, f)
+    type(halo_t), intent(in) :: halo               !< halo (after the exchange if received
+                                                   !< sums are read)
     integer, intent(in) :: ncomp                   !< components per sum
+    integer, intent(in) :: first, last             !< range of combined nodes
     real(wp), intent(inout) :: f(:,:)              !< (ncomp, ntarget) sums
     real(wp) :: total(ncomp)
     integer :: m, p, source, offset
-    do m = 1, size(halo%combine_node)
+    do m = first, last
       do p = halo%combine_start(m), halo%combine_start(m + 1) - 1
         source = halo%combine_source(p)
         if (source > 0) then

@@ -54,12 +54,6 @@ module mefem_explicit_layout
     integer, allocatable :: cell_nodes(:,:)       !< (slots, ncell_local) local node of each
                                                   !< node of the cell (cells%nodes order), 0 past
                                                   !< cells%nnodes
-    logical, allocatable :: cell_outer(:)         !< (ncell_local) touches a shared node
-    integer :: ncell_outer = 0                    !< outer cells
-    integer, allocatable :: outer_cells(:)        !< (ncell_outer) local cells touching a shared
-                                                  !< node, ascending: compute before the halo
-    integer, allocatable :: inner_cells(:)        !< (ncell_local-ncell_outer) the others:
-                                                  !< computed while the halo is in flight
     ! nodes
     integer :: nnode_local = 0                    !< mesh and enriched nodes held by this rank
     integer :: nnode_owned = 0                    !< local nodes this rank owns
@@ -150,7 +144,7 @@ contains
     call select_local_nodes(layout, elem_part, elem_start, elem_nodes, cells, node_rank_start, &
                             node_ranks, global_to_local)
     call build_shared_lists(layout, node_rank_start, node_ranks)
-    call select_local_cells(layout, cells, cell_rank, node_rank_start, global_to_local)
+    call select_local_cells(layout, cells, cell_rank, global_to_local)
     call build_assembly_plan(layout, cells, cell_rank, cell_chunk)
     call collect_node_ranks(layout, elem_part, elem_start, elem_nodes, cells, cell_rank, &
                             node_rank_start, node_ranks, with_cells=.false.)
@@ -185,9 +179,6 @@ contains
     type(explicit_layout_t), intent(inout) :: layout  !< a built layout
     if (allocated(layout%cell_global)) deallocate(layout%cell_global)
     if (allocated(layout%cell_nodes)) deallocate(layout%cell_nodes)
-    if (allocated(layout%cell_outer)) deallocate(layout%cell_outer)
-    if (allocated(layout%outer_cells)) deallocate(layout%outer_cells)
-    if (allocated(layout%inner_cells)) deallocate(layout%inner_cells)
     if (allocated(layout%cell_target)) deallocate(layout%cell_target)
     if (allocated(layout%combine_node)) deallocate(layout%combine_node)
     if (allocated(layout%combine_start)) deallocate(layout%combine_start)
@@ -446,46 +437,26 @@ contains
     end do
   end subroutine build_shared_lists
 
-  !> The cells this rank computes, their local nodes, and the outer/inner split.
-  subroutine select_local_cells(layout, cells, cell_rank, node_rank_start, global_to_local)
+  !> The cells this rank computes and their local nodes.
+  subroutine select_local_cells(layout, cells, cell_rank, global_to_local)
     type(explicit_layout_t), intent(inout) :: layout      !< nodes in, cells out
     type(cells_t), intent(in) :: cells                    !< all cells
     integer, intent(in) :: cell_rank(:)                   !< rank computing each cell
-    integer, intent(in) :: node_rank_start(:)             !< (nnode_global+1) offsets
     integer, intent(in) :: global_to_local(:)             !< (nnode_global) local or 0
-    integer :: c, l, j, n, nouter, ninner
+    integer :: c, l, j
 
     layout%ncell_local = count(cell_rank == layout%rank)
     allocate(layout%cell_global(layout%ncell_local))
     allocate(layout%cell_nodes(layout%slots, layout%ncell_local))
-    allocate(layout%cell_outer(layout%ncell_local))
     layout%cell_nodes = 0
-    layout%cell_outer = .false.
     l = 0
     do c = 1, cells%n
       if (cell_rank(c) /= layout%rank) cycle
       l = l + 1
       layout%cell_global(l) = c
       do j = 1, cells%nnodes(c)
-        n = cells%nodes(j, c)
-        layout%cell_nodes(j, l) = global_to_local(n)
-        ! a node held by more than one rank is shared
-        if (node_rank_start(n + 1) - node_rank_start(n) > 1) layout%cell_outer(l) = .true.
+        layout%cell_nodes(j, l) = global_to_local(cells%nodes(j, c))
       end do
-    end do
-    layout%ncell_outer = count(layout%cell_outer)
-    allocate(layout%outer_cells(layout%ncell_outer))
-    allocate(layout%inner_cells(layout%ncell_local - layout%ncell_outer))
-    nouter = 0
-    ninner = 0
-    do l = 1, layout%ncell_local
-      if (layout%cell_outer(l)) then
-        nouter = nouter + 1
-        layout%outer_cells(nouter) = l
-      else
-        ninner = ninner + 1
-        layout%inner_cells(ninner) = l
-      end if
     end do
   end subroutine select_local_cells
 

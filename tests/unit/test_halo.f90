@@ -381,7 +381,7 @@ contains
     logical, allocatable :: held(:,:)
     integer, allocatable :: computed(:), owners(:)
     integer :: nall, r, q, l, c, j, i, k, e, n, nshared_total
-    logical :: ok_build, ok_cells, ok_nodes, ok_owner, ok_lists, ok_counts, ok_outer, ok_cell_rank
+    logical :: ok_build, ok_cells, ok_nodes, ok_owner, ok_lists, ok_counts, ok_cell_rank
     logical :: ok_sorted
 
     nall = cells%n_mesh_nodes + cells%n_enriched
@@ -495,17 +495,6 @@ contains
     call check(ok_lists, tag//': shared lists = intersections of the node sets, same order '// &
         'on both sides')
     call check(ok_counts, tag//': chunk sums sent to q = chunk sums q expects')
-    ok_outer = .true.
-    do r = 0, nparts - 1
-      do l = 1, layout(r)%ncell_local
-        c = layout(r)%cell_global(l)
-        ok_outer = ok_outer .and. (layout(r)%cell_outer(l) .eqv. &
-            any(count(held(cells%nodes(1:cells%nnodes(c), c), :), dim=2) > 1))
-      end do
-      ok_outer = ok_outer .and. size(layout(r)%outer_cells) + size(layout(r)%inner_cells) == &
-                 layout(r)%ncell_local
-    end do
-    call check(ok_outer, tag//': outer cells = cells touching a shared node')
     if (nparts > 1) call check(nshared_total > 0, tag//': some nodes are shared')
     ! the scattered map splits ME-FEM elements sharing a face: their enriched nodes are held
     ! by the rank of the cell's first element too
@@ -626,7 +615,7 @@ contains
     type(status_t) :: status
     real(wp), allocatable :: cell_values(:,:,:), f(:,:), g(:,:), reference(:,:), partial(:,:,:)
     real(wp), allocatable :: ordered(:,:), h(:,:), plain(:,:)
-    logical, allocatable :: shared(:), pushed(:)
+    logical, allocatable :: shared(:), pushed(:), outer(:)
     type(halo_t) :: pushed_halo, shared_halo
     integer :: nparts, r, k, c, j, comp, l
     logical :: ok_assembly, ok_bits, ok_close, ok_pushed, ok_shared
@@ -708,12 +697,19 @@ contains
         == mod(comm_rank(), 2))), tag//': ... the same-parity neighbours read from shared memory')
     call halo_free(shared_halo)
 
-    ! halo_sum over the layout: scatter outer cells, start, scatter inner cells, finish
-    allocate(g(NCOMP, layout%nnode_local))
+    ! halo_sum over the layout: scatter the outer cells (touching a shared node), start,
+    ! scatter the inner cells, finish
+    allocate(g(NCOMP, layout%nnode_local), shared(layout%nnode_local))
+    shared = .false.
+    shared(layout%shared_nodes) = .true.
+    allocate(outer(layout%ncell_local))
+    do l = 1, layout%ncell_local
+      outer(l) = any(shared(layout%cell_nodes(1:cells%nnodes(layout%cell_global(l)), l)))
+    end do
     g = 0.0_wp
-    call scatter_cells(layout, cells, layout%outer_cells, g)
+    call scatter_cells(layout, cells, pack([(l, l = 1, layout%ncell_local)], outer), g)
     call halo_sum_start(halo, g)
-    call scatter_cells(layout, cells, layout%inner_cells, g)
+    call scatter_cells(layout, cells, pack([(l, l = 1, layout%ncell_local)], .not. outer), g)
     call halo_sum_finish(halo, g)
     allocate(partial(NCOMP, layout%nnode_global, 0:nparts - 1))
     partial = 0.0_wp
@@ -731,9 +727,6 @@ contains
       ordered = ordered + partial(:, :, r)
     end do
     ! at shared nodes only outer cells contribute, in ascending order: bits must match
-    allocate(shared(layout%nnode_local))
-    shared = .false.
-    shared(layout%shared_nodes) = .true.
     ok_bits = .true.
     do k = 1, layout%nnode_local
       if (shared(k)) ok_bits = ok_bits .and. all(g(:, k) == ordered(:, layout%node_global(k)))
