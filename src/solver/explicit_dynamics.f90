@@ -130,7 +130,7 @@ contains
     deallocate(cells%grad)            ! read by the set-up only: the cells' copies are in s
     call say('explicit: '//itoa(layout%nnode_global)//' nodes (with enriched), '// &
              itoa(cells%n)//' cells on '//itoa(comm_size())//' rank(s)')
-    call report_chunks(layout, max(-1, maxval(element_chunk)) + 1)
+    call report_chunks(layout, halo, max(-1, maxval(element_chunk)) + 1)
 
     ! initial state: forces and accelerations at t = 0, the first stable step
     t = 0.0_wp
@@ -999,12 +999,13 @@ contains
 
   !> The assembly's chunks in the log: how many (the rank counts that give the same bits),
   !> the partial sums they take (columns over all ranks) and the sums exchanged per cycle.
-  subroutine report_chunks(layout, nchunk)
-    type(explicit_layout_t), intent(in) :: layout     !< this rank's layout
+  subroutine report_chunks(layout, halo, nchunk)
+    type(explicit_layout_t), intent(in) :: layout     !< this rank's layout (plan released)
+    type(halo_t), intent(in) :: halo                  !< its force exchange
     integer, intent(in) :: nchunk                     !< chunks of the model
     integer :: npartial, nsent
     npartial = layout%npartial
-    nsent = size(layout%send_source)
+    nsent = halo%nsent
     call comm_sum(npartial)
     call comm_sum(nsent)
     call say('explicit: forces summed in '//itoa(nchunk)//' chunks (the same bits on 1 to '// &
