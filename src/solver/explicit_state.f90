@@ -50,7 +50,8 @@ module mefem_explicit_state
     real(wp), allocatable :: v_old(:,:)        !< (dim, nnode) velocities v^{n-1/2} (only with
                                                !< rigid walls, which read it)
     real(wp), allocatable :: a(:,:)            !< (dim, nnode) accelerations a^n
-    real(wp), allocatable :: f_int(:,:)        !< (dim, nnode) internal forces at t^n
+    real(wp), allocatable :: f_int(:,:)        !< (dim, ntarget) internal forces at t^n (the
+                                               !< nodes' columns; swapped with f_int_new)
     real(wp), allocatable :: f_int_new(:,:)    !< (dim, ntarget) internal forces being assembled
                                                !< (nodes, then the layout's partial sums)
     real(wp), allocatable :: f_ext(:,:)        !< (dim, nnode) external forces at t^n
@@ -117,10 +118,12 @@ module mefem_explicit_state
     real(wp), allocatable :: hist(:,:)         !< (NHIST, ncell) material history
     real(wp), pointer, contiguous :: cell_force(:,:,:) => null()
                                                !< (dim, CELL_MAX_NODES, ncell) contributions
-                                               !< (3D: only those to nodes not pushed)
-    integer, allocatable :: push_node(:,:)     !< (CELL_MAX_NODES, ncell) 3D: the local node
-                                               !< a contribution is added to straight away
-                                               !< (pushed assembly), 0: kept in cell_force
+                                               !< (3D: only those to columns not pushed)
+    integer, allocatable :: push_node(:,:)     !< (CELL_MAX_NODES, ncell) 3D: the column of
+                                               !< f_int_new (node, or partial sum of the
+                                               !< node's chunk) a contribution is added to
+                                               !< straight away (pushed assembly), 0: kept
+                                               !< in cell_force
     real(wp), pointer, contiguous :: added(:,:,:) => null()
                                                !< (1, CELL_MAX_NODES, ncell) added masses
     logical :: mass_scaling = .false.          !< DT2MS < 0 given
