@@ -32,12 +32,16 @@ contains
     character(len=*), intent(in) :: basename         !< stem of the file names
     type(model_t), intent(in) :: model               !< resolved model
     type(decomposition_t), intent(in) :: decomp      !< this rank's share
+    character(len=:), allocatable :: reason
     logical :: ok
     out_dir = dir
     stem = basename
     ok = .true.
-    if (comm_is_root()) call make_directory(dir, ok)
-    if (comm_any(.not. ok)) call fatal('cannot create the output directory "'//dir//'"')
+    if (comm_is_root()) call make_directory(dir, ok, reason)
+    if (comm_any(.not. ok)) then
+      if (comm_is_root()) call fatal('cannot use the output directory "'//dir//'": '//reason)
+      call fatal('cannot use the output directory "'//dir//'"')
+    end if
     call comm_barrier()
     call fill_output_mesh(decomp, model%nodes%x, model%nodes%id, model%elements%topology, &
                           model%elements%id, model%elements%part_id, piece)

@@ -1,10 +1,13 @@
-!> File-system helpers: create a directory (with its parents), as `mkdir -p` does.
+!> File-system helpers: create a directory (with its parents), as `mkdir -p` does, and say what
+!> is in the way when it cannot be made or written.
 module mefem_file_system
   use, intrinsic :: iso_c_binding, only: c_int, c_char, c_null_char
   implicit none
   private
 
   public :: make_directory
+
+  integer(c_int), parameter :: MODE_RWX = int(o'755', c_int)  !< rwxr-xr-x for new directories
 
   interface
     !> POSIX mkdir(2).
@@ -17,19 +20,66 @@ module mefem_file_system
 
 contains
 
-  !> Create directory path and any missing parents; ok is false when it cannot be made.
-  subroutine make_directory(path, ok)
-    character(len=*), intent(in) :: path   !< directory to create
-    logical, intent(out) :: ok             !< the directory exists afterwards
-    integer :: k, rc
-    integer(c_int), parameter :: MODE_RWX = int(o'755', c_int)
-    logical :: exists
-    do k = 2, len_trim(path)
+  !> Create directory path and any missing parents; ok is false when it cannot be made or its
+  !> files cannot be created, and reason (if present) then names the part of the path that is
+  !> in the way: a file where a directory should be, a directory that could not be created in
+  !> its parent, or a directory that is not writable.
+  subroutine make_directory(path, ok, reason)
+    character(len=*), intent(in) :: path                          !< directory to create
+    logical, intent(out) :: ok                                    !< usable afterwards
+    character(len=:), allocatable, intent(out), optional :: reason !< why not (ok false)
+    character(len=:), allocatable :: why
+    integer :: k, rc, last
+    last = len_trim(path)
+    do k = 2, last
       if (path(k:k) == '/') rc = c_mkdir(path(1:k-1)//c_null_char, MODE_RWX)
     end do
-    rc = c_mkdir(trim(path)//c_null_char, MODE_RWX)
-    inquire(file=trim(path)//'/.', exist=exists)
-    ok = exists
+    rc = c_mkdir(path(1:last)//c_null_char, MODE_RWX)
+    why = ''
+    do k = 2, last + 1                    ! the first prefix that is not a directory
+      if (k <= last) then
+        if (path(k:k) /= '/') cycle
+      end if
+      if (is_directory(path(1:k-1))) cycle
+      if (exists(path(1:k-1))) then
+        why = '"'//path(1:k-1)//'" is a file, not a directory'
+      else
+        why = 'the directory "'//path(1:k-1)//'" could not be created (no permission in its '// &
+              'parent, a read-only file system, or no space left)'
+      end if
+      exit
+    end do
+    if (len(why) == 0) call probe_writable(path(1:last), why)
+    ok = len(why) == 0
+    if (present(reason)) reason = why
   end subroutine make_directory
+
+  !> Create and delete a file in directory path: why is empty when that works, else says
+  !> what the system answered (e.g. permission denied, read-only file system).
+  subroutine probe_writable(path, why)
+    character(len=*), intent(in) :: path                 !< an existing directory
+    character(len=:), allocatable, intent(inout) :: why  !< the reason, or unchanged
+    character(len=256) :: message
+    integer :: unit, ios
+    open(newunit=unit, file=path//'/.mefem_write_probe', status='replace', action='write', &
+         iostat=ios, iomsg=message)
+    if (ios /= 0) then
+      why = 'files cannot be created in "'//path//'": '//trim(message)
+      return
+    end if
+    close(unit, status='delete')
+  end subroutine probe_writable
+
+  !> Whether path names a directory.
+  logical function is_directory(path)
+    character(len=*), intent(in) :: path   !< path to test
+    inquire(file=path//'/.', exist=is_directory)
+  end function is_directory
+
+  !> Whether anything (file or directory) is at path.
+  logical function exists(path)
+    character(len=*), intent(in) :: path   !< path to test
+    inquire(file=path, exist=exists)
+  end function exists
 
 end module mefem_file_system
