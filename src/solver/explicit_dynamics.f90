@@ -33,6 +33,7 @@ module mefem_explicit_dynamics
                         comm_min_progress, comm_min_finish, comm_allgatherv_real
   use mefem_errors, only: status_t, fatal, say, warn
   use mefem_strings, only: itoa, rtoa
+  use mefem_sense_switch, only: sense_switch, SENSE_STOP, SENSE_STATUS, SENSE_STATE
   use mefem_model, only: model_t, ON_NODE, ON_NODE_SET, MAT_RIGID, TOPO_TET4, TOPO_TRI3
   use mefem_decomposition, only: decomposition_t
   use mefem_model_partition, only: element_csr
@@ -74,6 +75,8 @@ module mefem_explicit_dynamics
   private
 
   public :: explicit_dynamics_run, explicit_writes_initial_state, explicit_analysis
+
+  integer, parameter :: SENSE_INTERVAL = 100   !< cycles between looks for a d3kil file
 
   integer, parameter :: VAD_VELOCITY = 0, VAD_ACCELERATION = 1, VAD_DISPLACEMENT = 2
   real(wp), parameter :: SPC_FOREVER = 1.0e20_wp   !< DEATH default of *BOUNDARY_SPC
@@ -184,6 +187,22 @@ contains
       call write_outputs(model, decomp, cells, layout, s, schedule, cycle, t, dt_old, .false., &
                          timing)
       call progress_update(cycle, t, dt_old, printed)
+      if (mod(cycle, SENSE_INTERVAL) == 0) then        ! LS-DYNA's d3kil file
+        select case (sense_switch())
+        case (SENSE_STOP)
+          call say('explicit: d3kil (sw1): stopped at cycle '//itoa(cycle)//', t = '// &
+                   rtoa(t)//'; the state reached is written')
+          exit
+        case (SENSE_STATUS)
+          call say('explicit: d3kil (sw2): cycle '//itoa(cycle)//', t = '//rtoa(t)// &
+                   ', dt = '//rtoa(dt)//', wall '//rtoa(comm_wtime() - t_start)//' s')
+        case (SENSE_STATE)
+          call write_outputs(model, decomp, cells, layout, s, schedule, cycle, t, dt_old, &
+                             .true., timing)
+          call say('explicit: d3kil (sw4): result state written at cycle '//itoa(cycle)// &
+                   ', t = '//rtoa(t))
+        end select
+      end if
       if (dt < dt_floor) then
         call write_outputs(model, decomp, cells, layout, s, schedule, cycle, t, dt_old, .true., &
                            timing)

@@ -33,6 +33,7 @@ module mefem_implicit_static
   use mefem_progress, only: peak_memory_mib
   use mefem_output_mesh, only: output_field_t
   use mefem_results, only: results_write_state
+  use mefem_sense_switch, only: sense_switch, SENSE_STOP, SENSE_STATUS, SENSE_STATE
   use mefem_solver_common, only: number_equations, cell_result_fields
   use mefem_mortar_contact, only: mortar_contact_t, mortar_contact_setup, mortar_contact_forces, &
                                   mortar_contact_slave_rows
@@ -98,8 +99,8 @@ contains
     real(wp), allocatable :: u_last(:,:)
     real(wp) :: dt_last
     real(wp) :: t, dt, dt_min, dt_max, end_time, next_output, t0, dt_planned
-    integer :: dim, n_all, n_equations, step, iterations, output_step, c, cuts
-    logical :: converged
+    integer :: dim, n_all, n_equations, step, iterations, output_step, c, cuts, action
+    logical :: converged, written
 
     t0 = comm_wtime()
     call cells_build(model, cells, status)
@@ -194,10 +195,27 @@ contains
       call say('step '//itoa(step)//': t = '//rtoa(t)//', dt = '//rtoa(dt)//', '// &
                itoa(iterations)//' iterations')
       if (dt < dt_planned) dt = dt_planned
+      written = .false.
       if (t >= next_output*(1.0_wp - 1.0e-9_wp) .or. t >= end_time*(1.0_wp - 1.0e-12_wp)) then
         call write_state(model, decomp, cells, u, hist, equation, t, output_step)
         output_step = output_step + 1
         next_output = next_output + output_interval(model)
+        written = .true.
+      end if
+      ! LS-DYNA's d3kil file: stop (the state reached written), status, or a state now
+      action = sense_switch()
+      if ((action == SENSE_STOP .or. action == SENSE_STATE) .and. .not. written) then
+        call write_state(model, decomp, cells, u, hist, equation, t, output_step)
+        output_step = output_step + 1
+      end if
+      if (action == SENSE_STATUS) call say('implicit: d3kil (sw2): step '//itoa(step)// &
+          ', t = '//rtoa(t)//' of '//rtoa(end_time)//', dt = '//rtoa(dt))
+      if (action == SENSE_STATE) call say('implicit: d3kil (sw4): result state written at t = '// &
+                                          rtoa(t))
+      if (action == SENSE_STOP) then
+        call say('implicit: d3kil (sw1): stopped after step '//itoa(step)//', t = '//rtoa(t)// &
+                 '; the state reached is written')
+        exit
       end if
       ! step growth when the Newton loop was easy (*CONTROL_IMPLICIT_AUTO ITEOPT/ITEWIN)
       if (model%controls%iauto /= 0 .and. iterations <= max(1, model%controls%iteopt - &
