@@ -17,6 +17,7 @@ module mefem_keyword_reader
   use mefem_read_mesh, only: read_node, read_element_solid, read_element_shell, read_part, &
                              read_section_solid, read_section_shell
   use mefem_read_controls, only: read_keyword_card, read_title, read_parameter, &
+                                 read_parameter_expression, &
                                  read_control_termination, read_control_timestep, &
                                  read_control_implicit_general, &
                                  read_control_implicit_solution, read_control_implicit_auto, &
@@ -53,7 +54,7 @@ module mefem_keyword_reader
                         H_CONTROL_IMPLICIT_SOLUTION = 36, H_CONTROL_IMPLICIT_AUTO = 37, &
                         H_DATABASE_D3PLOT = 38, H_DATABASE_GLSTAT = 39, H_DATABASE_RCFORC = 40, &
                         H_DATABASE_NODOUT = 41, H_HISTORY_NODE = 42, H_HISTORY_NODE_SET = 43, &
-                        H_MEFEM_ENRICHMENT = 44
+                        H_MEFEM_ENRICHMENT = 44, H_PARAMETER_EXPRESSION = 45
 
   !> One registered keyword.
   type :: keyword_entry_t
@@ -62,7 +63,7 @@ module mefem_keyword_reader
     character(len=64) :: options = ''    !< options accepted, as ' OPT1 OPT2 '
   end type keyword_entry_t
 
-  integer, parameter :: N_ENTRIES = 52
+  integer, parameter :: N_ENTRIES = 53
   type(keyword_entry_t), parameter :: REGISTRY(N_ENTRIES) = [ &
     keyword_entry_t('NODE', H_NODE, ' '), &
     keyword_entry_t('ELEMENT_SOLID', H_ELEMENT_SOLID, ' '), &
@@ -73,6 +74,7 @@ module mefem_keyword_reader
     keyword_entry_t('KEYWORD', H_KEYWORD, ' '), &
     keyword_entry_t('TITLE', H_TITLE, ' '), &
     keyword_entry_t('PARAMETER', H_PARAMETER, ' '), &
+    keyword_entry_t('PARAMETER_EXPRESSION', H_PARAMETER_EXPRESSION, ' '), &
     keyword_entry_t('CONTROL_TERMINATION', H_CONTROL_TERMINATION, ' '), &
     ! materials, by name and by number
     keyword_entry_t('MAT_ELASTIC', H_MAT_ELASTIC, ' TITLE '), &
@@ -318,6 +320,8 @@ contains
       call read_title(rd, model)
     case (H_PARAMETER)
       call read_parameter(rd)
+    case (H_PARAMETER_EXPRESSION)
+      call read_parameter_expression(rd)
     case (H_CONTROL_TERMINATION)
       call read_control_termination(rd, model)
     case (H_MAT_ELASTIC)

@@ -4,7 +4,7 @@ module mefem_parameters
   implicit none
   private
 
-  public :: parameter_define, parameter_lookup, parameters_clear
+  public :: parameter_define, parameter_lookup, parameters_clear, split_parameter_spec
 
   integer, parameter :: NAME_LEN = 32
 
@@ -65,6 +65,25 @@ contains
   subroutine parameters_clear()
     n_defined = 0
   end subroutine parameters_clear
+
+  !> The type letter and the name of a PRMR field ('R tmax', 'Rtmax', 'i nid'): the first
+  !> character is the type letter, the rest (blanks trimmed) the name. ok is false when the
+  !> letter is not one of letters, or the name is empty or holds a blank or '&'.
+  pure subroutine split_parameter_spec(spec, letters, kind, name, ok)
+    character(len=*), intent(in) :: spec                 !< the field, blanks trimmed
+    character(len=*), intent(in) :: letters              !< type letters accepted ('RIC')
+    character, intent(out) :: kind                       !< the type letter, upper case
+    character(len=:), allocatable, intent(out) :: name   !< the name as written
+    logical, intent(out) :: ok                           !< spec is 'letter name'
+    kind = ' '
+    name = ''
+    ok = .false.
+    if (len(spec) < 2) return
+    if (index(to_upper(letters), to_upper(spec(1:1))) == 0) return
+    kind = to_upper(spec(1:1))
+    name = trim(adjustl(spec(2:)))
+    ok = len(name) > 0 .and. scan(name, ' &') == 0
+  end subroutine split_parameter_spec
 
   !> Index of a name in the table, 0 if absent.
   integer function find(name)

@@ -3,7 +3,8 @@
 module mefem_read_controls
   use mefem_kinds, only: wp
   use mefem_strings, only: to_upper, itoa, rtoa
-  use mefem_parameters, only: parameter_define
+  use mefem_parameters, only: parameter_define, split_parameter_spec
+  use mefem_expressions, only: evaluate_expression
   use mefem_numbers, only: parse_real, parse_int
   use mefem_cards, only: reader_t, card_t, next_card, split_card, get_int, get_real, get_text, &
                          card_error, card_warning, keyword_error
@@ -13,7 +14,8 @@ module mefem_read_controls
   implicit none
   private
 
-  public :: read_keyword_card, read_title, read_parameter, read_control_termination
+  public :: read_keyword_card, read_title, read_parameter, read_parameter_expression, &
+            read_control_termination
   public :: read_control_timestep, read_control_implicit_general, &
             read_control_implicit_solution, read_control_implicit_auto, &
             read_database_binary_d3plot, read_database_interval, read_database_history_node, &
@@ -85,15 +87,8 @@ contains
         call get_text(card, 2*pair, value)
         if (len(spec) == 0 .and. len(value) == 0) cycle
         ! the first character is the type (R, I, C), the other nine the name ('R tmax', 'Rtmax')
-        kind = ' '
-        name = ''
-        if (len(spec) > 1) then
-          if (index('RICric', spec(1:1)) > 0) then
-            kind = to_upper(spec(1:1))
-            name = trim(adjustl(spec(2:)))
-          end if
-        end if
-        if (kind == ' ' .or. len(name) == 0 .or. scan(name, ' &') > 0) then
+        call split_parameter_spec(spec, 'RIC', kind, name, ok)
+        if (.not. ok) then
           call card_error(card, 'parameter '//itoa(pair)//': "'//spec// &
               '" is not "R name", "I name" or "C name"')
           cycle
@@ -110,6 +105,105 @@ contains
       end do
     end do
   end subroutine read_parameter
+
+  !> *PARAMETER_EXPRESSION: repeated cards PRMR (columns 1-10: type letter R or I, then the
+  !> name, as in *PARAMETER) and EXPRESSION (columns 11-80; mefem reads it to the end of the
+  !> line). The expression is evaluated when the card is read (mefem_expressions) and defines
+  !> the parameter; an I parameter takes the nearest integer (nint). A card with a comma
+  !> outside parentheses is comma-separated: PRMR before the first comma, the expression after
+  !> it (so 'R a,max(b,c)' and the fixed-column 'R a      max(b,c)' are both read).
+  subroutine read_parameter_expression(rd)
+    type(reader_t), intent(inout) :: rd      !< reading state
+    type(card_t) :: card
+    logical :: got, ok_spec, ok_value
+    integer :: first
+    real(wp) :: value
+    character(len=:), allocatable :: spec, name, text, message
+    character :: kind
+    do
+      call next_card(rd, card, got)
+      if (.not. got) exit
+      card%free = has_top_level_comma(card%text(1:card%length))
+      call split_card(rd, card, [10, 70])
+      if (card%unreadable) cycle
+      call get_text(card, 1, spec)
+      if (card%free) then
+        first = card%last(1) + 2         ! after the first comma
+      else
+        first = card%first(2)
+      end if
+      text = ''
+      if (first <= card%length) text = trim(adjustl(card%text(first:card%length)))
+      call split_parameter_spec(spec, 'RIC', kind, name, ok_spec)
+      if (.not. ok_spec) then
+        call card_error(card, '"'//spec//'" is not "R name" or "I name"')
+        name = '"'//spec//'"'
+      else if (kind == 'C') then
+        call card_error(card, 'parameter '//name//': type C (text) cannot take an '// &
+            'expression; write "R name" or "I name"')
+        ok_spec = .false.
+      end if
+      if (len(text) == 0) then
+        call card_error(card, 'parameter '//name//': the expression is empty')
+        cycle
+      end if
+      call evaluate_expression(text, value, ok_value, message)
+      if (.not. ok_value) then
+        call card_error(card, 'parameter '//name//': expression "'//text//'": '//message)
+        cycle
+      end if
+      if (.not. ok_spec) cycle
+      if (kind == 'I') then
+        if (abs(value) >= real(huge(1), wp) + 0.5_wp) then
+          call card_error(card, 'parameter '//name//': the value '//rtoa(value)//' of "'// &
+              text//'" is outside the integer range')
+          cycle
+        end if
+        call parameter_define(name, kind, itoa(nint(value)))
+      else
+        call parameter_define(name, kind, shortest_real_text(value))
+      end if
+    end do
+  end subroutine read_parameter_expression
+
+  !> True when s holds a comma outside parentheses (a comma-separated card).
+  pure logical function has_top_level_comma(s)
+    character(len=*), intent(in) :: s   !< the card text
+    integer :: k, depth
+    has_top_level_comma = .false.
+    depth = 0
+    do k = 1, len(s)
+      select case (s(k:k))
+      case ('(')
+        depth = depth + 1
+      case (')')
+        depth = max(0, depth - 1)
+      case (',')
+        if (depth == 0) then
+          has_top_level_comma = .true.
+          return
+        end if
+      end select
+    end do
+  end function has_top_level_comma
+
+  !> The shortest text (2 to 17 digits: "1.5E+000") that parse_real reads back as exactly x.
+  function shortest_real_text(x) result(s)
+    real(wp), intent(in) :: x   !< the value
+    character(len=:), allocatable :: s
+    character(len=40) :: buf
+    character(len=16) :: fmt
+    integer :: digits
+    real(wp) :: back
+    logical :: ok
+    do digits = 2, 17
+      write(fmt, '(a,i0,a,i0,a)') '(es', digits + 10, '.', digits - 1, 'e3)'
+      write(buf, fmt) x
+      s = trim(adjustl(buf))
+      call parse_real(s, back, ok)
+      if (ok .and. back == x) return
+    end do
+  end function shortest_real_text
 
   !> *CONTROL_TERMINATION: ENDTIM ENDCYC DTMIN ENDENG ENDMAS.
   subroutine read_control_termination(rd, model)
