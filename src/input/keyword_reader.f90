@@ -30,7 +30,8 @@ module mefem_keyword_reader
   use mefem_read_conditions, only: read_boundary_spc, read_prescribed_motion, &
                                    read_define_curve, read_load_node, read_load_segment, &
                                    read_load_segment_set, read_initial_velocity, &
-                                   read_initial_velocity_node, read_initial_velocity_generation
+                                   read_initial_velocity_node, read_initial_velocity_generation, &
+                                   read_load_body, read_load_body_parts
   use mefem_read_contact, only: read_contact_surface_to_surface, read_rigidwall_planar
   implicit none
   private
@@ -55,6 +56,8 @@ module mefem_keyword_reader
                         H_DATABASE_D3PLOT = 38, H_DATABASE_GLSTAT = 39, H_DATABASE_RCFORC = 40, &
                         H_DATABASE_NODOUT = 41, H_HISTORY_NODE = 42, H_HISTORY_NODE_SET = 43, &
                         H_MEFEM_ENRICHMENT = 44, H_PARAMETER_EXPRESSION = 45
+  integer, parameter :: H_LOAD_BODY_X = 46, H_LOAD_BODY_Y = 47, H_LOAD_BODY_Z = 48, &
+                        H_LOAD_BODY_PARTS = 49
 
   !> One registered keyword.
   type :: keyword_entry_t
@@ -63,7 +66,7 @@ module mefem_keyword_reader
     character(len=64) :: options = ''    !< options accepted, as ' OPT1 OPT2 '
   end type keyword_entry_t
 
-  integer, parameter :: N_ENTRIES = 53
+  integer, parameter :: N_ENTRIES = 57
   type(keyword_entry_t), parameter :: REGISTRY(N_ENTRIES) = [ &
     keyword_entry_t('NODE', H_NODE, ' '), &
     keyword_entry_t('ELEMENT_SOLID', H_ELEMENT_SOLID, ' '), &
@@ -103,6 +106,10 @@ module mefem_keyword_reader
     keyword_entry_t('LOAD_NODE_SET', H_LOAD_NODE_SET, ' '), &
     keyword_entry_t('LOAD_SEGMENT', H_LOAD_SEGMENT, ' ID '), &
     keyword_entry_t('LOAD_SEGMENT_SET', H_LOAD_SEGMENT_SET, ' ID '), &
+    keyword_entry_t('LOAD_BODY_X', H_LOAD_BODY_X, ' '), &
+    keyword_entry_t('LOAD_BODY_Y', H_LOAD_BODY_Y, ' '), &
+    keyword_entry_t('LOAD_BODY_Z', H_LOAD_BODY_Z, ' '), &
+    keyword_entry_t('LOAD_BODY_PARTS', H_LOAD_BODY_PARTS, ' '), &
     keyword_entry_t('INITIAL_VELOCITY', H_INITIAL_VELOCITY, ' '), &
     keyword_entry_t('INITIAL_VELOCITY_NODE', H_INITIAL_VELOCITY_NODE, ' '), &
     keyword_entry_t('INITIAL_VELOCITY_GENERATION', H_INITIAL_VELOCITY_GENERATION, ' '), &
@@ -360,6 +367,14 @@ contains
       call read_load_segment(rd, options, model)
     case (H_LOAD_SEGMENT_SET)
       call read_load_segment_set(rd, options, model)
+    case (H_LOAD_BODY_X)
+      call read_load_body(rd, 1, model)
+    case (H_LOAD_BODY_Y)
+      call read_load_body(rd, 2, model)
+    case (H_LOAD_BODY_Z)
+      call read_load_body(rd, 3, model)
+    case (H_LOAD_BODY_PARTS)
+      call read_load_body_parts(rd, model)
     case (H_INITIAL_VELOCITY)
       call read_initial_velocity(rd, model)
     case (H_INITIAL_VELOCITY_NODE)

@@ -1,6 +1,7 @@
 !> Keyword handlers for boundary conditions, curves, loads and initial conditions:
 !> *BOUNDARY_SPC_NODE/_SET, *BOUNDARY_PRESCRIBED_MOTION_NODE/_SET/_RIGID, *DEFINE_CURVE,
-!> *LOAD_NODE_POINT/_SET, *LOAD_SEGMENT(_SET), *INITIAL_VELOCITY(_NODE, _GENERATION).
+!> *LOAD_NODE_POINT/_SET, *LOAD_SEGMENT(_SET), *LOAD_BODY_X/_Y/_Z, *LOAD_BODY_PARTS,
+!> *INITIAL_VELOCITY(_NODE, _GENERATION).
 !>
 !> Targets (nodes, sets, parts) and curves are stored as user ids and resolved by
 !> resolve_conditions. Following LS-DYNA, a scale factor SF given as 0 means 1, and a DEATH
@@ -9,24 +10,26 @@ module mefem_read_conditions
   use mefem_kinds, only: wp
   use mefem_strings, only: itoa, rtoa
   use mefem_cards, only: reader_t, card_t, next_card, split_card, get_int, get_real, &
-                         card_error, keyword_error
+                         card_error, card_warning, keyword_error
   use mefem_card_helpers, only: has_option, read_title_card, read_id_card, quoted_real, &
-                                skip_extra_cards, read_id_option
+                                skip_extra_cards, read_id_option, reject_extra_cards
   use mefem_deck_source, only: location
   use mefem_model, only: model_t, source_t, spc_t, prescribed_motion_t, curve_t, &
-                         nodal_load_t, pressure_load_t, initial_velocity_t, ON_NODE, &
+                         nodal_load_t, pressure_load_t, initial_velocity_t, body_load_t, ON_NODE, &
                          ON_NODE_SET, ON_PART, ON_ALL_NODES, ON_PART_SET
   implicit none
   private
 
   public :: read_boundary_spc, read_prescribed_motion, read_define_curve, read_load_node, &
             read_load_segment, read_load_segment_set, read_initial_velocity, &
-            read_initial_velocity_node, read_initial_velocity_generation
+            read_initial_velocity_node, read_initial_velocity_generation, read_load_body, &
+            read_load_body_parts
 
   integer, parameter :: W_10(8) = 10          !< standard 8 x 10 card
   integer, parameter :: W_POINT(2) = 20       !< *DEFINE_CURVE point: 2 x E20
   real(wp), parameter :: NEVER = 1.0e28_wp    !< DEATH of a prescribed motion by default
   real(wp), parameter :: SPC_NEVER = 1.0e20_wp  !< DEATH of an SPC by default
+  character(len=1), parameter :: AXIS_NAMES(3) = ['X', 'Y', 'Z']   !< *LOAD_BODY_ suffixes
 
 contains
 
@@ -441,6 +444,86 @@ contains
     end do
   end subroutine read_load_segment_set
 
+  !> *LOAD_BODY_X / _Y / _Z (direction 1, 2, 3): LCID SF LCIDDR XC YC ZC CID, one card.
+  !> The base acceleration SF curve(t) along the axis; LCIDDR (dynamic relaxation) is read and
+  !> ignored with a warning, XC YC ZC (centre of rotational loads) are read and not used, CID
+  !> must be 0. One keyword per direction (a second one is an error, not a sum).
+  subroutine read_load_body(rd, direction, model)
+    type(reader_t), intent(inout) :: rd          !< reading state
+    integer, intent(in) :: direction             !< 1 x, 2 y, 3 z
+    type(model_t), intent(inout) :: model        !< model appended to
+    type(card_t) :: card
+    type(body_load_t) :: load
+    logical :: got
+    integer :: cid, k
+    call next_card(rd, card, got)
+    if (.not. got) then
+      call keyword_error(rd, 'missing card 1 (LCID SF LCIDDR XC YC ZC CID)')
+      return
+    end if
+    call split_card(rd, card, W_10)
+    load%direction = direction
+    call get_int(card, 1, 'LCID', load%curve_id, required=.true.)
+    call get_real(card, 2, 'SF', load%scale, default=1.0_wp)
+    call get_int(card, 3, 'LCIDDR', load%dr_curve_id)
+    call get_real(card, 4, 'XC', load%centre(1))
+    call get_real(card, 5, 'YC', load%centre(2))
+    call get_real(card, 6, 'ZC', load%centre(3))
+    call get_int(card, 7, 'CID', cid)
+    load%src = source_t(card%file, card%line)
+    call reject_extra_cards(rd, 'the body load *LOAD_BODY_'//AXIS_NAMES(direction))
+    if (card%bad) return
+    if (load%scale == 0.0_wp) load%scale = 1.0_wp
+    if (load%curve_id <= 0) then
+      call card_error(card, 'field LCID must be a positive curve id (got '// &
+          itoa(load%curve_id)//')')
+      return
+    end if
+    if (cid /= 0) then
+      call card_error(card, 'field CID = '//itoa(cid)//': body loads in a local coordinate '// &
+          'system are not supported (use CID = 0: the global axes)')
+      return
+    end if
+    if (load%dr_curve_id /= 0) call card_warning(card, 'field LCIDDR = '// &
+        itoa(load%dr_curve_id)//' ignored: mefem runs no dynamic relaxation (the load '// &
+        'follows LCID from t = 0)')
+    do k = 1, model%n_body_loads
+      if (model%body_loads(k)%direction /= direction) cycle
+      call card_error(card, '*LOAD_BODY_'//AXIS_NAMES(direction)//' is given twice (first '// &
+          'at '//location(model%body_loads(k)%src%file, model%body_loads(k)%src%line)// &
+          '); give one body load per direction')
+      return
+    end do
+    call add_body_load(model, load)
+  end subroutine read_load_body
+
+  !> *LOAD_BODY_PARTS: PSID, one card: the body loads act on the parts of part set PSID only.
+  subroutine read_load_body_parts(rd, model)
+    type(reader_t), intent(inout) :: rd          !< reading state
+    type(model_t), intent(inout) :: model        !< model set
+    type(card_t) :: card
+    logical :: got
+    integer :: psid
+    call next_card(rd, card, got)
+    if (.not. got) then
+      call keyword_error(rd, 'missing card 1 (PSID)')
+      return
+    end if
+    call split_card(rd, card, W_10)
+    call get_int(card, 1, 'PSID', psid, required=.true.)
+    call reject_extra_cards(rd, 'the body load parts *LOAD_BODY_PARTS')
+    if (card%bad) return
+    if (psid <= 0) then
+      call card_error(card, 'field PSID must be a positive part set id (got '//itoa(psid)//')')
+    else if (model%body_part_set_id > 0) then
+      call card_error(card, '*LOAD_BODY_PARTS is given twice (first at '// &
+          location(model%body_part_src%file, model%body_part_src%line)//')')
+    else
+      model%body_part_set_id = psid
+      model%body_part_src = source_t(card%file, card%line)
+    end if
+  end subroutine read_load_body_parts
+
   !> *INITIAL_VELOCITY: NSID NSIDEX BOXID IRIGID ICID / VX VY VZ VXR VYR VZR /
   !> [NSIDEX > 0: VXE VYE VZE VXRE VYRE VZRE], repeated. NSID = 0: all nodes.
   subroutine read_initial_velocity(rd, model)
@@ -692,6 +775,21 @@ contains
     model%n_pressure_loads = model%n_pressure_loads + 1
     model%pressure_loads(model%n_pressure_loads) = item
   end subroutine add_pressure_load
+
+  !> Append a body load.
+  subroutine add_body_load(model, item)
+    type(model_t), intent(inout) :: model         !< model appended to
+    type(body_load_t), intent(in) :: item         !< the record
+    type(body_load_t), allocatable :: grown(:)
+    if (.not. allocated(model%body_loads)) allocate(model%body_loads(0))
+    if (model%n_body_loads == size(model%body_loads)) then
+      allocate(grown(max(3, 2*model%n_body_loads)))
+      grown(1:model%n_body_loads) = model%body_loads(1:model%n_body_loads)
+      call move_alloc(grown, model%body_loads)
+    end if
+    model%n_body_loads = model%n_body_loads + 1
+    model%body_loads(model%n_body_loads) = item
+  end subroutine add_body_load
 
   !> Append an initial velocity.
   subroutine add_initial_velocity(model, item)

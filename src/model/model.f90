@@ -170,6 +170,17 @@ module mefem_model
     type(source_t) :: src
   end type pressure_load_t
 
+  !> *LOAD_BODY_X/_Y/_Z: a base acceleration a(t) = SF curve(t) along a global axis; the
+  !> body force on a node of mass m is -m a (gravity along -z: *LOAD_BODY_Z with SF curve = g).
+  type, public :: body_load_t
+    integer :: direction = 0                 !< 1 x, 2 y, 3 z
+    integer :: curve_id = 0, curve = 0       !< LCID and its index (after resolve)
+    real(wp) :: scale = 1.0_wp               !< SF
+    integer :: dr_curve_id = 0               !< LCIDDR (dynamic relaxation: not used)
+    real(wp) :: centre(3) = 0.0_wp           !< XC YC ZC (rotational loads: not used)
+    type(source_t) :: src
+  end type body_load_t
+
   !> *INITIAL_VELOCITY, _NODE, _GENERATION.
   type, public :: initial_velocity_t
     integer :: target_kind = ON_ALL_NODES
@@ -259,6 +270,11 @@ module mefem_model
     type(curve_t), allocatable :: curves(:)
     integer :: n_spcs = 0, n_motions = 0, n_nodal_loads = 0, n_pressure_loads = 0
     integer :: n_initial_velocities = 0, n_contacts = 0, n_rigid_walls = 0
+    integer :: n_body_loads = 0
+    type(body_load_t), allocatable :: body_loads(:)   !< at most one per direction
+    integer :: body_part_set_id = 0          !< *LOAD_BODY_PARTS PSID (0: all parts)
+    integer :: body_part_set = 0             !< its index in sets (after resolve)
+    type(source_t) :: body_part_src          !< where PSID was given
     type(spc_t), allocatable :: spcs(:)
     type(prescribed_motion_t), allocatable :: motions(:)
     type(nodal_load_t), allocatable :: nodal_loads(:)

@@ -21,6 +21,8 @@ module mefem_resolve_conditions
 
   public :: resolve_conditions
 
+  character(len=1), parameter :: AXIS_NAMES(3) = ['X', 'Y', 'Z']   !< *LOAD_BODY_ suffixes
+
   !> Map of the ids of the sets of one kind to their positions in model%sets.
   type :: set_lookup_t
     type(id_map_t) :: map                  !< ids of the sets of this kind
@@ -91,6 +93,7 @@ contains
     if (.not. allocated(model%initial_velocities)) allocate(model%initial_velocities(0))
     if (.not. allocated(model%contacts)) allocate(model%contacts(0))
     if (.not. allocated(model%rigid_walls)) allocate(model%rigid_walls(0))
+    if (.not. allocated(model%body_loads)) allocate(model%body_loads(0))
   end subroutine allocate_empty
 
   !> "file:line: KEYWORD" of a record.
@@ -330,7 +333,7 @@ contains
     end do
   end subroutine resolve_constraints
 
-  !> Nodal and pressure loads: targets, segments, curves.
+  !> Nodal, pressure and body loads: targets, segments, curves, the part set of the body loads.
   subroutine resolve_loads(model, look)
     type(model_t), intent(inout) :: model     !< the model
     type(lookup_t), intent(in) :: look        !< lookups
@@ -361,6 +364,15 @@ contains
         call resolve_curve(look, load%curve_id, load%curve, where, '')
       end associate
     end do
+    do k = 1, model%n_body_loads
+      associate (load => model%body_loads(k))
+        where = where_is(load%src, '*LOAD_BODY_'//AXIS_NAMES(load%direction))
+        call resolve_curve(look, load%curve_id, load%curve, where, 'LCID ')
+      end associate
+    end do
+    if (model%body_part_set_id > 0) call resolve_target(look, ON_PART_SET, &
+        model%body_part_set_id, model%body_part_set, &
+        where_is(model%body_part_src, '*LOAD_BODY_PARTS'), 'PSID: ')
   end subroutine resolve_loads
 
   !> Initial velocities: targets and exempted node sets.

@@ -26,6 +26,8 @@
 !> E_int += (f_int^n + f_int^{n+1})/2 . du (the same as the cells' stress power, F being
 !> linear in u); external work likewise from f_ext and the reactions of prescribed motions;
 !> kinetic energy with v^{n+1} = v^{n+1/2} + dt/2 a^{n+1}. Sums run over owned nodes.
+!> Body loads (*LOAD_BODY_) are external forces -m a(t) with the physical lumped masses
+!> (mefem_body_loads); a rigid body takes -M a(t) at its centre of mass.
 module mefem_explicit_dynamics
   use, intrinsic :: iso_fortran_env, only: error_unit
   use mefem_kinds, only: wp
@@ -71,6 +73,8 @@ module mefem_explicit_dynamics
                                         block_cell_data, explicit_blocks_group, &
                                         explicit_steal_set_up, explicit_steal_tear_down
   use mefem_history_output, only: rwforc_open, rwforc_write, rwforc_close
+  use mefem_body_loads, only: body_acceleration, body_load_parts, body_load_nodes, &
+                              add_body_forces
   implicit none
   private
 
@@ -144,7 +148,10 @@ contains
     s%f_int = s%f_int_new
     s%f_ext = s%f_ext_new
     call accelerations(s)
-    if (s%bodies%n > 0) call rigid_body_resultants(s)
+    if (s%bodies%n > 0) then
+      call rigid_body_resultants(s)
+      call rigid_body_loads(model, s, t)
+    end if
     call next_time_step(s, dt)
     if (dt < 0.0_wp) call stop_on_failure(model, decomp, cells, layout, s, schedule, cycle, t, &
                                           0.0_wp, timing)
@@ -175,7 +182,10 @@ contains
       call compute_forces(model, s, halo, t, dt_full, timing)
       clock = comm_wtime()
       call energies_and_accelerations(s, dt)
-      if (s%bodies%n > 0) call rigid_body_resultants(s)
+      if (s%bodies%n > 0) then
+        call rigid_body_resultants(s)
+        call rigid_body_loads(model, s, t)
+      end if
       timing%update = timing%update + (comm_wtime() - clock)
       dt_old = dt
       clock = comm_wtime()
@@ -402,7 +412,17 @@ contains
     s%f_con_new = 0.0_wp               ! neither written nor read in the cycle
     s%f_ext = 0.0_wp
     s%f_ext_new = 0.0_wp
-    s%with_external = model%n_nodal_loads + model%n_pressure_loads > 0
+    s%with_external = model%n_nodal_loads + model%n_pressure_loads + model%n_body_loads > 0
+    ! body loads: the physical lumped mass of the nodes they act on (rigid-body nodes: below)
+    allocate(s%body_mass(s%nnode))
+    s%body_mass = 0.0_wp
+    if (model%n_body_loads > 0) then
+      block
+        logical, allocatable :: loaded(:)
+        call body_load_nodes(model, cells, loaded)
+        where (loaded(layout%node_global)) s%body_mass = s%physical_mass
+      end block
+    end if
     s%u = 0.0_wp
     s%a = 0.0_wp
     do l = 1, s%nnode
@@ -427,9 +447,16 @@ contains
     ! of their nodes
     call rigid_bodies_build(model, mass_global(1:cells%n_mesh_nodes), s%bodies, status)
     if (.not. status%ok) call fatal('explicit: '//status%message)
-    allocate(s%body_force(3, s%bodies%n), s%body_moment(3, s%bodies%n))
+    allocate(s%body_force(3, s%bodies%n), s%body_moment(3, s%bodies%n), &
+             s%body_load(3, s%bodies%n), s%body_loaded(s%bodies%n))
     s%body_force = 0.0_wp
     s%body_moment = 0.0_wp
+    s%body_load = 0.0_wp
+    block
+      logical :: parts(model%n_parts)
+      parts = body_load_parts(model)
+      s%body_loaded = [(parts(s%bodies%body(k)%part), k = 1, s%bodies%n)]
+    end block
     do k = 1, s%bodies%n
       block
         real(wp) :: v_mean(3)
@@ -480,6 +507,7 @@ contains
         l = s%rigid_node(k)
         s%active(l) = .false.
         s%fixed(:, l) = .false.
+        s%body_mass(l) = 0.0_wp         ! (its mass is the body's, loaded there)
         call rigid_body_point_motion(s%bodies, s%rigid_body(k), s%x0(:, l), s%u(:, l), &
                                      s%v(:, l))
       end do
@@ -527,14 +555,27 @@ contains
 
   !> Rigid bodies from t^n to t^{n+1} with the resultants at t^n, then their nodes: u^{n+1}
   !> and v^{n+1/2} on the body (after the deformable nodes' update, which they override).
+  !> The body loads' work is booked as the reactions' (mefem_rigid_bodies):
+  !> dt_avg F^n . (v^{n-1/2} + v^{n+1/2})/2, the change of the half-step kinetic energy it
+  !> causes (replicated on every rank; glstat adds it once).
   subroutine move_rigid_bodies(model, s, t, dt_old, dt)
     type(model_t), intent(in) :: model                !< resolved model
     type(explicit_state_t), intent(inout) :: s        !< local state
     real(wp), intent(in) :: t                         !< t^n
     real(wp), intent(in) :: dt_old, dt                !< dt^{n-1/2} (0 at the start), dt^{n+1/2}
-    integer :: k, l
+    real(wp) :: v_old(3, s%bodies%n)
+    integer :: k, l, b
+    do b = 1, s%bodies%n
+      v_old(:, b) = s%bodies%body(b)%velocity
+    end do
     call rigid_bodies_advance(model, s%bodies, t + 0.5_wp*dt, t + dt, 0.5_wp*(dt_old + dt), dt, &
                               s%body_force, s%body_moment)
+    if (model%n_body_loads > 0) then
+      do b = 1, s%bodies%n
+        s%body_load_work = s%body_load_work + 0.5_wp*(dt_old + dt)* &
+            dot_product(s%body_load(:, b), 0.5_wp*(v_old(:, b) + s%bodies%body(b)%velocity))
+      end do
+    end if
     do k = 1, s%nrigid
       l = s%rigid_node(k)
       call rigid_body_point_motion(s%bodies, s%rigid_body(k), s%x0(:, l), s%u(:, l), s%v(:, l))
@@ -581,6 +622,25 @@ contains
       s%rigid_present(slot) = .false.
     end do
   end subroutine rigid_body_resultants
+
+  !> Body loads on the rigid bodies whose part they act on: -M a(t) at the centre of mass (no
+  !> moment), added to the resultants of time t (their work: move_rigid_bodies). A prescribed
+  !> or held component keeps its motion; its reaction takes the load.
+  subroutine rigid_body_loads(model, s, t)
+    type(model_t), intent(in) :: model                !< resolved model
+    type(explicit_state_t), intent(inout) :: s        !< local state (resultants of t)
+    real(wp), intent(in) :: t                         !< time of the resultants
+    real(wp) :: a(3)
+    integer :: b
+    if (model%n_body_loads == 0) return
+    a = body_acceleration(model, t)
+    a(s%dim + 1:) = 0.0_wp                            ! (2D: no z)
+    do b = 1, s%bodies%n
+      if (.not. s%body_loaded(b)) cycle
+      s%body_load(:, b) = -s%bodies%body(b)%mass*a
+      s%body_force(:, b) = s%body_force(:, b) + s%body_load(:, b)
+    end do
+  end subroutine rigid_body_loads
 
   !> Rigid walls after the displacement update: penetrating nodes back onto the plane, their
   !> velocities corrected; the walls' forces on the owned nodes are kept. The wall's work is
@@ -768,7 +828,9 @@ contains
     end do
   end subroutine contact_forces
 
-  !> External nodal forces at time t of the local mesh nodes (loads of the global model).
+  !> External nodal forces at time t of the local nodes: the nodal and pressure loads of the
+  !> global model at the mesh nodes, then the body loads -m a(t) at every loaded node (mesh
+  !> and enriched; per node, so the same bits on any number of ranks).
   subroutine external_nodal_forces(model, s, t)
     type(model_t), intent(in) :: model                !< resolved model
     type(explicit_state_t), intent(inout) :: s        !< local state
@@ -777,13 +839,17 @@ contains
     integer :: l, g
     if (.not. s%with_external) return                 ! f_ext_new stays zero
     call set_to_zero(size(s%f_ext_new), s%f_ext_new)
-    allocate(force(s%dim, model%nodes%n))
-    force = 0.0_wp
-    call external_forces(model, t, force)
-    do l = 1, s%nnode
-      g = s%node_global(l)
-      if (g <= model%nodes%n) s%f_ext_new(:, l) = force(:, g)
-    end do
+    if (model%n_nodal_loads + model%n_pressure_loads > 0) then
+      allocate(force(s%dim, model%nodes%n))
+      force = 0.0_wp
+      call external_forces(model, t, force)
+      do l = 1, s%nnode
+        g = s%node_global(l)
+        if (g <= model%nodes%n) s%f_ext_new(:, l) = force(:, g)
+      end do
+    end if
+    if (model%n_body_loads > 0) call add_body_forces(body_acceleration(model, t), s%body_mass, &
+                                                     s%f_ext_new)
   end subroutine external_nodal_forces
 
   !> A cell failed (inverted, return map, NaN): write the state reached and stop, naming the
@@ -972,7 +1038,7 @@ contains
     real(wp), intent(in) :: dt                        !< the step that reached it
     logical, intent(in) :: final                      !< write everything now
     type(timing_t), intent(inout) :: timing           !< phase times
-    real(wp) :: clock
+    real(wp) :: clock, dt_velocity
     logical :: plot
     clock = comm_wtime()
     plot = due(schedule%plot_interval, schedule%next_plot, schedule%last_plot, t, final)
@@ -980,8 +1046,12 @@ contains
       plot = .true.
       schedule%last_plot = t
     end if
+    ! the velocities of the output are v^{n+1/2} + dt/2 a^{n+1}; before the first cycle v holds
+    ! v^0 itself (the initial velocity), so nothing is added then (a load at t = 0, e.g.
+    ! gravity, would otherwise show a velocity and kinetic energy at t = 0)
+    dt_velocity = merge(0.0_wp, dt, cycle == 0)
     if (plot) then
-      call write_state(model, decomp, cells, layout, s, schedule%plot_state, t, dt)
+      call write_state(model, decomp, cells, layout, s, schedule%plot_state, t, dt_velocity)
       schedule%plot_state = schedule%plot_state + 1
     end if
     if (due(schedule%glstat_interval, schedule%next_glstat, schedule%last_glstat, t, final)) &
@@ -993,7 +1063,7 @@ contains
     if (due(schedule%rcforc_interval, schedule%next_rcforc, schedule%last_rcforc, t, final)) &
       call write_rcforc(s, t)
     if (due(schedule%nodout_interval, schedule%next_nodout, schedule%last_nodout, t, final)) &
-      call write_nodout(model, layout, s, cycle, t, dt)
+      call write_nodout(model, layout, s, cycle, t, dt_velocity)
     timing%output = timing%output + (comm_wtime() - clock)
   end subroutine write_outputs
 
@@ -1057,7 +1127,8 @@ contains
     type(explicit_layout_t), intent(in) :: layout     !< this rank's share
     type(explicit_state_t), intent(in) :: s           !< local state
     integer, intent(in) :: state                      !< output state number
-    real(wp), intent(in) :: t, dt                     !< time, the step that reached it
+    real(wp), intent(in) :: t, dt                     !< time, the step that reached it (0
+                                                      !< before the first cycle)
     type(output_field_t), allocatable :: point_fields(:)
     type(output_field_t) :: cell_fields(4)
     real(wp), allocatable :: results(:,:), gathered(:,:)
@@ -1142,7 +1213,7 @@ contains
       if (.not. s%owned(n)) cycle
       if (.not. s%active(n)) cycle          ! rigid-body nodes: their body counts
       v_full = 0.0_wp
-      v_full(1:s%dim) = s%v(:, n) + 0.5_wp*dt*s%a(:, n)
+      v_full(1:s%dim) = s%v(:, n) + merge(0.0_wp, 0.5_wp*dt, cycle == 0)*s%a(:, n)
       sums(1) = sums(1) + 0.5_wp*s%mass(n)*dot_product(v_full, v_full)
       sums(4) = sums(4) + s%mass(n) - s%physical_mass(n)
       sums(5) = sums(5) + s%physical_mass(n)
@@ -1159,11 +1230,13 @@ contains
         sums(6:8) = sums(6:8) + body%mass*body%velocity
         sums(9) = sums(9) + body%mass
         ! booked reaction work, and the half not booked yet (as pending_reaction_work: the
-        ! static part -F of the reaction on the constrained components)
-        sums(3) = sums(3) + body%reaction_work - 0.5_wp*dt*dot_product(merge(s%body_force(:, b), &
-            0.0_wp, body%reaction_force /= 0.0_wp), body%velocity)
+        ! static part -F of the reaction on the constrained components; the body load is left
+        ! out: its work is booked to the half step, as the reaction's)
+        sums(3) = sums(3) + body%reaction_work - 0.5_wp*dt*dot_product(merge(s%body_force(:, b) &
+            - s%body_load(:, b), 0.0_wp, body%reaction_force /= 0.0_wp), body%velocity)
       end associate
     end do
+    sums(3) = sums(3) + s%body_load_work
     sums(1) = sums(1) + rigid_bodies_kinetic_energy(s%bodies)
     rec%cycle = cycle
     rec%time = t
@@ -1295,7 +1368,8 @@ contains
     type(explicit_layout_t), intent(in) :: layout     !< this rank's share
     type(explicit_state_t), intent(in) :: s           !< local state
     integer, intent(in) :: cycle                      !< cycle just completed
-    real(wp), intent(in) :: t, dt                     !< time, the step that reached it
+    real(wp), intent(in) :: t, dt                     !< time, the step that reached it (0
+                                                      !< before the first cycle)
     integer, allocatable :: nodes(:)
     real(wp), allocatable :: rows(:,:)
     integer :: k, l, d

@@ -58,7 +58,14 @@ module mefem_explicit_state
     real(wp), allocatable :: f_ext_new(:,:)    !< (dim, nnode) external forces at t^{n+1}
     real(wp), allocatable :: f_con(:,:)        !< (dim, nnode) contact forces at t^n
     real(wp), allocatable :: f_con_new(:,:)    !< (dim, nnode) contact forces at t^{n+1}
-    logical :: with_external = .false.         !< nodal or pressure loads (else f_ext = 0)
+    logical :: with_external = .false.         !< nodal, pressure or body loads (else f_ext = 0)
+    ! body loads (*LOAD_BODY_): nodal force -body_mass a(t); rigid bodies -M a(t)
+    real(wp), allocatable :: body_mass(:)      !< (nnode) physical lumped mass of the nodes
+                                               !< the body loads act on, 0 elsewhere
+    logical, allocatable :: body_loaded(:)     !< (bodies) the rigid body's part takes them
+    real(wp), allocatable :: body_load(:,:)    !< (3, bodies) its body load at t^n
+    real(wp) :: body_load_work = 0.0_wp        !< work of the rigid bodies' body loads
+                                               !< (replicated on every rank)
     ! mortar contact (replicated surfaces) and this rank's view of its nodes
     type(mortar_contact_t) :: contact
     integer, allocatable :: contact_local(:)   !< (contact nodes) local node, 0 if none

@@ -12,6 +12,8 @@
 !>   state (*CONTROL_IMPLICIT_AUTO); easy steps grow again. The material history is committed
 !>   only when a step converges. Every rank computes the cells of its own elements; the
 !>   residual is summed over ranks and MUMPS solves on all of them.
+!> Body loads (*LOAD_BODY_) are external nodal forces -m a(t_{n+1}) with the lumped masses of
+!> the mesh and enriched nodes (mefem_body_loads), like the other loads of the step.
 module mefem_implicit_static
   use mefem_kinds, only: wp
   use mefem_comm, only: comm_sum, comm_max, comm_is_root, comm_wtime, comm_any
@@ -40,6 +42,8 @@ module mefem_implicit_static
   use mefem_curves, only: curve_value
   use mefem_history_output, only: rcforc_open, rcforc_write, rcforc_close
   use mefem_results, only: results_directory
+  use mefem_lumped_mass, only: lumped_mass
+  use mefem_body_loads, only: body_acceleration, body_load_nodes, add_body_forces
   implicit none
   private
 
@@ -75,6 +79,10 @@ module mefem_implicit_static
   !> A slave node whose tangential traction is within this fraction of mu p is sliding (the
   !> Coulomb return map puts it on mu p to round-off)
   real(wp), parameter :: SLIP_TOLERANCE = 1.0e-9_wp
+
+  !> Lumped masses of the nodes the body loads act on (mesh, then enriched nodes; 0 at the
+  !> others), set once by implicit_static_run: the body force of a node is -m a(t).
+  real(wp), allocatable :: loaded_mass(:)
 
   !> What one evaluation of the cells gives.
   type :: cell_state_t
@@ -134,6 +142,7 @@ contains
         'fixed or belongs to a rigid part (the analysis needs deformable elements with free '// &
         'degrees of freedom)')
     call set_up_tools(model, cells)
+    call set_up_body_loads(model, cells)
     call mumps_init(solver, MUMPS_UNSYMMETRIC, status)
     if (.not. status%ok) call fatal('implicit: '//status%message)
 
@@ -342,6 +351,8 @@ contains
     u_start = u
     force = 0.0_wp
     call external_forces(model, t_new, force(:, 1:cells%n_mesh_nodes))
+    if (model%n_body_loads > 0) call add_body_forces(body_acceleration(model, t_new), &
+                                                     loaded_mass, force)
     converged = .false.
     energy0 = 0.0_wp
     norm_r0 = 0.0_wp
@@ -404,6 +415,22 @@ contains
       if (k > 2 .and. norm_r > 1.0e6_wp*norm_r0) return     ! diverging
     end do
   end subroutine newton_step
+
+  !> The loaded masses of the body loads: lumped masses of the nodes of the parts they act on
+  !> (the same on every rank; the loads are added to the residual once, on rank 0).
+  subroutine set_up_body_loads(model, cells)
+    type(model_t), intent(in) :: model              !< resolved model
+    type(cells_t), intent(in) :: cells              !< cells
+    logical, allocatable :: loaded(:)
+    if (allocated(loaded_mass)) deallocate(loaded_mass)
+    call lumped_mass(model, cells, loaded_mass)
+    if (model%n_body_loads == 0) then
+      loaded_mass = 0.0_wp
+      return
+    end if
+    call body_load_nodes(model, cells, loaded)
+    where (.not. loaded) loaded_mass = 0.0_wp
+  end subroutine set_up_body_loads
 
   !> Contact with rigid tools: the interfaces, the rigid part of every mesh node, rcforc.
   subroutine set_up_tools(model, cells)
@@ -706,6 +733,8 @@ contains
     allocate(force_ext(cells%dim, cells%n_mesh_nodes))
     force_ext = 0.0_wp
     call external_forces(model, time, force_ext)
+    if (model%n_body_loads > 0) call add_body_forces(body_acceleration(model, time), &
+                                                     loaded_mass(1:cells%n_mesh_nodes), force_ext)
     point_fields(6)%name = 'reaction_force'
     point_fields(6)%ncomp = 3
     allocate(point_fields(6)%values(3, decomp%nnode_local))

@@ -3,7 +3,8 @@
 !>
 !>   K u = f,  K = sum_cells w G^T C G,  f from nodal loads and pressures at the end time,
 !> with fixed and prescribed displacements eliminated (their columns moved to the right-hand
-!> side). Loads and prescribed motions are evaluated at the end time of
+!> side); body loads (*LOAD_BODY_) are nodal forces -m a with the lumped masses of mesh and
+!> enriched nodes (mefem_body_loads). Loads and prescribed motions are evaluated at the end time of
 !> *CONTROL_TERMINATION (LS-DYNA's linear implicit step). Every rank assembles the cells of
 !> its own elements; MUMPS solves on all ranks; every rank receives the whole solution.
 module mefem_linear_static
@@ -22,6 +23,8 @@ module mefem_linear_static
   use mefem_output_mesh, only: output_field_t
   use mefem_results, only: results_write_state
   use mefem_solver_common, only: number_equations, stress_fields
+  use mefem_lumped_mass, only: lumped_mass
+  use mefem_body_loads, only: body_acceleration, body_load_nodes, add_body_forces
   implicit none
   private
 
@@ -66,6 +69,16 @@ contains
     call prescribed_displacements(model, t_end, fixed(:, 1:cells%n_mesh_nodes), &
                                   prescribed(:, 1:cells%n_mesh_nodes))
     call external_forces(model, t_end, force(:, 1:cells%n_mesh_nodes))
+    if (model%n_body_loads > 0) then
+      block
+        real(wp), allocatable :: mass(:)
+        logical, allocatable :: loaded(:)
+        call lumped_mass(model, cells, mass)
+        call body_load_nodes(model, cells, loaded)
+        where (.not. loaded) mass = 0.0_wp
+        call add_body_forces(body_acceleration(model, t_end), mass, force)
+      end block
+    end if
     call number_equations(cells, fixed, equation, n_equations)
     call say('linear static: '//itoa(n_equations)//' equations')
     if (n_equations == 0) call fatal('linear static: every degree of freedom is fixed')

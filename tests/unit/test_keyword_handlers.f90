@@ -200,6 +200,17 @@ contains
                    label//': LOAD_SEGMENT_SET_ID')
       end associate
     end if
+    call check_equal(model%n_body_loads, 2, label//': two body loads')
+    if (model%n_body_loads == 2) then
+      associate (b => model%body_loads)
+        call check(b(1)%direction == 3 .and. b(1)%curve_id == 2 .and. b(1)%scale == 9810.0_wp &
+                   .and. b(1)%dr_curve_id == 0, label//': LOAD_BODY_Z LCID SF')
+        call check(b(2)%direction == 1 .and. b(2)%curve_id == 1 .and. b(2)%scale == 1.0_wp &
+                   .and. all(b(2)%centre == [1.0_wp, 0.0_wp, 0.0_wp]), &
+                   label//': LOAD_BODY_X default SF, XC')
+      end associate
+    end if
+    call check_equal(model%body_part_set_id, 1, label//': LOAD_BODY_PARTS PSID')
     call check_equal(model%n_initial_velocities, 4, label//': four initial velocities')
     if (model%n_initial_velocities == 4) then
       associate (v => model%initial_velocities)
@@ -325,6 +336,9 @@ contains
                model%contacts(2)%surf_a == 6 .and. model%contacts(2)%surf_b == 5, &
                label//': contact surfaces by type (part, segment set, part set)')
     call check(model%rigid_walls(1)%node_set == 2, label//': rigid wall node set')
+    if (model%n_body_loads == 2) call check(model%body_loads(1)%curve == 2 .and. &
+        model%body_loads(2)%curve == 1 .and. model%body_part_set == 4, &
+        label//': body load curves and part set')
     call check(same(model%controls%history_nodes, [1, 4, 2]) .and. &
                same(model%controls%history_sets, [1, 2]), label//': history nodes and sets')
   end subroutine check_resolved
