@@ -262,6 +262,22 @@ contains
     end if
   end subroutine substitute
 
+  !> A field's text for a message, quoted: as written, and the parameter's value after it when
+  !> the field is a parameter reference ('"&ph" (= "1.5")').
+  function as_written(card, i, s) result(text)
+    type(card_t), intent(in) :: card                   !< the card
+    integer, intent(in) :: i                           !< field number
+    character(len=*), intent(in) :: s                  !< the text after substitution
+    character(len=:), allocatable :: text
+    character(len=:), allocatable :: written
+    written = field_text(card, i)
+    if (written == s) then
+      text = '"'//s//'"'
+    else
+      text = '"'//written//'" (= "'//s//'")'
+    end if
+  end function as_written
+
   !> Integer field i: blank gives default (or an error when required).
   subroutine get_int(card, i, name, value, default, required)
     type(card_t), intent(inout) :: card             !< the card
@@ -301,7 +317,8 @@ contains
     end if
     call parse_int(s, value, ok)
     if (.not. ok) then
-      call card_error(card, field_label(card, i, name)//': "'//s//'" is not an integer')
+      call card_error(card, field_label(card, i, name)//': '//as_written(card, i, s)// &
+                      ' is not an integer')
       card%bad = .true.
       value = 0
       if (present(default)) value = default
@@ -347,7 +364,8 @@ contains
     end if
     call parse_real(s, value, ok)
     if (.not. ok) then
-      call card_error(card, field_label(card, i, name)//': "'//s//'" is not a number')
+      call card_error(card, field_label(card, i, name)//': '//as_written(card, i, s)// &
+                      ' is not a number')
       card%bad = .true.
       value = 0.0_wp
       if (present(default)) value = default

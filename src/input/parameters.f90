@@ -6,11 +6,11 @@ module mefem_parameters
 
   public :: parameter_define, parameter_lookup, parameters_clear, split_parameter_spec
 
-  integer, parameter :: NAME_LEN = 32
+  integer, parameter, public :: PARAMETER_NAME_MAX = 32  !< longest parameter name
 
   !> One named parameter: its type letter and its value as text.
   type :: deck_parameter_t
-    character(len=NAME_LEN) :: name = ''
+    character(len=PARAMETER_NAME_MAX) :: name = ''
     character :: kind = 'R'                  !< R real, I integer, C character
     character(len=:), allocatable :: value   !< the value as written
   end type deck_parameter_t
@@ -68,7 +68,7 @@ contains
 
   !> The type letter and the name of a PRMR field ('R tmax', 'Rtmax', 'i nid'): the first
   !> character is the type letter, the rest (blanks trimmed) the name. ok is false when the
-  !> letter is not one of letters, or the name is empty or holds a blank or '&'.
+  !> letter is not one of letters or the name is not a valid one (valid_parameter_name).
   pure subroutine split_parameter_spec(spec, letters, kind, name, ok)
     character(len=*), intent(in) :: spec                 !< the field, blanks trimmed
     character(len=*), intent(in) :: letters              !< type letters accepted ('RIC')
@@ -82,14 +82,26 @@ contains
     if (index(to_upper(letters), to_upper(spec(1:1))) == 0) return
     kind = to_upper(spec(1:1))
     name = trim(adjustl(spec(2:)))
-    ok = len(name) > 0 .and. scan(name, ' &') == 0
+    ok = valid_parameter_name(name)
   end subroutine split_parameter_spec
+
+  !> A parameter name: a letter, then letters, digits and '_', at most PARAMETER_NAME_MAX
+  !> characters (longer names would be cut and meet others; other characters could not be
+  !> read back inside an expression).
+  pure logical function valid_parameter_name(name)
+    character(len=*), intent(in) :: name                 !< the name as written
+    character(len=*), parameter :: LETTERS = 'ABCDEFGHIJKLMNOPQRSTUVWXYZ'
+    valid_parameter_name = .false.
+    if (len(name) < 1 .or. len(name) > PARAMETER_NAME_MAX) return
+    if (index(LETTERS, to_upper(name(1:1))) == 0) return
+    valid_parameter_name = verify(to_upper(name), LETTERS//'0123456789_') == 0
+  end function valid_parameter_name
 
   !> Index of a name in the table, 0 if absent.
   integer function find(name)
     character(len=*), intent(in) :: name   !< the name looked for
     integer :: k
-    character(len=NAME_LEN) :: key
+    character(len=PARAMETER_NAME_MAX) :: key
     key = to_upper(adjustl(name))
     find = 0
     do k = 1, n_defined

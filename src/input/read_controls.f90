@@ -27,6 +27,10 @@ module mefem_read_controls
 
   integer, parameter :: W_10(8) = 10   !< standard 8 x 10 card
 
+  !> What a parameter's type and name must be (for the messages)
+  character(len=*), parameter :: NAME_RULE = '(a type letter, then a name of up to 32 '// &
+      'letters, digits and _ starting with a letter)'
+
 contains
 
   !> *KEYWORD [memory] [LONG=Y|S|N] [I10=Y]: sets the deck's default field format.
@@ -90,7 +94,7 @@ contains
         call split_parameter_spec(spec, 'RIC', kind, name, ok)
         if (.not. ok) then
           call card_error(card, 'parameter '//itoa(pair)//': "'//spec// &
-              '" is not "R name", "I name" or "C name"')
+              '" is not "R name", "I name" or "C name" '//NAME_RULE)
           cycle
         end if
         ok = .true.
@@ -136,7 +140,12 @@ contains
       if (first <= card%length) text = trim(adjustl(card%text(first:card%length)))
       call split_parameter_spec(spec, 'RIC', kind, name, ok_spec)
       if (.not. ok_spec) then
-        call card_error(card, '"'//spec//'" is not "R name" or "I name"')
+        if (len(text) == 0 .and. .not. card%free) then
+          call card_error(card, '"'//spec//'" is not "R name" or "I name" '//NAME_RULE// &
+              '; the expression starts in column 11 (or after a comma)')
+          cycle
+        end if
+        call card_error(card, '"'//spec//'" is not "R name" or "I name" '//NAME_RULE)
         name = '"'//spec//'"'
       else if (kind == 'C') then
         call card_error(card, 'parameter '//name//': type C (text) cannot take an '// &
@@ -154,7 +163,7 @@ contains
       end if
       if (.not. ok_spec) cycle
       if (kind == 'I') then
-        if (abs(value) >= real(huge(1), wp) + 0.5_wp) then
+        if (value >= real(huge(1), wp) + 0.5_wp .or. value <= -real(huge(1), wp) - 1.5_wp) then
           call card_error(card, 'parameter '//name//': the value '//rtoa(value)//' of "'// &
               text//'" is outside the integer range')
           cycle

@@ -46,6 +46,7 @@ contains
         call get_command_argument(i, length=length)
         allocate(character(len=length) :: arg)
         call get_command_argument(i, arg)
+        if (len_trim(arg) == 0) call fatal('option -o needs a directory, got an empty name')
         options%output_dir = arg
       case default
         if (arg(1:1) == '-' .and. len(arg) > 1) then

@@ -35,7 +35,8 @@ module mefem_explicit_dynamics
                         comm_min_progress, comm_min_finish, comm_allgatherv_real
   use mefem_errors, only: status_t, fatal, say, warn
   use mefem_strings, only: itoa, rtoa
-  use mefem_sense_switch, only: sense_switch, SENSE_STOP, SENSE_STATUS, SENSE_STATE
+  use mefem_sense_switch, only: sense_switch, sense_switch_warn_leftover, SENSE_STOP, &
+                                SENSE_STATUS, SENSE_STATE
   use mefem_model, only: model_t, ON_NODE, ON_NODE_SET, MAT_RIGID, TOPO_TET4, TOPO_TRI3
   use mefem_decomposition, only: decomposition_t
   use mefem_model_partition, only: element_csr
@@ -125,7 +126,7 @@ contains
     type(timing_t) :: timing
     type(status_t) :: status
     real(wp) :: t, dt, dt_old, dt_first, end_time, clock, t_start, dt_floor, dt_full
-    integer :: cycle, end_cycle
+    integer :: cycle, end_cycle, action
     logical :: printed
 
     t_start = comm_wtime()
@@ -162,6 +163,7 @@ contains
     call open_histories(model, schedule)
     call write_outputs(model, decomp, cells, layout, s, schedule, cycle, t, dt, .false., timing)
     call progress_start('explicit', end_time, end_cycle)
+    call sense_switch_warn_leftover()
 
     do while ((end_time <= 0.0_wp .or. t < end_time*(1.0_wp - 1.0e-12_wp)) .and. &
               (end_cycle <= 0 .or. cycle < end_cycle))
@@ -198,20 +200,21 @@ contains
                          timing)
       call progress_update(cycle, t, dt_old, printed)
       if (mod(cycle, SENSE_INTERVAL) == 0) then        ! LS-DYNA's d3kil file
-        select case (sense_switch())
-        case (SENSE_STOP)
-          call say('explicit: d3kil (sw1): stopped at cycle '//itoa(cycle)//', t = '// &
-                   rtoa(t)//'; the state reached is written')
-          exit
-        case (SENSE_STATUS)
-          call say('explicit: d3kil (sw2): cycle '//itoa(cycle)//', t = '//rtoa(t)// &
-                   ', dt = '//rtoa(dt)//', wall '//rtoa(comm_wtime() - t_start)//' s')
-        case (SENSE_STATE)
+        action = sense_switch()
+        if (iand(action, SENSE_STATUS) /= 0) call say('explicit: d3kil (sw2): cycle '// &
+            itoa(cycle)//', t = '//rtoa(t)//', dt = '//rtoa(dt)//', wall '// &
+            rtoa(comm_wtime() - t_start)//' s')
+        if (iand(action, SENSE_STATE) /= 0 .and. iand(action, SENSE_STOP) == 0) then
           call write_outputs(model, decomp, cells, layout, s, schedule, cycle, t, dt_old, &
                              .true., timing)
           call say('explicit: d3kil (sw4): result state written at cycle '//itoa(cycle)// &
                    ', t = '//rtoa(t))
-        end select
+        end if
+        if (iand(action, SENSE_STOP) /= 0) then
+          call say('explicit: d3kil (sw1): stopped at cycle '//itoa(cycle)//', t = '// &
+                   rtoa(t)//'; the state reached is written')
+          exit
+        end if
       end if
       if (dt < dt_floor) then
         call write_outputs(model, decomp, cells, layout, s, schedule, cycle, t, dt_old, .true., &

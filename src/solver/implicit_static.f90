@@ -35,7 +35,8 @@ module mefem_implicit_static
   use mefem_progress, only: peak_memory_mib
   use mefem_output_mesh, only: output_field_t
   use mefem_results, only: results_write_state
-  use mefem_sense_switch, only: sense_switch, SENSE_STOP, SENSE_STATUS, SENSE_STATE
+  use mefem_sense_switch, only: sense_switch, sense_switch_warn_leftover, SENSE_STOP, &
+                                SENSE_STATUS, SENSE_STATE
   use mefem_solver_common, only: number_equations, cell_result_fields
   use mefem_mortar_contact, only: mortar_contact_t, mortar_contact_setup, mortar_contact_forces, &
                                   mortar_contact_slave_rows
@@ -160,6 +161,7 @@ contains
     cuts = 0
     dt_last = 0.0_wp
     u_last = u
+    call sense_switch_warn_leftover()
     do while (t < end_time*(1.0_wp - 1.0e-12_wp))
       dt = min(dt, end_time - t)
       ! land on the next output time rather than step over it (then go on with the planned dt)
@@ -213,15 +215,15 @@ contains
       end if
       ! LS-DYNA's d3kil file: stop (the state reached written), status, or a state now
       action = sense_switch()
-      if ((action == SENSE_STOP .or. action == SENSE_STATE) .and. .not. written) then
+      if (iand(action, SENSE_STOP + SENSE_STATE) /= 0 .and. .not. written) then
         call write_state(model, decomp, cells, u, hist, equation, t, output_step)
         output_step = output_step + 1
       end if
-      if (action == SENSE_STATUS) call say('implicit: d3kil (sw2): step '//itoa(step)// &
-          ', t = '//rtoa(t)//' of '//rtoa(end_time)//', dt = '//rtoa(dt))
-      if (action == SENSE_STATE) call say('implicit: d3kil (sw4): result state written at t = '// &
-                                          rtoa(t))
-      if (action == SENSE_STOP) then
+      if (iand(action, SENSE_STATUS) /= 0) call say('implicit: d3kil (sw2): step '// &
+          itoa(step)//', t = '//rtoa(t)//' of '//rtoa(end_time)//', dt = '//rtoa(dt))
+      if (iand(action, SENSE_STATE) /= 0 .and. iand(action, SENSE_STOP) == 0) &
+        call say('implicit: d3kil (sw4): result state written at t = '//rtoa(t))
+      if (iand(action, SENSE_STOP) /= 0) then
         call say('implicit: d3kil (sw1): stopped after step '//itoa(step)//', t = '//rtoa(t)// &
                  '; the state reached is written')
         exit

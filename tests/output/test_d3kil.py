@@ -12,7 +12,12 @@ so that the switch is found at cycle 100:
 5. an unknown switch: a warning, the run goes to the end, d3kil gone;
 6. implicit (input/punch/punch_u1_mefem.k, looked for after every step): sw1 stops after step
    1 with exit 0, the states of t = 0 and of step 1; sw2 prints the status after step 1 and
-   the run goes to the end.
+   the run goes to the end;
+7. a directory named d3kil: a warning, the run goes to the end, the directory is kept (it
+   crashed the run, and hung two ranks, before);
+8. two switches in one file (sw2, then sw1) and a second file in the output directory: the
+   status is printed, the run stops, and both files are deleted; a d3kil there at the start
+   gets a warning.
 """
 import os
 import re
@@ -145,6 +150,26 @@ def main():
         report(rc == 0 and cycles_run(log) == CYCLES and 'unknown switch "please stop"' in log
                and not os.path.exists(os.path.join(work, 'd3kil')),
                'an unknown switch: a warning, the run goes on, d3kil deleted', f'exit {rc}')
+
+        work = fresh(scratch, 'directory', None)
+        os.makedirs(os.path.join(work, 'd3kil', 'inside'))
+        rc, log = run(work, ranks=2)
+        report(rc == 0 and cycles_run(log) == CYCLES and 'is a directory, not a sense-switch' in log
+               and os.path.isdir(os.path.join(work, 'd3kil', 'inside')),
+               'a directory named d3kil (2 ranks): a warning, the run goes on, the directory kept',
+               f'exit {rc}, {cycles_run(log)} cycles: {log[-300:]}')
+
+        work = fresh(scratch, 'two_files', 'sw2\nsw1\n')
+        with open(os.path.join(work, 'out', 'd3kil'), 'w') as handle:
+            handle.write('sw4\n')
+        rc, log = run(work)
+        report(rc == 0 and cycles_run(log) == 100 and 'd3kil (sw2): cycle 100,' in log and
+               'd3kil (sw1): stopped at cycle 100' in log and 'is there at the start' in log,
+               'sw2 and sw1 in one file, sw4 in the other: status, then stop; a warning at the '
+               'start', f'exit {rc}, {cycles_run(log)} cycles: {log[-400:]}')
+        report(not os.path.exists(os.path.join(work, 'd3kil')) and
+               not os.path.exists(os.path.join(work, 'out', 'd3kil')),
+               'both d3kil files deleted')
 
         work = fresh(scratch, 'implicit_plain', None)
         rc, log = run(work, deck=IMPLICIT_DECK)

@@ -6,7 +6,8 @@ one rank and on two (printed once, no hang).
 2. a directory that cannot be created (under /proc): "... could not be created ...";
 3. an existing directory where no file can be created (/sys, read-only for root too): "files
    cannot be created in ..." with the system's answer;
-4. a new nested directory is created and the run writes its results there.
+4. a new nested directory is created and the run writes its results there;
+5. an empty name (-o ""): an error (it wrote the HDF5 file into / before).
 """
 import os
 import shutil
@@ -78,6 +79,9 @@ def main():
         # sysfs takes no regular files, even from root
         expect_failure(1, '/sys', 'files cannot be created in "/sys"',
                        'existing directory without write access')
+        rc, text = run(1, '')
+        report(rc != 0 and 'option -o needs a directory, got an empty name' in text,
+               'an empty -o is an error', f'exit {rc}: {text[-300:]}')
         nested = os.path.join(scratch, 'new', 'nested', 'dir')
         rc, text = run(1, nested)
         made = os.path.isfile(os.path.join(nested, 'taylor_bar.pvd'))
