@@ -51,8 +51,9 @@ contains
     do k = 1, 2
       inquire(file=sense_path(k), exist=found)
       inquire(file=sense_path(k)//'/.', exist=directory)
-      if (found .and. .not. directory) call warn('a file "'//sense_path(k)//'" is there at the start: the run '// &
-          'will act on it (sense switches, README); delete it if an earlier run left it')
+      if (found .and. .not. directory) call warn('a file "'//sense_path(k)//'" is there at '// &
+          'the start: the run will act on it (sense switches, README); delete it if an '// &
+          'earlier run left it')
     end do
   end subroutine sense_switch_warn_leftover
 

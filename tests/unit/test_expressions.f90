@@ -5,7 +5,7 @@
 !> kw_parameter_expression.k is read and the computed parameters are found in the model.
 program test_expressions
   use mefem_kinds, only: wp
-  use mefem_testing, only: test_start, test_finish, check, check_close, check_equal
+  use mefem_testing, only: test_start, test_finish, check, check_close, check_equal, project_root
   use mefem_errors, only: reset_input_errors
   use mefem_parameters, only: parameter_define, parameters_clear
   use mefem_expressions, only: evaluate_expression
@@ -189,19 +189,6 @@ contains
     call check(.not. ok .and. index(message, fragment) > 0, '"'//text//'" rejected: '// &
                fragment, 'got ok = '//merge('T', 'F', ok)//', message "'//message//'"')
   end subroutine expect_error
-
-  !> $MEFEM_ROOT, or ../.. (the runner starts unit tests in tests/unit).
-  function project_root() result(path)
-    character(len=:), allocatable :: path
-    character(len=1024) :: value
-    integer :: length, status
-    call get_environment_variable('MEFEM_ROOT', value, length, status)
-    if (status == 0 .and. length > 0) then
-      path = trim(value)
-    else
-      path = '../..'
-    end if
-  end function project_root
 
   !> tests/decks/good/kw_parameter_expression.k: the computed parameters in the model, the
   !> reals bit for bit (their text reads back exactly).

@@ -6,7 +6,7 @@
 !> expansion of a large *SET_NODE_LIST_GENERATE and a curve offset.
 program test_keyword_handlers
   use mefem_kinds, only: wp
-  use mefem_testing, only: test_start, test_finish, check, check_close, check_equal
+  use mefem_testing, only: test_start, test_finish, check, check_close, check_equal, project_root
   use mefem_errors, only: reset_input_errors, input_error_count
   use mefem_file_system, only: make_directory
   use mefem_model, only: model_t, MAT_ELASTIC, MAT_PIECEWISE_LINEAR, MAT_POWER_LAW, &
@@ -28,19 +28,6 @@ program test_keyword_handlers
   call test_finish()
 
 contains
-
-  !> $MEFEM_ROOT, or ../.. (the runner starts unit tests in tests/unit).
-  function project_root() result(path)
-    character(len=:), allocatable :: path
-    character(len=1024) :: value
-    integer :: length, status
-    call get_environment_variable('MEFEM_ROOT', value, length, status)
-    if (status == 0 .and. length > 0) then
-      path = trim(value)
-    else
-      path = '../..'
-    end if
-  end function project_root
 
   !> Read one of the two decks, check what was stored, resolve, check the indices.
   subroutine check_deck(path, label)

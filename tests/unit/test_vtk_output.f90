@@ -10,7 +10,7 @@
 program test_vtk_output
   use, intrinsic :: iso_c_binding, only: c_char, c_int, c_null_char
   use mefem_kinds, only: wp
-  use mefem_testing, only: test_start, test_finish, check
+  use mefem_testing, only: test_start, test_finish, check, project_root
   use mefem_comm, only: comm_rank, comm_size, comm_is_root, comm_barrier, comm_any, comm_bcast
   use mefem_errors, only: say, terminate
   use mefem_output_mesh, only: output_mesh_t, output_field_t, TOPO_TRI3, TOPO_QUAD4, &
@@ -125,19 +125,6 @@ program test_vtk_output
   call test_finish()
 
 contains
-
-  !> Project root: $MEFEM_ROOT, else ../.. (the runner starts unit tests in tests/unit).
-  function project_root() result(path)
-    character(len=:), allocatable :: path
-    character(len=1024) :: value
-    integer :: length, status
-    call get_environment_variable('MEFEM_ROOT', value, length, status)
-    if (status == 0 .and. length > 0) then
-      path = trim(value)
-    else
-      path = '../..'
-    end if
-  end function project_root
 
   !> This rank's piece: a tet, a hex, a triangle, a wedge, a quad, a tet, a triangle (16 nodes).
   subroutine build_piece(rank, nranks, mesh)

@@ -11,7 +11,7 @@ module mefem_testing
   implicit none
   private
 
-  public :: test_start, test_finish, check, check_close, check_equal
+  public :: test_start, test_finish, check, check_close, check_equal, project_root
 
   integer :: n_pass = 0, n_fail = 0
   character(len=64) :: suite = ''
@@ -122,5 +122,18 @@ contains
     write(detail, '(a,i0,a,i0)') 'got ', got, ' want ', want
     call check(got == want, name, detail)
   end subroutine check_equal
+
+  !> Project root: $MEFEM_ROOT, else ../.. (the runner starts unit tests in tests/unit).
+  function project_root() result(path)
+    character(len=:), allocatable :: path
+    character(len=1024) :: value
+    integer :: length, status
+    call get_environment_variable('MEFEM_ROOT', value, length, status)
+    if (status == 0 .and. length > 0) then
+      path = trim(value)
+    else
+      path = '../..'
+    end if
+  end function project_root
 
 end module mefem_testing
