@@ -451,15 +451,34 @@ contains
     call rigid_bodies_build(model, mass_global(1:cells%n_mesh_nodes), s%bodies, status)
     if (.not. status%ok) call fatal('explicit: '//status%message)
     allocate(s%body_force(3, s%bodies%n), s%body_moment(3, s%bodies%n), &
-             s%body_load(3, s%bodies%n), s%body_loaded(s%bodies%n))
+             s%body_load(3, s%bodies%n), s%body_load_mass(s%bodies%n))
     s%body_force = 0.0_wp
     s%body_moment = 0.0_wp
     s%body_load = 0.0_wp
-    block
-      logical :: parts(model%n_parts)
-      parts = body_load_parts(model)
-      s%body_loaded = [(parts(s%bodies%body(k)%part), k = 1, s%bodies%n)]
-    end block
+    ! the mass body loads act on: the rigid elements' when the body's part takes them, plus
+    ! the merged deformable masses of the nodes that take them (a deformable part in
+    ! *LOAD_BODY_PARTS keeps its weight where it is merged into a rigid part that is not)
+    s%body_load_mass = 0.0_wp
+    if (model%n_body_loads > 0) then
+      block
+        logical :: parts(model%n_parts)
+        logical, allocatable :: loaded(:)
+        real(wp) :: merged(s%bodies%n)
+        parts = body_load_parts(model)
+        call body_load_nodes(model, cells, loaded)
+        merged = 0.0_wp
+        do g = 1, cells%n_mesh_nodes                ! ascending: the same sum on every rank
+          k = s%bodies%node_body(g)
+          if (k == 0) cycle
+          merged(k) = merged(k) + mass_global(g)
+          if (loaded(g)) s%body_load_mass(k) = s%body_load_mass(k) + mass_global(g)
+        end do
+        do k = 1, s%bodies%n
+          if (parts(s%bodies%body(k)%part)) s%body_load_mass(k) = s%body_load_mass(k) + &
+              (s%bodies%body(k)%mass - merged(k))
+        end do
+      end block
+    end if
     do k = 1, s%bodies%n
       block
         real(wp) :: v_mean(3)
@@ -639,8 +658,7 @@ contains
     a = body_acceleration(model, t)
     a(s%dim + 1:) = 0.0_wp                            ! (2D: no z)
     do b = 1, s%bodies%n
-      if (.not. s%body_loaded(b)) cycle
-      s%body_load(:, b) = -s%bodies%body(b)%mass*a
+      s%body_load(:, b) = -s%body_load_mass(b)*a
       s%body_force(:, b) = s%body_force(:, b) + s%body_load(:, b)
     end do
   end subroutine rigid_body_loads

@@ -62,7 +62,9 @@ module mefem_explicit_state
     ! body loads (*LOAD_BODY_): nodal force -body_mass a(t); rigid bodies -M a(t)
     real(wp), allocatable :: body_mass(:)      !< (nnode) physical lumped mass of the nodes
                                                !< the body loads act on, 0 elsewhere
-    logical, allocatable :: body_loaded(:)     !< (bodies) the rigid body's part takes them
+    real(wp), allocatable :: body_load_mass(:) !< (bodies) the mass body loads act on (its
+                                               !< elements' if its part takes them, plus its
+                                               !< merged nodes' that take them)
     real(wp), allocatable :: body_load(:,:)    !< (3, bodies) its body load at t^n
     real(wp) :: body_load_work = 0.0_wp        !< work of the rigid bodies' body loads
                                                !< (replicated on every rank)

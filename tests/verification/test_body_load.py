@@ -318,4 +318,43 @@ if rc == 0:
     # energy is taken, at the half steps
     checks.check(np.all(abs(ratio - 1) < 1e-9), 'rigid bodies: energy ratio 1 (1e-9)',
                  '%.12f .. %.12f' % (ratio.min(), ratio.max()))
+
+# ---- 4b. a loaded deformable part merged into a rigid part that is not loaded --------------
+# A held rigid block (z 0-10 mm) with an elastic ME-FEM block on top (z 10-20 mm) sharing its
+# top nodes; *LOAD_BODY_PARTS lists the elastic block only; gravity ramped over 100 us (ten
+# times the block's period: quasi-static). The held body's reaction at the end carries the
+# elastic block's whole weight. (The nodes merged into the rigid body hold part of that
+# block's lumped mass; before the fix their weight was left out: 0.78-0.80 of M g here.)
+T4B = 1.2e-4
+x_low, conn_low = box_tets(10.0, 10.0, 10.0, 2, 2, 2)
+top = np.isclose(x_low[:, 2], 10.0)
+x_up = x_low + [0.0, 0.0, 10.0]
+shared = {i: int(np.flatnonzero(top & np.isclose(x_low[:, 0], x_up[i, 0]) &
+                                 np.isclose(x_low[:, 1], x_up[i, 1]))[0])
+          for i in np.flatnonzero(np.isclose(x_up[:, 2], 10.0))}
+new_up = [i for i in range(len(x_up)) if i not in shared]
+index_up = {i: len(x_low) + k for k, i in enumerate(new_up)}
+index_up.update(shared)
+conn_up = np.vectorize(index_up.get)(conn_low)
+merged = [nodes_card(np.vstack([x_low, x_up[new_up]])),
+          elements_card('ELEMENT_SOLID', conn_low, pid=2),
+          elements_card('ELEMENT_SOLID', conn_up, pid=1, first_id=len(conn_low) + 1),
+          ['*PART', 'loaded elastic block', f10(1, 1, 1), '*PART', 'held rigid base',
+           f10(2, 2, 2), '*SECTION_SOLID', f10(1, 43), '*SECTION_SOLID', f10(2, 1)] +
+          elastic() + ['*MAT_RIGID', free(2, DENSITY, YOUNG, 0.3), f10(1.0, 7, 7)],
+          ['*SET_PART_LIST', f10(5), f10(1), '*LOAD_BODY_PARTS', f10(5)],
+          gravity(), curve(1, [(0.0, 0.0), (1.0e-4, 1.0), (1.0, 1.0)]),
+          ['*CONTROL_TERMINATION', f10(T4B), '*DATABASE_GLSTAT', f10(T4B / 60)]]
+rc, text, out = run_case('body_merged', merged)
+checks.check(rc == 0, 'merged rigid body: run succeeds', text[-600:])
+if rc == 0:
+    held = read_rbdout(os.path.join(out, 'rbdout'))[2]
+    weight = DENSITY * 1000.0 * G
+    late = held['time'] >= 1.0e-4
+    ratio_r = held['z-reaction'][late] / weight
+    print('    merged rigid body: reaction / (M_elastic g) after the ramp %.4f .. %.4f'
+          % (ratio_r.min(), ratio_r.max()))
+    checks.check(np.all(abs(ratio_r - 1) < 0.02), 'a loaded elastic block merged into an '
+                 'unloaded held rigid block: the reaction carries its whole weight (2 %)',
+                 '%.4f .. %.4f' % (ratio_r.min(), ratio_r.max()))
 checks.exit()
