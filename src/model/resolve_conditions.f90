@@ -7,7 +7,7 @@
 !> pass. The maps of material and curve ids are returned for the part and output checks
 !> done by the caller (model_resolve).
 module mefem_resolve_conditions
-  use mefem_errors, only: input_error
+  use mefem_errors, only: input_error, warn
   use mefem_strings, only: itoa
   use mefem_deck_source, only: location
   use mefem_id_map, only: id_map_t, id_map_build, id_map_find
@@ -373,6 +373,9 @@ contains
     if (model%body_part_set_id > 0) call resolve_target(look, ON_PART_SET, &
         model%body_part_set_id, model%body_part_set, &
         where_is(model%body_part_src, '*LOAD_BODY_PARTS'), 'PSID: ')
+    if (model%body_part_set_id > 0 .and. model%n_body_loads == 0) call warn( &
+        where_is(model%body_part_src, '*LOAD_BODY_PARTS')//': no *LOAD_BODY_X, _Y or _Z in '// &
+        'the deck: it has no effect')
   end subroutine resolve_loads
 
   !> Initial velocities: targets and exempted node sets.
