@@ -5,7 +5,7 @@
 program test_history_output
   use mefem_kinds, only: wp
   use mefem_comm, only: comm_rank, comm_size, comm_is_root, comm_barrier
-  use mefem_testing, only: test_start, test_finish, check, check_close, check_equal
+  use mefem_testing, only: test_start, test_finish, check, check_close, check_equal, project_root
   use mefem_history_output, only: glstat_record_t, glstat_open, glstat_write, glstat_close, &
       glstat_is_open, glstat_total_energy, glstat_energy_ratio, nodout_open, nodout_write, &
       nodout_close, nodout_is_open
@@ -105,17 +105,10 @@ program test_history_output
 
 contains
 
-  !> tests/out/history_unit/np<N> under $MEFEM_ROOT, or relative to tests/unit.
+  !> tests/out/history_unit/np<N> of the project.
   function output_dir() result(path)
     character(len=:), allocatable :: path
-    character(len=400) :: root
-    integer :: length, status
-    call get_environment_variable('MEFEM_ROOT', root, length, status)
-    if (status == 0 .and. length > 0) then
-      path = trim(root)//'/tests/out/history_unit/np'//itoa(comm_size())
-    else
-      path = '../out/history_unit/np'//itoa(comm_size())
-    end if
+    path = project_root()//'/tests/out/history_unit/np'//itoa(comm_size())
   end function output_dir
 
   !> Decimal text of an integer.
