@@ -3,16 +3,20 @@
 !> A cell is where the (smoothed) deformation gradient, the stress and the material history
 !> live: for the ME-FEM elements (ELFORM 43) a smoothing domain (one per edge in 2D, per face
 !> in 3D), for the standard linear elements (ELFORM 10, 13) the element itself. Each cell
-!> holds its nodes (mesh nodes and the enriched centroid nodes the code creates, numbered
-!> after the mesh nodes), the gradients of their shape functions in the reference
+!> holds its nodes (mesh nodes and the enriched nodes the code creates, one per ME-FEM element,
+!> numbered after the mesh nodes), the gradients of their shape functions in the reference
 !> configuration, smoothed over the cell (formulation 2.6), and its weight (area or volume).
 !> Then F = I + sum_I u_I (x) grad_I and every analysis runs the same cell loop, whatever
 !> the formulation: the dispatch on formulation happens here, once, at set-up.
 !>
-!> ME-FEM gradients at the integration point of side k of element e (doc/theory.md):
-!>   grad Psi_e = ((dim+1) kappa / H_k) n_k,   grad Psi_I = grad N_I - grad Psi_e/(dim+1),
-!> with n_k the inward unit normal of side k, H_k the altitude, grad N_I = n_I / H_I; the cell
-!> of a side averages them over its one or two elements with weights A_e/(dim+1).
+!> ME-FEM in hierarchical form (doc/theory.md 2.1): u = sum_I N_I u_I + Psi_e b_e, with u_I
+!> the corner displacements (N_I linear) and b_e = u_e - mean of the corners' u the bubble
+!> amplitude, the degree of freedom of the enriched node (the same field as sum Psi_I u_I +
+!> Psi_e u_e, since Psi_I = N_I - Psi_e/(dim+1)). Gradients at the integration point of side
+!> k of element e:
+!>   grad Psi_e = ((dim+1) kappa / H_k) n_k (enriched node),   grad N_I = n_I / H_I (corners),
+!> with n_k the inward unit normal of side k, H_k the altitude; the cell of a side averages
+!> them over its one or two elements with weights A_e/(dim+1).
 module mefem_cells
   use mefem_kinds, only: wp
   use mefem_errors, only: status_t, say
@@ -63,7 +67,7 @@ contains
     cells%enriched_of = 0
     if (any(is_mefem_part(model, [(p, p = 1, model%n_parts)]))) then
       call enrichment_setup(dim, model%controls%gmf_basis, model%controls%support_radius, &
-                            cells%enrichment, status)
+                            model%controls%bubble_mass, cells%enrichment, status)
       if (.not. status%ok) return
     end if
     ! upper bound of the cell count: sides per element (ME-FEM) or one per element
@@ -103,7 +107,8 @@ contains
     if (cells%n_enriched > 0) then
       call say('ME-FEM enrichment: a/L = '//rtoa(cells%enrichment%support_ratio)// &
           ', kappa = '//rtoa(cells%enrichment%kappa)//', mass fraction = '// &
-          rtoa(cells%enrichment%mass_fraction)//', '//itoa(cells%n_enriched)// &
+          rtoa(cells%enrichment%mass_fraction)//', bubble inertia (explicit) = '// &
+          rtoa(cells%enrichment%bubble_mass_ratio)//' rho V, '//itoa(cells%n_enriched)// &
           ' enriched nodes, '//itoa(cells%n)//' cells (smoothing domains and elements)')
     else
       call say('elements: '//itoa(cells%n)//' cells')
@@ -195,9 +200,8 @@ contains
         grad_enr = real(nv, wp)*cells%enrichment%kappa/domains%altitude(k, i)* &
                    domains%inward_normal(1:dim, k, i)
         share = domains%elem_measure(i)/real(nv, wp)/domains%domain_weight(m)
-        do local = 1, nv
-          call add_gradient(cells, c, conn(local, i), &
-                            share*(grad_n(:, local) - grad_enr/real(nv, wp)))
+        do local = 1, nv          ! hierarchical: the corners carry P1 alone (no - Psi_e/(dim+1))
+          call add_gradient(cells, c, conn(local, i), share*grad_n(:, local))
         end do
         call add_gradient(cells, c, cells%enriched_of(e), share*grad_enr)
       end do

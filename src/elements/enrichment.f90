@@ -9,7 +9,10 @@
 !>   obtained as the limit of the GMF gradient approaching the side along the median
 !>   (Richardson extrapolation of two points; the error is linear in the distance);
 !> - mass_fraction: the mean of Psi_e over the element (lumped mass m_e = rho V psibar);
-!> - centroid_value: Psi_e at the centroid (for output of the centroid displacement).
+!> - centroid_value: Psi_e at the centroid (for output of the centroid displacement);
+!> - bubble_mass_ratio: the explicit solver's lumped inertia of the bubble dof over rho V, by
+!>   default dim kappa^2, the value that gives the bubble of a regular element the same
+!>   frequency bound as its corners (doc/theory.md 7), or the deck's *MEFEM_ENRICHMENT BMASS.
 !> Nothing here is taken from tables; the tables of the reference are the tests' oracles.
 module mefem_enrichment
   use mefem_kinds, only: wp
@@ -29,6 +32,7 @@ module mefem_enrichment
     real(wp) :: kappa = 0.0_wp              !< side slope constant
     real(wp) :: mass_fraction = 0.0_wp      !< mean of Psi_e over the element
     real(wp) :: centroid_value = 0.0_wp     !< Psi_e at the centroid
+    real(wp) :: bubble_mass_ratio = 0.0_wp  !< explicit: inertia of a bubble dof / (rho V)
   end type enrichment_t
 
   integer, parameter :: QUADRATURE_POINTS = 20   !< Gauss points per direction (collapsed rule)
@@ -53,10 +57,11 @@ contains
   end subroutine reference_simplex
 
   !> Compute the enrichment constants; status fails if the GMF cannot be solved (a/L <= 1).
-  subroutine enrichment_setup(dim, basis, support_ratio, en, status)
+  subroutine enrichment_setup(dim, basis, support_ratio, bubble_mass, en, status)
     integer, intent(in) :: dim                !< 2 or 3
     integer, intent(in) :: basis              !< GMF_ATAN or GMF_EXP
     real(wp), intent(in) :: support_ratio     !< a/L
+    real(wp), intent(in) :: bubble_mass       !< bubble inertia / (rho V); 0: dim kappa^2
     type(enrichment_t), intent(out) :: en     !< the constants
     type(status_t), intent(out) :: status     !< failure and reason
     real(wp) :: xn(dim, dim+2), psi(dim+2), dpsi(dim, dim+2), side_point(dim), normal(dim)
@@ -88,6 +93,11 @@ contains
     call gmf_shape(basis, support_ratio, xn, xn(:, dim+2), psi, dpsi, ok3)
     en%centroid_value = psi(dim+2)
     en%mass_fraction = mean_enrichment(dim, basis, support_ratio, xn, status)
+    if (bubble_mass > 0.0_wp) then
+      en%bubble_mass_ratio = bubble_mass
+    else
+      en%bubble_mass_ratio = real(dim, wp)*en%kappa**2
+    end if
     if (.not. (ok1 .and. ok2 .and. ok3)) then
       status%ok = .false.
       status%message = 'the GMF approximation did not converge on the reference element'

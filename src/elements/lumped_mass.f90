@@ -1,16 +1,19 @@
-!> Lumped (diagonal) nodal masses of the deformable elements, mesh and enriched nodes alike
-!> (formulation 2.8, seed eq. 32: m_I = integral of rho_0 Psi_I over the reference volume).
+!> Lumped (diagonal) nodal masses of the deformable elements, mesh and enriched nodes alike.
 !>
-!> With the enriched node at the centroid, Psi_I = N_I - Psi_e/(dim+1) for the corners, so per
-!> ME-FEM element of volume V (area with unit thickness in 2D) and density rho:
-!>   enriched node  m_e = rho V psibar,   each corner  rho V (1 - psibar)/(dim+1),
-!> psibar = mean of Psi_e over the element (enrichment_t%mass_fraction; not the 3-point edge
-!> rule, which would give m_e = 0). A standard linear element gives rho V/(dim+1) per corner.
-!> The element sum of these is rho V exactly (up to round-off).
-!> Nodes of rigid parts only get no mass here (rigid bodies carry their own).
-!> Every rank computes all masses from the global model, elements in ascending order, so the
-!> values are the same bits on every rank and for any number of ranks; a rank takes its
-!> share as mass(layout%node_global).
+!> The ME-FEM element is P1 plus a bubble in hierarchical form (mefem_cells): u = sum N_I u_I
+!> + Psi_e b_e. Per ME-FEM element of volume V (area with unit thickness in 2D), density rho:
+!> - each corner rho V/(dim+1), the integral of rho N_I: the corners carry the whole mass, so
+!>   translation, total mass and momentum are exact whatever the bubble's mass;
+!> - the enriched node (bubble amplitude b_e), two uses:
+!>   inertia (explicit solver): rho V bubble_mass_ratio (default dim kappa^2, doc/theory.md
+!>   7: the bubble of a regular element then has the frequency bound of its corners; the
+!>   bubble carries no translation, so its inertia is free to choose: selective mass);
+!>   load (body loads of the static analyses): rho V psibar, the integral of rho Psi_e
+!>   (psibar = enrichment_t%mass_fraction), the consistent load on b_e.
+!> A standard linear element gives rho V/(dim+1) per corner. Nodes of rigid parts only get no
+!> mass here (rigid bodies carry their own). Every rank computes all masses from the global
+!> model, elements in ascending order, so the values are the same bits on every rank and for
+!> any number of ranks; a rank takes its share as mass(layout%node_global).
 module mefem_lumped_mass
   use mefem_kinds, only: wp
   use mefem_vector_math, only: cross
@@ -23,13 +26,15 @@ module mefem_lumped_mass
 
 contains
 
-  !> Lumped mass of every node: mesh nodes 1..n_mesh_nodes, then the enriched nodes.
-  subroutine lumped_mass(model, cells, mass)
+  !> Lumped mass of every node: mesh nodes 1..n_mesh_nodes, then the enriched nodes (their
+  !> inertia, or the mass their body load acts on).
+  subroutine lumped_mass(model, cells, inertia, mass)
     type(model_t), intent(in) :: model                 !< resolved model (densities, geometry)
     type(cells_t), intent(in) :: cells                 !< cells built from the same model
+    logical, intent(in) :: inertia                     !< enriched nodes: inertia, else load
     real(wp), allocatable, intent(out) :: mass(:)      !< (n_mesh_nodes + n_enriched) masses
     integer, allocatable :: standard_cell(:)
-    real(wp) :: rho, volume, psibar, corner_share
+    real(wp) :: rho, volume, bubble, corner_share
     integer :: nv, e, c, material
 
     nv = cells%dim + 1
@@ -41,16 +46,16 @@ contains
     do c = 1, cells%n
       if (cells%enriched_of(cells%elements(1, c)) == 0) standard_cell(cells%elements(1, c)) = c
     end do
-    psibar = cells%enrichment%mass_fraction
+    bubble = merge(cells%enrichment%bubble_mass_ratio, cells%enrichment%mass_fraction, inertia)
 
     do e = 1, model%elements%n
       if (cells%enriched_of(e) > 0) then
         material = model%parts(model%elements%part(e))%material
         rho = model%materials(material)%density
         volume = simplex_measure(cells%dim, model%nodes%x(:, model%elements%conn(1:nv, e)))
-        corner_share = rho*volume*(1.0_wp - psibar)/real(nv, wp)
+        corner_share = rho*volume/real(nv, wp)
         mass(model%elements%conn(1:nv, e)) = mass(model%elements%conn(1:nv, e)) + corner_share
-        mass(cells%enriched_of(e)) = mass(cells%enriched_of(e)) + rho*volume*psibar
+        mass(cells%enriched_of(e)) = mass(cells%enriched_of(e)) + rho*volume*bubble
       else if (standard_cell(e) > 0) then
         c = standard_cell(e)
         rho = model%materials(cells%material(c))%density

@@ -27,7 +27,8 @@ module mefem_stable_time_step
   private
 
   public :: cell_mass_shares, cell_inverse_mass_metric, cell_critical_omega_squared, &
-            symmetric_max_eigenvalue, block_critical_omega_squared
+            symmetric_max_eigenvalue, block_critical_omega_squared, cell_split_weights, &
+            inverse_mass_metric
 
   !> Chebyshev coefficients of y(x) = cos(acos(r)/3) = cos(2/3 acos(t)), t = sqrt((1 + r)/2),
   !> x = 2 t - 1 in [-1, 1] (y is analytic there: no square-root singularity at r = -1 or 1),
@@ -63,9 +64,9 @@ contains
 
   !> Nodal mass shares of the cells in `list`: share(j, k) is the mass of node
   !> cells%nodes(j, list(k)) that cell list(k) carries. ME-FEM: each element's corner mass
-  !> rho V (1 - psibar)/(dim+1) and enriched mass rho V psibar, divided by dim+1 (one share per
-  !> side); standard: rho V/(dim+1) per corner. Summed over all cells they give lumped_mass
-  !> (same formulas; up to round-off). Each cell's shares depend on that cell alone, so a
+  !> rho V/(dim+1) and the inertia of its bubble dof rho V bubble_mass_ratio, divided by dim+1
+  !> (one share per side); standard: rho V/(dim+1) per corner. Summed over all cells they give
+  !> lumped_mass with inertia (same formulas; up to round-off). Each cell's shares depend on that cell alone, so a
   !> rank asks for its own cells only (the same bits as from the list of all cells).
   subroutine cell_mass_shares(model, cells, list, share)
     type(model_t), intent(in) :: model                 !< resolved model (densities, geometry)
@@ -73,10 +74,10 @@ contains
     integer, intent(in) :: list(:)                     !< cells wanted
     real(wp), allocatable, intent(out) :: share(:,:)   !< (CELL_MAX_NODES, size(list)) shares
     integer :: nv, k, c, slot, e, local, material
-    real(wp) :: rho, volume, psibar, corner_share, enriched_share
+    real(wp) :: rho, volume, bubble, corner_share, enriched_share
 
     nv = cells%dim + 1
-    psibar = cells%enrichment%mass_fraction
+    bubble = cells%enrichment%bubble_mass_ratio
     allocate(share(CELL_MAX_NODES, size(list)))
     share = 0.0_wp
     do k = 1, size(list)
@@ -93,8 +94,8 @@ contains
         material = model%parts(model%elements%part(e))%material
         rho = model%materials(material)%density
         volume = simplex_measure(cells%dim, model%nodes%x(:, model%elements%conn(1:nv, e)))
-        corner_share = rho*volume*(1.0_wp - psibar)/real(nv, wp)
-        enriched_share = rho*volume*psibar
+        corner_share = rho*volume/real(nv, wp)
+        enriched_share = rho*volume*bubble
         do local = 1, nv
           call add_share(cells, c, model%elements%conn(local, e), corner_share/real(nv, wp), &
                          share(:, k))
@@ -130,22 +131,86 @@ contains
     integer, intent(in) :: list(:)                     !< cells wanted
     real(wp), intent(in) :: share(:,:)                 !< (CELL_MAX_NODES, size(list)) shares
     real(wp), allocatable, intent(out) :: w0(:,:,:)    !< (dim, dim, size(list)) metric
-    integer :: dim, k, c, j, a, b
+    integer :: dim, k, c
     dim = cells%dim
     allocate(w0(dim, dim, size(list)))
-    w0 = 0.0_wp
     do k = 1, size(list)
       c = list(k)
-      do j = 1, cells%nnodes(c)
-        if (.not. (share(j, k) > 0.0_wp)) cycle
-        do b = 1, dim
-          do a = 1, dim
-            w0(a, b, k) = w0(a, b, k) + cells%grad(a, j, c)*cells%grad(b, j, c)/share(j, k)
-          end do
+      call inverse_mass_metric(dim, cells%nnodes(c), cells%grad(:, :, c), share(:, k), &
+                               w0(:, :, k))
+    end do
+  end subroutine cell_inverse_mass_metric
+
+  !> Inverse-mass metric of one cell: w0 = sum_a g_a g_a^T / m_a over its nn nodes (a node
+  !> with zero share skipped: its gradient must be zero for the bound to hold).
+  pure subroutine inverse_mass_metric(dim, nn, grad, share, w0)
+    integer, intent(in) :: dim                   !< 2 or 3
+    integer, intent(in) :: nn                    !< nodes of the cell
+    real(wp), intent(in) :: grad(:,:)            !< (>= dim, >= nn) reference gradients
+    real(wp), intent(in) :: share(:)             !< (>= nn) mass shares
+    real(wp), intent(out) :: w0(:,:)             !< (dim, dim) metric
+    integer :: j, a, b
+    w0(1:dim, 1:dim) = 0.0_wp
+    do j = 1, nn
+      if (.not. (share(j) > 0.0_wp)) cycle
+      do b = 1, dim
+        do a = 1, dim
+          w0(a, b) = w0(a, b) + grad(a, j)*grad(b, j)/share(j)
         end do
       end do
     end do
-  end subroutine cell_inverse_mass_metric
+  end subroutine inverse_mass_metric
+
+  !> Weights of the stiffness-weighted mass split (doc/theory.md 7) of one cell at the
+  !> deformation gradient f: node a takes k_a = sqrt(J A |F^-T g_a|^2), the square root of
+  !> its diagonal stiffness in the cell per unit modulus. A node's mass m is then shared among
+  !> its cells in proportion to these weights, m k_a / sum over its cells of k. Any split
+  !> that sums to m keeps the element-eigenvalue bound valid; this one gives the stiff cells
+  !> more of the mass and so bounds the true step more closely. Evaluated as
+  !> sqrt(A/J) |adj(F)^T g_a| (adj(F) = J F^-1); plane strain with the in-plane adjugate and
+  !> J = J2 F_33. J <= 0: the reference weights sqrt(A) |g_a| (the cell fails anyway).
+  pure subroutine cell_split_weights(dim, nn, weight, grad, f, k)
+    integer, intent(in) :: dim                   !< 2 (plane strain) or 3
+    integer, intent(in) :: nn                    !< nodes of the cell
+    real(wp), intent(in) :: weight               !< reference area (unit thickness) or volume
+    real(wp), intent(in) :: grad(:,:)            !< (>= dim, >= nn) reference gradients
+    real(wp), intent(in) :: f(3, 3)              !< deformation gradient (F33 = 1 in 2D)
+    real(wp), intent(out) :: k(:)                !< (>= nn) the weights
+    real(wp) :: adj(3, 3), det, scale, q(3)
+    integer :: a
+    adj = 0.0_wp
+    if (dim == 3) then
+      adj(1, 1) = f(2, 2)*f(3, 3) - f(2, 3)*f(3, 2)
+      adj(1, 2) = f(1, 3)*f(3, 2) - f(1, 2)*f(3, 3)
+      adj(1, 3) = f(1, 2)*f(2, 3) - f(1, 3)*f(2, 2)
+      adj(2, 1) = f(2, 3)*f(3, 1) - f(2, 1)*f(3, 3)
+      adj(2, 2) = f(1, 1)*f(3, 3) - f(1, 3)*f(3, 1)
+      adj(2, 3) = f(1, 3)*f(2, 1) - f(1, 1)*f(2, 3)
+      adj(3, 1) = f(2, 1)*f(3, 2) - f(2, 2)*f(3, 1)
+      adj(3, 2) = f(1, 2)*f(3, 1) - f(1, 1)*f(3, 2)
+      adj(3, 3) = f(1, 1)*f(2, 2) - f(1, 2)*f(2, 1)
+      det = f(1, 1)*adj(1, 1) + f(1, 2)*adj(2, 1) + f(1, 3)*adj(3, 1)
+      scale = weight/det
+    else
+      adj(1, 1) = f(2, 2)
+      adj(1, 2) = -f(1, 2)
+      adj(2, 1) = -f(2, 1)
+      adj(2, 2) = f(1, 1)
+      det = f(1, 1)*f(2, 2) - f(1, 2)*f(2, 1)
+      scale = weight*f(3, 3)/det
+    end if
+    if (.not. (det > 0.0_wp)) then
+      do a = 1, nn
+        k(a) = sqrt(weight)*norm2(grad(1:dim, a))
+      end do
+      return
+    end if
+    scale = sqrt(scale)
+    do a = 1, nn
+      q(1:dim) = matmul(grad(1:dim, a), adj(1:dim, 1:dim))       ! (adj^T g)^T = g^T adj
+      k(a) = scale*norm2(q(1:dim))
+    end do
+  end subroutine cell_split_weights
 
   !> Upper bound of omega^2 of one cell at the deformation gradient f:
   !>   J weight (max(lambda, 0) tr W + 2 mu lambda_max(W)),  W = F^-T W0 F^-1,  J = det F,

@@ -26,6 +26,9 @@ module mefem_read_controls
   integer, parameter :: DATABASE_GLSTAT = 1, DATABASE_RCFORC = 2, DATABASE_NODOUT = 3
 
   integer, parameter :: W_10(8) = 10   !< standard 8 x 10 card
+  !> largest *MEFEM_ENRICHMENT BMASS accepted (bubble inertia 100 times the element's mass:
+  !> far beyond any use; the default is 2.05 for tets, 0.79 for triangles)
+  real(wp), parameter :: MAX_BUBBLE_MASS = 100.0_wp
 
   !> What a parameter's type and name must be (for the messages)
   character(len=*), parameter :: NAME_RULE = '(a type letter, then a name of up to 32 '// &
@@ -575,9 +578,10 @@ contains
     src(n) = source_t(card%file, card%line)
   end subroutine append_id
 
-  !> *MEFEM_ENRICHMENT: SUPPORT BASIS. SUPPORT is the ratio a/L of the support radius of the
-  !> meshfree (GMF) enrichment to the element size (default 1.5; > 1 so that the support
-  !> reaches beyond the element, <= 3); BASIS 1 = atan GMF basis (default), 2 = exp.
+  !> *MEFEM_ENRICHMENT: SUPPORT BASIS BMASS. SUPPORT is the ratio a/L of the support radius of
+  !> the meshfree (GMF) enrichment to the element size (default 1.5; > 1 so that the support
+  !> reaches beyond the element, <= 3); BASIS 1 = atan GMF basis (default), 2 = exp; BMASS the
+  !> explicit solver's inertia of the bubble dof over rho V (0 or blank: dim kappa^2).
   subroutine read_mefem_enrichment(rd, model)
     type(reader_t), intent(inout) :: rd      !< reading state
     type(model_t), intent(inout) :: model    !< model receiving the controls
@@ -592,6 +596,7 @@ contains
     associate (c => model%controls)
       call get_real(card, 1, 'SUPPORT', c%support_radius, default=1.5_wp)
       call get_int(card, 2, 'BASIS', c%gmf_basis, default=1)
+      call get_real(card, 3, 'BMASS', c%bubble_mass, default=0.0_wp)
       if (c%support_radius == 0.0_wp) c%support_radius = 1.5_wp
       if (c%gmf_basis == 0) c%gmf_basis = 1
       if (.not. card%bad) then
@@ -600,6 +605,9 @@ contains
             'the element (got '//rtoa(c%support_radius)//')')
         if (c%gmf_basis /= 1 .and. c%gmf_basis /= 2) call card_error(card, 'field BASIS '// &
             'must be 1 (atan) or 2 (exp) (got '//itoa(c%gmf_basis)//')')
+        if (c%bubble_mass < 0.0_wp .or. c%bubble_mass > MAX_BUBBLE_MASS) call card_error(card, &
+            'field BMASS (bubble inertia / rho V) must be 0 (default) or in (0, '// &
+            rtoa(MAX_BUBBLE_MASS)//'] (got '//rtoa(c%bubble_mass)//')')
       end if
     end associate
     call skip_remaining(rd)

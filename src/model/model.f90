@@ -255,6 +255,7 @@ module mefem_model
     ! *MEFEM_ENRICHMENT
     real(wp) :: support_radius = 1.5_wp       !< a/L of the GMF approximation
     integer :: gmf_basis = 1                  !< 1 atan, 2 exp
+    real(wp) :: bubble_mass = 0.0_wp          !< explicit bubble inertia / (rho V); 0 default
     character(len=80) :: title = ''
   end type controls_t
 

@@ -16,12 +16,13 @@ module mefem_explicit_cell_forces
   use mefem_errors, only: status_t
   use mefem_strings, only: itoa
   use mefem_model, only: model_t
-  use mefem_halo, only: halo_t, halo_assemble_start, halo_assembly_push_nodes
+  use mefem_halo, only: halo_t, halo_assemble, halo_assemble_start, halo_assembly_push_nodes
   use mefem_cells, only: cells_t, CELL_MAX_NODES
   use mefem_cell_finite_strain, only: cell_deformation_gradient, cell_internal_force, &
                                       block_deformation_gradient, block_adjugate, &
                                       block_internal_force
-  use mefem_stable_time_step, only: cell_critical_omega_squared, block_critical_omega_squared
+  use mefem_stable_time_step, only: cell_critical_omega_squared, block_critical_omega_squared, &
+                                    cell_split_weights, inverse_mass_metric
   use mefem_material_state, only: NHIST, material_state_init, BLOCK_CELLS => BLOCK_POINTS
   use mefem_material_update, only: material_update, material_update_block
   use mefem_explicit_state, only: explicit_state_t, set_to_zero, state_peer_view
@@ -32,6 +33,7 @@ module mefem_explicit_cell_forces
   private
 
   public :: explicit_cells_set_up, explicit_cell_loop, block_cell_data, explicit_blocks_group
+  public :: explicit_mass_split
   public :: explicit_steal_set_up, explicit_steal_tear_down
 
 contains
@@ -562,6 +564,67 @@ contains
       end do
     end do
   end subroutine plan_pushed_assembly
+
+  !> Stiffness-weighted mass split of the local cells at the current displacements
+  !> (doc/theory.md 7): every cell's weights (cell_split_weights), their sums at the nodes
+  !> over all cells (the halo's assembly, in the same order whatever the number of ranks, so
+  !> the same bits), then each cell's mass shares m_node k_a / sum k, with m_node the lumped
+  !> mass without mass scaling, and its inverse-mass metric, which the step bound reads from
+  !> then on (with mass scaling, the shares that carry the added mass too). Called at set-up
+  !> and every MASS_SPLIT_INTERVAL cycles by the driver: any split is a valid one, so
+  !> between the calls the bound stays safe and only less sharp.
+  subroutine explicit_mass_split(s, halo)
+    type(explicit_state_t), intent(inout) :: s        !< local state (blocks built)
+    type(halo_t), intent(inout) :: halo               !< the halo of the force assembly
+    real(wp), allocatable :: weights(:,:,:), sums(:,:)
+    real(wp) :: grad(3, CELL_MAX_NODES), w0(3, 3), hist(NHIST), ue(3, CELL_MAX_NODES), f(3, 3)
+    real(wp) :: share(CELL_MAX_NODES)
+    integer :: dim, l, nn, k, node
+    dim = s%dim
+    allocate(weights(1, CELL_MAX_NODES, s%ncell), sums(1, halo%ntarget))
+    weights = 0.0_wp
+    do l = 1, s%ncell
+      nn = s%nnodes(l)
+      call local_cell_gradients(l)
+      do k = 1, nn
+        ue(1:dim, k) = s%u(1:dim, s%nodes(k, l))
+      end do
+      call cell_deformation_gradient(dim, nn, grad(1:dim, :), ue(1:dim, 1:nn), f)
+      call cell_split_weights(dim, nn, s%weight(l), grad, f, weights(1, :, l))
+    end do
+    call halo_assemble(halo, weights, sums)
+    do l = 1, s%ncell
+      nn = s%nnodes(l)
+      call local_cell_gradients(l)
+      share = 0.0_wp
+      do k = 1, nn
+        node = s%nodes(k, l)
+        if (sums(1, node) > 0.0_wp) share(k) = s%physical_mass(node)*weights(1, k, l)/ &
+                                               sums(1, node)
+      end do
+      call inverse_mass_metric(dim, nn, grad, share, w0)
+      if (s%nblock > 0) then
+        s%block_w0(s%cell_slot(l), :, s%cell_block(l)) = reshape(w0, [9])
+      else
+        s%w0(:, :, l) = w0(1:dim, 1:dim)
+      end if
+      if (s%mass_scaling) s%share(1:nn, l) = share(1:nn)
+    end do
+
+  contains
+
+    !> grad: the reference gradients of local cell l (blocks in 3D, per-cell array in 2D).
+    subroutine local_cell_gradients(l)
+      integer, intent(in) :: l                        !< local cell
+      if (s%nblock > 0) then
+        call block_cell_data(s, l, grad, w0, hist)
+      else
+        grad = 0.0_wp
+        grad(1:dim, :) = s%grad(:, :, l)
+      end if
+    end subroutine local_cell_gradients
+
+  end subroutine explicit_mass_split
 
   !> The model element a local cell belongs to (the first of its one or two elements).
   integer function first_element(s, l)

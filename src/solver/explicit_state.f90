@@ -78,6 +78,9 @@ module mefem_explicit_state
     integer, allocatable :: node_global(:)     !< (nnode) global node (mesh, then enriched)
     logical, allocatable :: owned(:)           !< (nnode) this rank owns the node
     logical, allocatable :: active(:)          !< (nnode) has mass: integrated
+    logical, allocatable :: bubble(:)          !< (nnode) an enriched node: its dof is the
+                                               !< bubble amplitude (no translation, no
+                                               !< momentum; its mass is inertia only)
     logical, allocatable :: fixed(:,:)         !< (dim, nnode) SPC / TC fixed dof
     logical :: spc_in_time = .false.           !< an SPC has a BIRTH or DEATH time
     logical, allocatable :: driven(:,:)        !< (dim, nnode) dof moved by a motion this cycle

@@ -425,7 +425,7 @@ contains
     type(cells_t), intent(in) :: cells              !< cells
     logical, allocatable :: loaded(:)
     if (allocated(loaded_mass)) deallocate(loaded_mass)
-    call lumped_mass(model, cells, loaded_mass)
+    call lumped_mass(model, cells, .false., loaded_mass)
     if (model%n_body_loads == 0) then
       loaded_mass = 0.0_wp
       return

@@ -73,7 +73,7 @@ contains
       block
         real(wp), allocatable :: mass(:)
         logical, allocatable :: loaded(:)
-        call lumped_mass(model, cells, mass)
+        call lumped_mass(model, cells, .false., mass)
         call body_load_nodes(model, cells, loaded)
         where (.not. loaded) mass = 0.0_wp
         call add_body_forces(body_acceleration(model, t_end), mass, force)

@@ -32,7 +32,7 @@ EXE = os.path.join(ROOT, 'bin', 'mefem')
 DECK = os.path.join(ROOT, 'input', 'taylor_bar.k')
 IMPLICIT_DECK = os.path.join(ROOT, 'input', 'punch', 'punch_u1_mefem.k')
 TIMEOUT = 300
-CYCLES = 2950
+MIN_CYCLES = 300     # the bar must run past a few looks for d3kil (every 100 cycles)
 
 failures = 0
 
@@ -106,8 +106,10 @@ def main():
         plain = fresh(scratch, 'plain', None)
         rc, log = run(plain)
         plain_times = state_times(plain)
-        report(rc == 0 and cycles_run(log) == CYCLES and len(plain_times) > 2,
-               'the bar without d3kil runs to the end', f'exit {rc}, {cycles_run(log)} cycles')
+        CYCLES = cycles_run(log) or 0    # what every run that goes on to the end must reach
+        report(rc == 0 and CYCLES >= MIN_CYCLES and len(plain_times) > 2,
+               'the bar without d3kil runs to the end (past a few looks for d3kil)',
+               f'exit {rc}, {CYCLES} cycles')
 
         work = fresh(scratch, 'sw1', 'sw1\n')
         rc, log = run(work, ranks=2)
@@ -116,10 +118,13 @@ def main():
         report(rc == 0 and cycles_run(log) == 100 and 'd3kil (sw1): stopped at cycle 100' in log,
                'sw1 (2 ranks): stops after cycle 100 with exit 0 and says so',
                f'exit {rc}, {cycles_run(log)} cycles: {log[-400:]}')
-        report(len(times) == 2 and times[0] == 0.0 and last is not None and
-               abs(times[1] - last) <= 1e-6*last,
-               'sw1: the states of t = 0 and of the time reached, glstat up to that time',
-               f'states {times}, glstat last {last}')
+        # the plain run's states before the stop, then one of the time reached (cycle 100)
+        time_100 = last if last is not None else -1.0
+        expected = [t for t in plain_times if t < time_100*(1 - 1e-6)] + [time_100]
+        report(last is not None and len(times) == len(expected) and
+               all(abs(a - b) <= 1e-6*time_100 for a, b in zip(times, expected)),
+               'sw1: the regular states before the stop and one of the time reached, glstat up '
+               'to that time', f'states {times}, expected {expected}, glstat last {last}')
         report(not os.path.exists(os.path.join(work, 'd3kil')), 'sw1: d3kil deleted')
 
         work = fresh(scratch, 'empty', '')
@@ -135,9 +140,9 @@ def main():
                len(extra) == 1 and 'd3kil (sw4): result state written at cycle 100' in log,
                'sw4 in the output directory: one state more, the run goes on to the end',
                f'exit {rc}, {cycles_run(log)} cycles, states {len(times)} vs {len(plain_times)}')
-        report(len(extra) == 1 and 0.0 < extra[0] < plain_times[1],
-               'sw4: the extra state is at the time of cycle 100 (before the first regular one)',
-               f'extra {extra}')
+        report(len(extra) == 1 and abs(extra[0] - time_100) <= 1e-6*time_100,
+               'sw4: the extra state is at the time of cycle 100 (that sw1 stopped at)',
+               f'extra {extra}, cycle 100 at {time_100}')
         report(not os.path.exists(os.path.join(work, 'out', 'd3kil')), 'sw4: d3kil deleted')
 
         work = fresh(scratch, 'sw2', 'sw2\n')

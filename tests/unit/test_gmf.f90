@@ -163,7 +163,7 @@ contains
     character(len=16) :: tag
     do i = 1, 5
       write(tag, '(a,f4.2)') 'a/L=', RATIOS(i)
-      call enrichment_setup(2, GMF_ATAN, RATIOS(i), en, status)
+      call enrichment_setup(2, GMF_ATAN, RATIOS(i), 0.0_wp, en, status)
       call check(status%ok, '2D atan setup '//tag)
       ! kappa: the table's 5 decimals (its own extrapolation is finer than that)
       call check_close(en%kappa, KAPPA_2D(i), 0.0_wp, '2D atan kappa '//tag, atol=1.0e-5_wp)
@@ -177,11 +177,11 @@ contains
       ! the table's centroid rule on 3200 sub-triangles errs by about 3e-4 (O(h^2))
       call check_close(en%mass_fraction, MEAN_2D_ATAN(i), 0.0_wp, '2D atan mean '//tag, &
           atol=5.0e-4_wp)
-      call enrichment_setup(2, GMF_EXP, RATIOS(i), en, status)
+      call enrichment_setup(2, GMF_EXP, RATIOS(i), 0.0_wp, en, status)
       call check_close(en%kappa, 1.0_wp, 1.0e-7_wp, '2D exp kappa = 1 '//tag)
       call check_close(en%mass_fraction, MEAN_2D_EXP(i), 0.0_wp, '2D exp mean '//tag, &
           atol=5.0e-4_wp)
-      call enrichment_setup(3, GMF_ATAN, RATIOS(i), en, status)
+      call enrichment_setup(3, GMF_ATAN, RATIOS(i), 0.0_wp, en, status)
       call check(status%ok, '3D atan setup '//tag)
       call check_close(en%kappa, KAPPA_3D(i), 0.0_wp, '3D atan kappa '//tag, atol=1.0e-4_wp)
       altitude = sqrt(2.0_wp/3.0_wp)
@@ -194,7 +194,7 @@ contains
       ! the table's Monte Carlo means are +-0.001 (a/L 1.25-2) and +-0.003 (1.1, 3.0)
       call check_close(en%mass_fraction, MEAN_3D_ATAN(i), 0.0_wp, '3D atan mean '//tag, &
           atol=merge(1.5e-3_wp, 3.0e-3_wp, i >= 2 .and. i <= 4))
-      call enrichment_setup(3, GMF_EXP, RATIOS(i), en, status)
+      call enrichment_setup(3, GMF_EXP, RATIOS(i), 0.0_wp, en, status)
       call check_close(en%kappa, 1.0_wp, 1.0e-7_wp, '3D exp kappa = 1 '//tag)
       call check_close(en%mass_fraction, MEAN_3D_EXP(i), 0.0_wp, '3D exp mean '//tag, &
           atol=merge(1.5e-3_wp, 3.0e-3_wp, i >= 2 .and. i <= 4))
@@ -205,7 +205,7 @@ contains
   subroutine test_bad_support()
     type(enrichment_t) :: en
     type(status_t) :: status
-    call enrichment_setup(2, GMF_ATAN, 0.9_wp, en, status)
+    call enrichment_setup(2, GMF_ATAN, 0.9_wp, 0.0_wp, en, status)
     call check(.not. status%ok .and. allocated(status%message), 'a/L <= 1 is refused')
   end subroutine test_bad_support
 

@@ -804,36 +804,53 @@ contains
 
   ! ------------------------------------------------------------------ lumped mass
 
-  !> Total mass, positivity and the enriched share.
+  !> Total mass, positivity and the enriched nodes' load and inertia (hierarchical form: the
+  !> mesh nodes carry the whole mass; an enriched node carries rho V psibar as the mass its
+  !> body load acts on, rho V bubble_mass_ratio as the explicit inertia of its bubble dof).
   subroutine check_lumped_mass(mesh, model, cells)
     character(len=*), intent(in) :: mesh                  !< name
     type(model_t), intent(in) :: model                    !< model
     type(cells_t), intent(in) :: cells                    !< cells
-    real(wp), allocatable :: mass(:)
-    real(wp) :: psibar, share, worst, enriched_total, mefem_volume, table, table_tolerance
-    integer :: e
+    real(wp), allocatable :: load(:), inertia(:)
+    real(wp) :: psibar, ratio, worst_load, worst_inertia, enriched_total, mefem_volume, table, &
+                table_tolerance, kappa
+    integer :: e, n_mesh
 
-    call lumped_mass(model, cells, mass)
-    call check(size(mass) == cells%n_mesh_nodes + cells%n_enriched .and. cells%n_enriched > 0, &
+    call lumped_mass(model, cells, .false., load)
+    call lumped_mass(model, cells, .true., inertia)
+    call check(size(load) == cells%n_mesh_nodes + cells%n_enriched .and. cells%n_enriched > 0, &
                mesh//': one mass per mesh and enriched node')
+    n_mesh = cells%n_mesh_nodes
     ! each part has unit volume (area): [0,1] x [0,1] (x [0,1]) and [1,2] x ...
-    call check_close(sum(mass), DENSITY_MEFEM + DENSITY_STANDARD, 1.0e-12_wp, &
-                     mesh//': total mass = sum of rho x volume')
-    call check(all(mass > 0.0_wp), mesh//': every node has positive mass')
+    call check_close(sum(load(1:n_mesh)), DENSITY_MEFEM + DENSITY_STANDARD, 1.0e-12_wp, &
+                     mesh//': mass of the mesh nodes = sum of rho x volume')
+    call check(all(load(1:n_mesh) == inertia(1:n_mesh)), &
+               mesh//': mesh nodes: the same mass for loads and inertia')
+    call check(all(load > 0.0_wp) .and. all(inertia > 0.0_wp), &
+               mesh//': every node has positive mass')
     psibar = cells%enrichment%mass_fraction
-    worst = 0.0_wp
+    kappa = cells%enrichment%kappa
+    ratio = cells%enrichment%bubble_mass_ratio
+    call check_close(ratio, real(model%dimension, wp)*kappa**2, 1.0e-15_wp, &
+                     mesh//': default bubble inertia = dim kappa^2 rho V')
+    worst_load = 0.0_wp
+    worst_inertia = 0.0_wp
     enriched_total = 0.0_wp
     mefem_volume = 0.0_wp
     do e = 1, model%elements%n
       if (cells%enriched_of(e) == 0) cycle
-      share = mass(cells%enriched_of(e))/(DENSITY_MEFEM*element_measure(model, e))
-      worst = max(worst, abs(share - psibar))
-      enriched_total = enriched_total + mass(cells%enriched_of(e))
+      worst_load = max(worst_load, abs(load(cells%enriched_of(e))/ &
+                                       (DENSITY_MEFEM*element_measure(model, e)) - psibar))
+      worst_inertia = max(worst_inertia, abs(inertia(cells%enriched_of(e))/ &
+                                             (DENSITY_MEFEM*element_measure(model, e)) - ratio))
+      enriched_total = enriched_total + load(cells%enriched_of(e))
       mefem_volume = mefem_volume + element_measure(model, e)
     end do
-    call check(worst <= 1.0e-12_wp*psibar, mesh//': enriched node mass = rho V psibar')
+    call check(worst_load <= 1.0e-12_wp*psibar, mesh//': enriched node load mass = rho V psibar')
+    call check(worst_inertia <= 1.0e-12_wp*ratio, &
+               mesh//': enriched node inertia = rho V bubble_mass_ratio')
     call check_close(enriched_total, DENSITY_MEFEM*psibar, 1.0e-12_wp, &
-                     mesh//': enriched nodes carry psibar of the ME-FEM part''s mass')
+                     mesh//': enriched nodes carry psibar of the ME-FEM part''s mass as load')
     call check_close(mefem_volume, 1.0_wp, 1.0e-12_wp, mesh//': ME-FEM part has unit volume')
     ! psibar from formulation 2.8 (a/L = 1.5, atan): 2D 0.2263 (its centroid rule errs by
     ! about 3e-4), 3D 0.172 +- 0.001 (Monte Carlo); tolerances as in test_gmf

@@ -1,5 +1,6 @@
 """Body loads (*LOAD_BODY_X/_Y/_Z, *LOAD_BODY_PARTS): gravity as a base acceleration, the body
-force -m a on every node (lumped masses, ME-FEM enriched nodes included).
+force -m a on every mesh node (lumped masses; an ME-FEM bubble dof takes rho V psibar a in the
+static analyses, none in the explicit one, where the corners carry the whole mass).
 
 1. explicit free fall of an ME-FEM block: every node falls by g t^2/2, no stress, kinetic
    energy = external work, the same bits on 1 and 2 ranks;
