@@ -5,7 +5,8 @@
 #   make DEBUG=1    debug build (bounds checks, FPE traps): bin/mefem_debug
 #   make run        install, build, run the main example deck
 #   make test       install, build (release + debug), run every test; last line "N passed, N failed"
-#   make bench      benchmarks: deck reading, linear static (ME-FEM vs standard tets); figures
+#   make bench      benchmarks: deck reading, linear static, plasticity, explicit (ns per element-cycle),
+#                   contact, the copper Taylor bar's time to solution per element; figures
 #   make punch      the seed paper's punch study (post/punch_study.py; ~8-12 min)
 #   make sphere     the seed paper's sphere compression (post/sphere_study.py; 2 runs on 2 ranks)
 #   make deps       install the Debian packages that are missing (no-op when all present)
@@ -138,6 +139,7 @@ bench: deps
 	@bash tests/bench/run_plasticity_bench.sh
 	@bash tests/bench/run_explicit_bench.sh
 	@/usr/bin/python3 tests/bench/run_contact_bench.py
+	@/usr/bin/python3 tests/bench/taylor_copper.py --meshes coarse medium
 
 # The seed paper's punch study (doc/verification.md): twenty runs (rigid and nodal punch),
 # figures and tables in doc/verification_data/punch_*; 330 s of CPU, about 8-12 minutes on 2

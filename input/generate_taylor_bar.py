@@ -26,11 +26,37 @@ END_TIME = 60.0e-6       # s
 PLOTS = 12               # output states
 
 
+def quarter_bar_cards(x, tets, speed, gap, end_time, tssfac=0.9):
+    """Cards of a quarter-bar impact (shared with tests/bench/taylor_copper.py): *NODE,
+    *ELEMENT_SOLID (part 1, tets as degenerate hexes), the symmetry planes x = 0 and y = 0
+    (node sets 1, 2), the initial velocity -speed along z, a fixed frictionless
+    *RIGIDWALL_PLANAR at z = -gap (normal +z), *CONTROL_TERMINATION and *CONTROL_TIMESTEP."""
+    sym_x = [k + 1 for k in range(len(x)) if abs(x[k, 0]) < 1e-9]
+    sym_y = [k + 1 for k in range(len(x)) if abs(x[k, 1]) < 1e-9]
+    L = ['*NODE'] + node_lines([(k + 1, p[0], p[1], p[2]) for k, p in enumerate(x)])
+    L += ['*ELEMENT_SOLID']
+    L += ['%8d%8d' % (e + 1, 1) + ''.join('%8d' % (v + 1) for v in list(t) + [t[3]] * 4)
+          for e, t in enumerate(tets)]
+    for sid, nodes in ((1, sym_x), (2, sym_y)):
+        L += ['*SET_NODE_LIST', card(sid)]
+        L += [''.join('%10d' % v for v in nodes[i:i + 8]) for i in range(0, len(nodes), 8)]
+    L += ['$ symmetry planes x = 0 and y = 0',
+          '*BOUNDARY_SPC_SET', heading('nsid', 'cid', 'dofx', 'dofy', 'dofz'), card(1, 0, 1, 0, 0),
+          '*BOUNDARY_SPC_SET', heading('nsid', 'cid', 'dofx', 'dofy', 'dofz'), card(2, 0, 0, 1, 0),
+          '*INITIAL_VELOCITY', heading('nsid'), card(0), heading('vx', 'vy', 'vz'),
+          card(0.0, 0.0, -speed),
+          '$ fixed, frictionless wall: the plane z = -GAP, normal +z (tail -> head)',
+          '*RIGIDWALL_PLANAR', heading('nsid', 'nsidex', 'boxid', 'offset'), card(0, 0, 0, 0.0),
+          heading('xt', 'yt', 'zt', 'xh', 'yh', 'zh', 'fric'),
+          card(0.0, 0.0, -gap, 0.0, 0.0, 1.0, 0.0),
+          '*CONTROL_TERMINATION', heading('endtim'), card(end_time),
+          '*CONTROL_TIMESTEP', heading('dtinit', 'tssfac'), card(0.0, tssfac)]
+    return L
+
+
 def write_deck(path, n_core, n_radial, n_layers):
     x, tets = billet_mesh(n_core, n_radial, n_layers)
     volume, exact, min_altitude, _ = check_mesh(x, tets)
-    sym_x = [k + 1 for k in range(len(x)) if abs(x[k, 0]) < 1e-9]
-    sym_y = [k + 1 for k in range(len(x)) if abs(x[k, 1]) < 1e-9]
     es = [AL_SIGY + AL_K * e ** AL_N for e in AL_EPS]
     axis = [k + 1 for k in range(len(x)) if abs(x[k, 0]) < 1e-9 and abs(x[k, 1]) < 1e-9]
     history = [min(axis, key=lambda k: x[k - 1, 2]), max(axis, key=lambda k: x[k - 1, 2])]
@@ -47,27 +73,9 @@ def write_deck(path, n_core, n_radial, n_layers):
          card(1, AL_RO, AL_E, AL_PR, AL_SIGY, 0.0, 1.0e21, 0.0),
          heading('c', 'p', 'lcss', 'lcsr', 'vp'), card(0.0, 0.0, 0, 0, 0.0),
          heading(*('eps%d' % (i + 1) for i in range(8))), card(*AL_EPS),
-         heading(*('es%d' % (i + 1) for i in range(8))), card(*[round(v, 2) for v in es]),
-         '*NODE']
-    L += node_lines([(k + 1, p[0], p[1], p[2]) for k, p in enumerate(x)])
-    L += ['*ELEMENT_SOLID']
-    L += ['%8d%8d' % (e + 1, 1) + ''.join('%8d' % (v + 1) for v in list(t) + [t[3]] * 4)
-          for e, t in enumerate(tets)]
-    for sid, nodes in ((1, sym_x), (2, sym_y)):
-        L += ['*SET_NODE_LIST', card(sid)]
-        L += [''.join('%10d' % v for v in nodes[i:i + 8]) for i in range(0, len(nodes), 8)]
-    L += ['$ symmetry planes x = 0 and y = 0',
-          '*BOUNDARY_SPC_SET', heading('nsid', 'cid', 'dofx', 'dofy', 'dofz'), card(1, 0, 1, 0, 0),
-          '*BOUNDARY_SPC_SET', heading('nsid', 'cid', 'dofx', 'dofy', 'dofz'), card(2, 0, 0, 1, 0),
-          '*INITIAL_VELOCITY', heading('nsid'), card(0), heading('vx', 'vy', 'vz'),
-          card(0.0, 0.0, -SPEED),
-          '$ fixed, frictionless wall: the plane z = -GAP, normal +z (tail -> head)',
-          '*RIGIDWALL_PLANAR', heading('nsid', 'nsidex', 'boxid', 'offset'), card(0, 0, 0, 0.0),
-          heading('xt', 'yt', 'zt', 'xh', 'yh', 'zh', 'fric'),
-          card(0.0, 0.0, -GAP, 0.0, 0.0, 1.0, 0.0),
-          '*CONTROL_TERMINATION', heading('endtim'), card(END_TIME),
-          '*CONTROL_TIMESTEP', heading('dtinit', 'tssfac'), card(0.0, 0.9),
-          '*DATABASE_BINARY_D3PLOT', heading('dt'), card(END_TIME / PLOTS),
+         heading(*('es%d' % (i + 1) for i in range(8))), card(*[round(v, 2) for v in es])]
+    L += quarter_bar_cards(x, tets, SPEED, GAP, END_TIME)
+    L += ['*DATABASE_BINARY_D3PLOT', heading('dt'), card(END_TIME / PLOTS),
           '*DATABASE_GLSTAT', heading('dt'), card(END_TIME / 200),
           '*DATABASE_NODOUT', heading('dt'), card(END_TIME / 200),
           '*DATABASE_HISTORY_NODE', ''.join('%10d' % v for v in history),

@@ -12,7 +12,8 @@ module mefem_cell_finite_strain
   implicit none
   private
 
-  public :: cell_deformation_gradient, cell_internal_force, cell_tangent, inverse_3x3
+  public :: cell_deformation_gradient, cell_internal_force, cell_tangent, inverse_3x3, &
+            adjugate_3x3
   public :: block_deformation_gradient, block_adjugate, block_internal_force
 
 contains

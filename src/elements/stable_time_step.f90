@@ -23,6 +23,7 @@ module mefem_stable_time_step
   use mefem_cells, only: cells_t, CELL_MAX_NODES
   use mefem_lumped_mass, only: simplex_measure
   use mefem_material_state, only: BLOCK_POINTS
+  use mefem_cell_finite_strain, only: adjugate_3x3
   implicit none
   private
 
@@ -180,16 +181,7 @@ contains
     integer :: a
     adj = 0.0_wp
     if (dim == 3) then
-      adj(1, 1) = f(2, 2)*f(3, 3) - f(2, 3)*f(3, 2)
-      adj(1, 2) = f(1, 3)*f(3, 2) - f(1, 2)*f(3, 3)
-      adj(1, 3) = f(1, 2)*f(2, 3) - f(1, 3)*f(2, 2)
-      adj(2, 1) = f(2, 3)*f(3, 1) - f(2, 1)*f(3, 3)
-      adj(2, 2) = f(1, 1)*f(3, 3) - f(1, 3)*f(3, 1)
-      adj(2, 3) = f(1, 3)*f(2, 1) - f(1, 1)*f(2, 3)
-      adj(3, 1) = f(2, 1)*f(3, 2) - f(2, 2)*f(3, 1)
-      adj(3, 2) = f(1, 2)*f(3, 1) - f(1, 1)*f(3, 2)
-      adj(3, 3) = f(1, 1)*f(2, 2) - f(1, 2)*f(2, 1)
-      det = f(1, 1)*adj(1, 1) + f(1, 2)*adj(2, 1) + f(1, 3)*adj(3, 1)
+      call adjugate_3x3(f, adj, det)
       scale = weight/det
     else
       adj(1, 1) = f(2, 2)
@@ -230,17 +222,7 @@ contains
     real(wp), intent(in) :: mu           !< shear modulus
     real(wp) :: adj(3, 3), det, y(3, 3), w(3, 3), trace_w, lambda_max
     integer :: a, b
-    ! adj(F) (transposed cofactors) and J
-    adj(1, 1) = f(2, 2)*f(3, 3) - f(2, 3)*f(3, 2)
-    adj(1, 2) = f(1, 3)*f(3, 2) - f(1, 2)*f(3, 3)
-    adj(1, 3) = f(1, 2)*f(2, 3) - f(1, 3)*f(2, 2)
-    adj(2, 1) = f(2, 3)*f(3, 1) - f(2, 1)*f(3, 3)
-    adj(2, 2) = f(1, 1)*f(3, 3) - f(1, 3)*f(3, 1)
-    adj(2, 3) = f(1, 3)*f(2, 1) - f(1, 1)*f(2, 3)
-    adj(3, 1) = f(2, 1)*f(3, 2) - f(2, 2)*f(3, 1)
-    adj(3, 2) = f(1, 2)*f(3, 1) - f(1, 1)*f(3, 2)
-    adj(3, 3) = f(1, 1)*f(2, 2) - f(1, 2)*f(2, 1)
-    det = f(1, 1)*adj(1, 1) + f(1, 2)*adj(2, 1) + f(1, 3)*adj(3, 1)
+    call adjugate_3x3(f, adj, det)         ! adj(F) (transposed cofactors) and J
     if (.not. (det > 0.0_wp)) then
       omega_squared = huge(1.0_wp)
       return

@@ -31,6 +31,7 @@ import numpy as np
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 sys.path.insert(0, os.path.join(ROOT, 'input'))
 import generate_main_example as gme  # noqa: E402
+import generate_taylor_bar as gtb  # noqa: E402
 
 LENGTH = 32.4            # mm
 RADIUS = 3.2             # mm
@@ -57,8 +58,6 @@ def bar_mesh(core, radial, layers):
 
 def write_deck(path, elform, mesh, plots=8):
     x, tets = bar_mesh(*MESHES[mesh])
-    sym_x = [k + 1 for k in range(len(x)) if abs(x[k, 0]) < 1e-9]
-    sym_y = [k + 1 for k in range(len(x)) if abs(x[k, 1]) < 1e-9]
     card, heading = gme.card, gme.heading
     L = ['*KEYWORD',
          '$ Copper Taylor bar (Wilkins & Guinan), quarter model, %d tets, ELFORM %d.'
@@ -69,25 +68,9 @@ def write_deck(path, elform, mesh, plots=8):
          '*MAT_PIECEWISE_LINEAR_PLASTICITY',
          heading('mid', 'ro', 'e', 'pr', 'sigy', 'etan', 'fail', 'tdel'),
          card(1, RHO, YOUNG, POISSON, SIGY, ETAN, 1.0e21, 0.0),
-         heading('c', 'p', 'lcss', 'lcsr', 'vp'), card(0.0, 0.0, 0, 0, 0.0),
-         '*NODE']
-    L += gme.node_lines([(k + 1, p[0], p[1], p[2]) for k, p in enumerate(x)])
-    L += ['*ELEMENT_SOLID']
-    L += ['%8d%8d' % (e + 1, 1) + ''.join('%8d' % (v + 1) for v in list(t) + [t[3]] * 4)
-          for e, t in enumerate(tets)]
-    for sid, nodes in ((1, sym_x), (2, sym_y)):
-        L += ['*SET_NODE_LIST', card(sid)]
-        L += [''.join('%10d' % v for v in nodes[i:i + 8]) for i in range(0, len(nodes), 8)]
-    L += ['*BOUNDARY_SPC_SET', heading('nsid', 'cid', 'dofx', 'dofy', 'dofz'), card(1, 0, 1, 0, 0),
-          '*BOUNDARY_SPC_SET', heading('nsid', 'cid', 'dofx', 'dofy', 'dofz'), card(2, 0, 0, 1, 0),
-          '*INITIAL_VELOCITY', heading('nsid'), card(0), heading('vx', 'vy', 'vz'),
-          card(0.0, 0.0, -SPEED),
-          '*RIGIDWALL_PLANAR', heading('nsid', 'nsidex', 'boxid', 'offset'), card(0, 0, 0, 0.0),
-          heading('xt', 'yt', 'zt', 'xh', 'yh', 'zh', 'fric'),
-          card(0.0, 0.0, -GAP, 0.0, 0.0, 1.0, 0.0),
-          '*CONTROL_TERMINATION', heading('endtim'), card(END_TIME),
-          '*CONTROL_TIMESTEP', heading('dtinit', 'tssfac'), card(0.0, 0.9),
-          '*DATABASE_BINARY_D3PLOT', heading('dt'), card(END_TIME / plots),
+         heading('c', 'p', 'lcss', 'lcsr', 'vp'), card(0.0, 0.0, 0, 0, 0.0)]
+    L += gtb.quarter_bar_cards(x, tets, SPEED, GAP, END_TIME)
+    L += ['*DATABASE_BINARY_D3PLOT', heading('dt'), card(END_TIME / plots),
           '*DATABASE_GLSTAT', heading('dt'), card(END_TIME / 80),
           '*END']
     with open(path, 'w') as f:
