@@ -27,7 +27,7 @@ module mefem_read_controls
 
   integer, parameter :: W_10(8) = 10   !< standard 8 x 10 card
   !> largest *MEFEM_ENRICHMENT BMASS accepted (bubble inertia 100 times the element's mass:
-  !> far beyond any use; the default is 2.05 for tets, 0.79 for triangles)
+  !> far beyond any use; the default is 2.05 for tets, 1.43 for triangles)
   real(wp), parameter :: MAX_BUBBLE_MASS = 100.0_wp
 
   !> What a parameter's type and name must be (for the messages)
