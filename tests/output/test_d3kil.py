@@ -1,6 +1,6 @@
 """LS-DYNA's sense switches through a file d3kil (explicit runs; doc/keywords.md): mefem looks
 for it every 100 cycles in the working directory and in the output directory, acts on it and
-deletes it. The Taylor bar (input/taylor_bar.k, 2 950 cycles) with d3kil written before the run,
+deletes it. The Taylor bar (input/taylor_bar.k) with d3kil written before the run,
 so that the switch is found at cycle 100:
 
 1. sw1 in the working directory, 2 ranks: exit 0 after cycle 100, the message, the states of
