@@ -164,9 +164,12 @@ contains
     call sense_switch_warn_leftover()
     do while (t < end_time*(1.0_wp - 1.0e-12_wp))
       dt = min(dt, end_time - t)
-      ! land on the next output time rather than step over it (then go on with the planned dt)
+      ! land on the next output time rather than step over it (then go on with the planned
+      ! dt); an output interval shorter than the step writes every step instead of cutting
+      ! the steps down to it (a deck's DT of 1e-12 made 1e12 steps)
       dt_planned = dt
-      if (next_output > t .and. next_output - t < dt*(1.0_wp + 1.0e-9_wp)) dt = next_output - t
+      if (next_output > t .and. next_output - t < dt*(1.0_wp + 1.0e-9_wp) .and. &
+          output_interval(model) >= dt*(1.0_wp - 1.0e-9_wp)) dt = next_output - t
       step = step + 1
       u_step = u
       ! predictor: the last converged increment extrapolated to this step (free dofs; the
@@ -210,7 +213,7 @@ contains
       if (t >= next_output*(1.0_wp - 1.0e-9_wp) .or. t >= end_time*(1.0_wp - 1.0e-12_wp)) then
         call write_state(model, decomp, cells, u, hist, equation, t, output_step)
         output_step = output_step + 1
-        next_output = next_output + output_interval(model)
+        next_output = next_output_time(next_output, output_interval(model), t)
         written = .true.
       end if
       ! LS-DYNA's d3kil file: stop (the state reached written), status, or a state now
@@ -262,6 +265,19 @@ contains
     call say('implicit: peak memory '//rtoa(memory)//' MiB on rank 0, '//rtoa(memory_max)// &
              ' MiB max over ranks')
   end subroutine report_solver_memory
+
+  !> The first output time of the schedule (next, next + interval, ...) after t, in one step
+  !> (a loop of additions would not end for an interval below t's resolution).
+  pure real(wp) function next_output_time(next, interval, t) result(after)
+    real(wp), intent(in) :: next          !< the output time just reached (or passed)
+    real(wp), intent(in) :: interval      !< output interval (> 0)
+    real(wp), intent(in) :: t             !< time reached
+    after = next + interval
+    if (after <= t*(1.0_wp + 1.0e-9_wp)) after = next + (aint((t - next)/interval) + 1.0_wp)* &
+                                                  interval
+    if (after <= t*(1.0_wp + 1.0e-9_wp)) after = after + interval       ! (rounding of the ratio)
+    if (.not. (after > t)) after = nearest(t, 1.0_wp)
+  end function next_output_time
 
   !> Time between output states: *DATABASE_BINARY_D3PLOT DT (or ENDTIM/NPLTC), else the end.
   real(wp) function output_interval(model)
