@@ -165,11 +165,12 @@ contains
     do while (t < end_time*(1.0_wp - 1.0e-12_wp))
       dt = min(dt, end_time - t)
       ! land on the next output time rather than step over it (then go on with the planned
-      ! dt); an output interval shorter than the step writes every step instead of cutting
-      ! the steps down to it (a deck's DT of 1e-12 made 1e12 steps)
+      ! dt); an output interval below the smallest step the analysis may take (DTMIN) writes
+      ! every step instead of cutting the steps down to it (a deck's DT of 1e-12 made 1e12
+      ! steps)
       dt_planned = dt
       if (next_output > t .and. next_output - t < dt*(1.0_wp + 1.0e-9_wp) .and. &
-          output_interval(model) >= dt*(1.0_wp - 1.0e-9_wp)) dt = next_output - t
+          output_interval(model) >= dt_min) dt = next_output - t
       step = step + 1
       u_step = u
       ! predictor: the last converged increment extrapolated to this step (free dofs; the

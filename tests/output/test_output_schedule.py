@@ -7,7 +7,8 @@ every cycle), and the same deck with the intervals at 0.1 us writes a state ever
 with the same final displacements (the schedule changes no result).
 The implicit analysis (the punch of input/punch/punch_u1_mefem.k, 80 steps of 0.0125) with a
 D3PLOT DT of 1e-12 used to cut every step down to the interval (1 561 states in 30 s); now an
-interval shorter than the step writes every step: 81 states, and the final state is that of
+interval below the smallest step the analysis may take (DTMIN, here 1e-6 ENDTIM) writes every
+step: 81 states, and the final state is that of
 the deck's DT of 0.025 (41 states) up to round-off.
 """
 import os
@@ -118,7 +119,7 @@ if len(finals) == 2:
     print('    implicit punch: DT 1e-12: %d steps, %d states; DT 0.025: %d steps, %d states' % (
         steps_tiny, states_tiny, steps_regular, states_regular))
     checks.check(steps_tiny == steps_regular and states_tiny == steps_tiny + 1,
-                 'implicit: an output interval below the step writes every step and cuts no '
+                 'implicit: an output interval below DTMIN writes every step and cuts no '
                  'step', '%d steps (%d with DT 0.025), %d states' % (steps_tiny, steps_regular,
                                                                      states_tiny))
     # landing on the output times of 0.025 makes the steps next_output - t instead of 0.0125,
