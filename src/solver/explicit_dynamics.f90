@@ -566,8 +566,8 @@ contains
     ! (u^n, v^{n-1/2} and the velocities before the walls act: copied each cycle)
     if (s%nwall > 0) allocate(s%u_old(dim, s%nnode), s%v_old(dim, s%nnode), &
                               s%v_trial(dim, s%nnode))
-    ! the other ranks of this node, whose cell blocks this rank may compute (3D)
     call explicit_mass_split(s, halo)      ! the step bound's mass split at t = 0
+    ! the other ranks of this node, whose cell blocks this rank may compute (3D)
     call explicit_steal_set_up(s)
     call explicit_layout_release_plan(layout)   ! the halo and s hold what the cycles read
   contains
