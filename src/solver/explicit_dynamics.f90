@@ -56,7 +56,7 @@ module mefem_explicit_dynamics
                                        initial_velocities
   use mefem_output_mesh, only: output_field_t
   use mefem_results, only: results_write_state, results_directory, node_set_fields
-  use mefem_solver_common, only: cell_result_fields
+  use mefem_solver_common, only: cell_result_fields, schedule_after
   use mefem_history_output, only: glstat_record_t, glstat_open, glstat_write, glstat_close, &
                                   glstat_total_energy, glstat_energy_ratio, nodout_open, &
                                   nodout_write, nodout_close
@@ -978,21 +978,12 @@ contains
     real(wp), intent(inout) :: last                   !< time last written
     real(wp), intent(in) :: t                         !< time reached
     logical, intent(in) :: final                      !< write now whatever the schedule
-    real(wp) :: intervals
     due = .false.
     if (interval <= 0.0_wp .or. t == last) return
     if (final .or. t >= next - 1.0e-9_wp*interval) then
       due = .true.
       last = t
-      ! the first time of the schedule after t, in one step: an interval far below the cycle's
-      ! step (a deck's DT of 1e-20) would take more additions than the run has cycles, or
-      ! none that changes next, and the cycle loop would never return
-      if (next <= t + 1.0e-9_wp*interval) then
-        intervals = aint((t + 1.0e-9_wp*interval - next)/interval) + 1.0_wp
-        next = next + intervals*interval
-        if (next <= t + 1.0e-9_wp*interval) next = next + interval     ! (rounding of the ratio)
-      end if
-      if (.not. (next > t)) next = nearest(t, 1.0_wp)  ! below t's resolution: every cycle
+      next = schedule_after(next, interval, t)
     end if
   end function due
 

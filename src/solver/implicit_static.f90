@@ -37,7 +37,7 @@ module mefem_implicit_static
   use mefem_results, only: results_write_state
   use mefem_sense_switch, only: sense_switch, sense_switch_warn_leftover, SENSE_STOP, &
                                 SENSE_STATUS, SENSE_STATE
-  use mefem_solver_common, only: number_equations, cell_result_fields
+  use mefem_solver_common, only: number_equations, cell_result_fields, schedule_after
   use mefem_mortar_contact, only: mortar_contact_t, mortar_contact_setup, mortar_contact_forces, &
                                   mortar_contact_slave_rows
   use mefem_curves, only: curve_value
@@ -214,7 +214,7 @@ contains
       if (t >= next_output*(1.0_wp - 1.0e-9_wp) .or. t >= end_time*(1.0_wp - 1.0e-12_wp)) then
         call write_state(model, decomp, cells, u, hist, equation, t, output_step)
         output_step = output_step + 1
-        next_output = next_output_time(next_output, output_interval(model), t)
+        next_output = schedule_after(next_output, output_interval(model), t)
         written = .true.
       end if
       ! LS-DYNA's d3kil file: stop (the state reached written), status, or a state now
@@ -266,19 +266,6 @@ contains
     call say('implicit: peak memory '//rtoa(memory)//' MiB on rank 0, '//rtoa(memory_max)// &
              ' MiB max over ranks')
   end subroutine report_solver_memory
-
-  !> The first output time of the schedule (next, next + interval, ...) after t, in one step
-  !> (a loop of additions would not end for an interval below t's resolution).
-  pure real(wp) function next_output_time(next, interval, t) result(after)
-    real(wp), intent(in) :: next          !< the output time just reached (or passed)
-    real(wp), intent(in) :: interval      !< output interval (> 0)
-    real(wp), intent(in) :: t             !< time reached
-    after = next + interval
-    if (after <= t*(1.0_wp + 1.0e-9_wp)) after = next + (aint((t - next)/interval) + 1.0_wp)* &
-                                                  interval
-    if (after <= t*(1.0_wp + 1.0e-9_wp)) after = after + interval       ! (rounding of the ratio)
-    if (.not. (after > t)) after = nearest(t, 1.0_wp)
-  end function next_output_time
 
   !> Time between output states: *DATABASE_BINARY_D3PLOT DT (or ENDTIM/NPLTC), else the end.
   real(wp) function output_interval(model)

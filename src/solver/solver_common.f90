@@ -8,7 +8,7 @@ module mefem_solver_common
   implicit none
   private
 
-  public :: number_equations, stress_fields, cell_result_fields
+  public :: number_equations, stress_fields, cell_result_fields, schedule_after
 
 contains
 
@@ -123,5 +123,23 @@ contains
     cell_fields(4)%values = reshape(merge(alpha_e/max(ew, tiny(1.0_wp)), 0.0_wp, &
                                           ew > 0.0_wp), [1, decomp%nelem_local])
   end subroutine cell_result_fields
+
+
+  !> The first time of an output schedule (next, next + interval, ...) after t + tol, tol =
+  !> 1e-9 interval, in one step: a loop of additions would take more than a run's cycles for
+  !> an interval far below the step, and none would change next for one below t's resolution
+  !> (a deck's DT of 1e-20). Below that resolution the result is the next number after t, so
+  !> output falls due at every cycle or step.
+  pure real(wp) function schedule_after(next, interval, t) result(after)
+    real(wp), intent(in) :: next          !< the schedule's time just reached (or passed)
+    real(wp), intent(in) :: interval      !< output interval (> 0)
+    real(wp), intent(in) :: t             !< time reached
+    real(wp) :: tol
+    tol = 1.0e-9_wp*interval
+    after = next
+    if (after <= t + tol) after = next + (aint((t + tol - next)/interval) + 1.0_wp)*interval
+    if (after <= t + tol) after = after + interval           ! (rounding of the ratio)
+    if (.not. (after > t)) after = nearest(t, 1.0_wp)
+  end function schedule_after
 
 end module mefem_solver_common
