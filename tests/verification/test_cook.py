@@ -104,6 +104,36 @@ if mefem3 and standard3:
     checks.check(e3[-1] < 0.10, 'ME-FEM tets within 10 % at N=32 (current accuracy)',
                  'error %.3f %%' % (100 * e3[-1]))
 
+# ---- 3D slab: the in-plane cut pattern, not the flatness, decides ------------------------
+# Issue 20's slab (one layer, in-plane size 2x the thickness: N = 24 and 48 at thickness 1)
+# cut from prisms over alternating ("union jack") diagonals instead of the hexahedra's one
+# diagonal. The Kuhn split of the hexahedra is exactly the prism split over one diagonal (same
+# tets), the pattern on which linear elements lock worst. Measured: ME-FEM -2.02 % (N=24),
+# -0.56 % (48); standard tets -3.53 %, -1.10 %; the same-diagonal slab -15.9 %, -4.4 %
+# (doc/verification.md). The issue's targets (5 % at 24, 2 % at 48) are the tolerances; that
+# ME-FEM beats the standard tet on this mesh too is asserted as well. Flatness: the same N=24
+# membrane with thickness 0.5 (in-plane size 4x the thickness) and 4 (half) measured -2.27 %
+# and -1.84 %: within the same 5 %.
+slab = {}
+for n, t in ((24, 1.0), (48, 1.0), (24, 0.5), (24, 4.0)):
+    for elform in (43, 10) if t == 1.0 else (43,):
+        v, s, text = cook_case(n, elform, dim=3, split='prism3', pattern='alternate',
+                               thickness=t, outdir=out)
+        checks.check(v is not None, 'slab N=%d t=%g ELFORM %d: run succeeds' % (n, t, elform),
+                     text[-400:])
+        slab[n, t, elform] = v
+if None not in slab.values():
+    for (n, t, elform), v in sorted(slab.items()):
+        print('    slab (alternating prisms) N=%d thickness %g ELFORM %d: v = %.5f, error '
+              '%.3f %%' % (n, t, elform, v, 100 * error(v)))
+    for n, t, target in ((24, 1.0, 0.05), (48, 1.0, 0.02), (24, 0.5, 0.05), (24, 4.0, 0.05)):
+        checks.check(error(slab[n, t, 43]) < target, 'ME-FEM slab N=%d thickness %g within '
+                     '%g %%' % (n, t, 100 * target), 'error %.3f %%' % (100 * error(slab[n, t, 43])))
+    for n in (24, 48):
+        checks.check(error(slab[n, 1.0, 43]) < error(slab[n, 1.0, 10]),
+                     'ME-FEM slab N=%d more accurate than standard tets' % n, '%.3f %% vs %.3f %%'
+                     % (100 * error(slab[n, 1.0, 43]), 100 * error(slab[n, 1.0, 10])))
+
 # ---- 1 and 2 MPI ranks -----------------------------------------------------------------
 # Same deck, 2D ME-FEM, N=16. Rank counts change how MUMPS distributes the factorisation
 # and the summation order of the assembly (the METIS pivot order is the same), so the
