@@ -578,6 +578,15 @@ contains
         f(2, i) = f(2, i) + values(2, source)
         f(3, i) = f(3, i) + values(3, source)
       end do
+    else if (ncomp == 1) then
+      do i = 1, size(f, 2)
+        f(1, i) = 0.0_wp
+      end do
+      do source = 1, nsource
+        i = halo%source_target(source)
+        if (i == 0) cycle
+        f(1, i) = f(1, i) + values(1, source)
+      end do
     else
       f(1:ncomp, :) = 0.0_wp
       do source = 1, nsource
@@ -596,14 +605,24 @@ contains
     integer, intent(in) :: nsource                 !< slots x local cells
     real(wp), intent(in) :: values(ncomp, nsource) !< cell contributions, one per column
     real(wp), intent(inout) :: f(:,:)              !< (ncomp, ntarget) sums
-    integer :: k, i
+    integer :: k, i, source
     do k = 1, size(halo%kept_zero)
       f(1:ncomp, halo%kept_zero(k)) = 0.0_wp
     end do
-    do k = 1, size(halo%kept_source)
-      i = halo%kept_target(k)
-      f(1:ncomp, i) = f(1:ncomp, i) + values(:, halo%kept_source(k))
-    end do
+    if (ncomp == 3) then                          ! (the forces: written out, no slices)
+      do k = 1, size(halo%kept_source)
+        i = halo%kept_target(k)
+        source = halo%kept_source(k)
+        f(1, i) = f(1, i) + values(1, source)
+        f(2, i) = f(2, i) + values(2, source)
+        f(3, i) = f(3, i) + values(3, source)
+      end do
+    else
+      do k = 1, size(halo%kept_source)
+        i = halo%kept_target(k)
+        f(1:ncomp, i) = f(1:ncomp, i) + values(:, halo%kept_source(k))
+      end do
+    end if
   end subroutine sum_kept_in_plan_order
 
   !> Combined nodes first..last (touched by several chunks, or only by other ranks' chunks):

@@ -2,7 +2,9 @@
 !>
 !> A cell is where the (smoothed) deformation gradient, the stress and the material history
 !> live: for the ME-FEM elements (ELFORM 43) a smoothing domain (one per edge in 2D, per face
-!> in 3D), for the standard linear elements (ELFORM 10, 13) the element itself. Each cell
+!> in 3D), for the linear elements (tetrahedra 10 and 13, triangle 13) the element itself: a
+!> cell of the nodal-pressure tetrahedron (solid ELFORM 13) is flagged (nodal_pressure), and
+!> the explicit solver averages its volume change at the nodes (doc/theory.md 2.7). Each cell
 !> holds its nodes (mesh nodes and the enriched nodes the code creates, one per ME-FEM element,
 !> numbered after the mesh nodes), the gradients of their shape functions in the reference
 !> configuration, smoothed over the cell (formulation 2.6), and its weight (area or volume).
@@ -22,7 +24,7 @@ module mefem_cells
   use mefem_errors, only: status_t, say
   use mefem_strings, only: itoa, rtoa
   use mefem_model, only: model_t, MAT_RIGID, ELEM_SOLID, ELEM_SHELL
-  use mefem_model_resolve, only: ELFORM_MEFEM
+  use mefem_model_resolve, only: ELFORM_MEFEM, ELFORM_TET_NODAL_PRESSURE
   use mefem_enrichment, only: enrichment_t, enrichment_setup
   use mefem_smoothing_domains, only: smoothing_domains_t, smoothing_domains_build
   implicit none
@@ -43,6 +45,7 @@ module mefem_cells
     real(wp), allocatable :: grad(:,:,:)      !< (dim, CELL_MAX_NODES, n) reference gradients
     real(wp), allocatable :: weight(:)        !< (n) area (2D, unit thickness) or volume
     integer, allocatable :: material(:)       !< (n) material index
+    logical, allocatable :: nodal_pressure(:) !< (n) a nodal-pressure tetrahedron (ELFORM 13)
     integer, allocatable :: elements(:,:)     !< (2, n) model elements sharing the cell (0 none)
     integer, allocatable :: enriched_of(:)    !< (model elements) enriched node, 0 if none
     integer, allocatable :: enriched_element(:) !< (n_enriched) its model element
@@ -90,7 +93,9 @@ contains
     end do
     allocate(cells%nnodes(count_cells), cells%nodes(CELL_MAX_NODES, count_cells), &
              cells%grad(dim, CELL_MAX_NODES, count_cells), cells%weight(count_cells), &
-             cells%material(count_cells), cells%elements(2, count_cells))
+             cells%material(count_cells), cells%elements(2, count_cells), &
+             cells%nodal_pressure(count_cells))
+    cells%nodal_pressure = .false.
     cells%nodes = 0
     cells%grad = 0.0_wp
     cells%elements = 0
@@ -180,6 +185,8 @@ contains
         cells%grad(:, 1:nv, c) = grad_n
         cells%weight(c) = domains%elem_measure(i)
         cells%material(c) = model%parts(p)%material
+        cells%nodal_pressure(c) = dim == 3 .and. &
+            model%sections(model%parts(p)%section)%elform == ELFORM_TET_NODAL_PRESSURE
         cells%elements(1, c) = elems(i)
       end do
       return

@@ -39,7 +39,9 @@ module mefem_mat_j2_plasticity
   use mefem_model, only: material_t, curve_t
   use mefem_errors, only: status_t
   use mefem_strings, only: itoa, rtoa
-  use mefem_tensor_algebra, only: IDENTITY, deviator, add_outer_product, add_symmetric_identity
+  use mefem_tensor_algebra, only: IDENTITY, inverse_cube_root, CUBE_ROOT_SERIES_RANGE, &
+                                  C1 => CUBE_ROOT_C1, C2 => CUBE_ROOT_C2, C3 => CUBE_ROOT_C3, &
+                                  deviator, add_outer_product, add_symmetric_identity
   use mefem_material_state, only: NHIST, HIST_CP, HIST_ALPHA, BLOCK_POINTS
   use mefem_hardening, only: hardening_yield, hardening_yield_block
   implicit none
@@ -53,11 +55,6 @@ module mefem_mat_j2_plasticity
   integer, parameter :: MAX_RETURN_ITERATIONS = 100       !< Newton/bisection steps
   !> |det - 1| of the unimodular shift's cubic taken as round-off
   real(wp), parameter :: SHIFT_TOLERANCE = 4.0_wp*epsilon(1.0_wp)
-  !> |J - 1| up to which inverse_cube_root uses its series and Newton steps (a pressure of a
-  !> tenth of the bulk modulus)
-  real(wp), parameter :: CUBE_ROOT_SERIES_RANGE = 0.1_wp
-  !> Taylor coefficients of (1 + d)^(-1/3) (inverse_cube_root)
-  real(wp), parameter :: C1 = -1.0_wp/3.0_wp, C2 = 2.0_wp/9.0_wp, C3 = -14.0_wp/81.0_wp
   !> Symmetric tensors as 6 components, in the Voigt order of the history (mefem_material_state)
   integer, parameter :: XX = 1, YY = 2, ZZ = 3, XY = 4, YZ = 5, ZX = 6, SYM = 6
 
@@ -463,24 +460,6 @@ contains
     a = a*sym_det(a)**(-1.0_wp/3.0_wp)
   end subroutine unimodular_shift
 
-  !> x^(-1/3) for x > 0. The volume ratio J of a metal (elastic volume change only) is
-  !> within CUBE_ROOT_SERIES_RANGE of 1 up to a pressure of a tenth of the bulk modulus:
-  !> there the Taylor polynomial of (1 + d)^(-1/3) to d^3 (relative error about
-  !> 35/243 d^4 < 1.5e-5) and two Newton steps y (4 - x y^3)/3 (each takes a relative error e
-  !> to about 2 e^2: 5e-10, then below 1e-18) give the value to a few ulp, a fraction of the
-  !> cost of **; other x use **.
-  pure real(wp) function inverse_cube_root(x) result(y)
-    real(wp), intent(in) :: x           !< positive argument
-    real(wp) :: d
-    d = x - 1.0_wp
-    if (abs(d) <= CUBE_ROOT_SERIES_RANGE) then
-      y = 1.0_wp + d*(C1 + d*(C2 + d*C3))
-      y = y*(4.0_wp - x*(y*y*y))*ONE_THIRD
-      y = y*(4.0_wp - x*(y*y*y))*ONE_THIRD
-    else
-      y = x**(-1.0_wp/3.0_wp)
-    end if
-  end function inverse_cube_root
 
   !> Determinant of a 3x3 matrix (the expression of mefem_tensor_algebra's determinant).
   pure real(wp) function det3(m)

@@ -14,6 +14,8 @@ module mefem_tensor_algebra
   public :: determinant, inverse, trace, deviator, double_contraction, frobenius_norm
   public :: symmetric_to_voigt, voigt_to_symmetric
   public :: add_outer_product, add_symmetric_identity, add_symmetric_product
+  public :: inverse_cube_root, CUBE_ROOT_SERIES_RANGE, CUBE_ROOT_C1, CUBE_ROOT_C2, &
+            CUBE_ROOT_C3
 
   !> The second-order identity.
   real(wp), parameter :: IDENTITY(3,3) = reshape([1.0_wp, 0.0_wp, 0.0_wp, &
@@ -22,6 +24,13 @@ module mefem_tensor_algebra
 
   integer, parameter :: VOIGT_ROW(6) = [1, 2, 3, 1, 2, 3]   !< Voigt entry -> row
   integer, parameter :: VOIGT_COL(6) = [1, 2, 3, 2, 3, 1]   !< Voigt entry -> column
+  !> |x - 1| up to which inverse_cube_root uses its series and Newton steps (for a volume
+  !> ratio: a pressure of a tenth of the bulk modulus)
+  real(wp), parameter :: CUBE_ROOT_SERIES_RANGE = 0.1_wp
+  !> Taylor coefficients of (1 + d)^(-1/3) (inverse_cube_root)
+  real(wp), parameter :: CUBE_ROOT_C1 = -1.0_wp/3.0_wp, CUBE_ROOT_C2 = 2.0_wp/9.0_wp, &
+                         CUBE_ROOT_C3 = -14.0_wp/81.0_wp
+  real(wp), parameter :: ONE_THIRD = 1.0_wp/3.0_wp     !< (a product instead of a division)
 
 contains
 
@@ -149,5 +158,25 @@ contains
       end do
     end do
   end subroutine add_symmetric_product
+
+
+  !> x^(-1/3) for x > 0. The volume ratio J of a metal (elastic volume change only) is
+  !> within CUBE_ROOT_SERIES_RANGE of 1 up to a pressure of a tenth of the bulk modulus:
+  !> there the Taylor polynomial of (1 + d)^(-1/3) to d^3 (relative error about
+  !> 35/243 d^4 < 1.5e-5) and two Newton steps y (4 - x y^3)/3 (each takes a relative error e
+  !> to about 2 e^2: 5e-10, then below 1e-18) give the value to a few ulp, a fraction of the
+  !> cost of **; other x use **.
+  pure real(wp) function inverse_cube_root(x) result(y)
+    real(wp), intent(in) :: x           !< positive argument
+    real(wp) :: d
+    d = x - 1.0_wp
+    if (abs(d) <= CUBE_ROOT_SERIES_RANGE) then
+      y = 1.0_wp + d*(CUBE_ROOT_C1 + d*(CUBE_ROOT_C2 + d*CUBE_ROOT_C3))
+      y = y*(4.0_wp - x*(y*y*y))*ONE_THIRD
+      y = y*(4.0_wp - x*(y*y*y))*ONE_THIRD
+    else
+      y = x**(-1.0_wp/3.0_wp)
+    end if
+  end function inverse_cube_root
 
 end module mefem_tensor_algebra

@@ -25,6 +25,8 @@ module mefem_model_resolve
   integer, parameter, public :: ELFORM_TET_STANDARD = 10       !< linear tetrahedron
   integer, parameter, public :: ELFORM_MEFEM = 43              !< ME-FEM tet / plane-strain triangle
   integer, parameter, public :: ELFORM_TRI_PLANE_STRAIN = 13   !< linear plane-strain triangle
+  integer, parameter, public :: ELFORM_TET_NODAL_PRESSURE = 13 !< linear tetrahedron with the
+                                                               !< volume averaged at the nodes
 
   !> Outward faces of a hexahedron (LS-DYNA order: N1-N4 bottom, N5-N8 top); degenerate
   !> elements (tets, pentas) are measured through their collapsed 8-node form.
@@ -238,13 +240,23 @@ contains
     if (model%materials(m)%kind == MAT_RIGID) return      ! rigid parts: any topology
     if (model%elements%keyword(e) == ELEM_SOLID) then
       n_solid_deformable = n_solid_deformable + 1
-      if (elform /= ELFORM_TET_STANDARD .and. elform /= ELFORM_MEFEM) then
+      if (elform /= ELFORM_TET_STANDARD .and. elform /= ELFORM_MEFEM .and. &
+          elform /= ELFORM_TET_NODAL_PRESSURE) then
         ! once per part, where it is to be mended: the section, not each element
         if (.not. part_reported(p)) call input_error(section_where(model, s), &
             'section '//itoa(model%sections(s)%id)//': solid ELFORM '//itoa(elform)// &
-            ' is not supported for deformable parts (43 ME-FEM tetrahedron, 10 standard '// &
-            'linear tetrahedron); part '//itoa(model%parts(p)%id)//', first element '// &
+            ' is not supported for deformable parts (43 ME-FEM tetrahedron, 13 nodal-'// &
+            'pressure tetrahedron, 10 standard linear tetrahedron); part '// &
+            itoa(model%parts(p)%id)//', first element '// &
             itoa(model%elements%id(e))//' at '//element_where(model, e))
+        part_reported(p) = .true.
+      else if (elform == ELFORM_TET_NODAL_PRESSURE .and. .not. (model%controls%imflag /= 1 &
+               .and. model%controls%have_termination)) then
+        if (.not. part_reported(p)) call input_error(section_where(model, s), &
+            'section '//itoa(model%sections(s)%id)//': solid ELFORM 13 (nodal-pressure '// &
+            'tetrahedron) runs in the explicit analysis only; the implicit and linear '// &
+            'analyses need 43 (ME-FEM tetrahedron, also locking-free) or 10; part '// &
+            itoa(model%parts(p)%id))
         part_reported(p) = .true.
       else if (topo /= TOPO_TET4) then
         call input_error(element_where(model, e), &
@@ -383,6 +395,8 @@ contains
         s = 'ME-FEM tetrahedron (ELFORM 43)'
       case (ELFORM_TET_STANDARD)
         s = 'standard linear tetrahedron (ELFORM 10)'
+      case (ELFORM_TET_NODAL_PRESSURE)
+        s = 'nodal-pressure tetrahedron (ELFORM 13)'
       end select
     else
       select case (model%sections(sec)%elform)

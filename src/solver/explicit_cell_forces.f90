@@ -20,11 +20,12 @@ module mefem_explicit_cell_forces
   use mefem_cells, only: cells_t, CELL_MAX_NODES
   use mefem_cell_finite_strain, only: cell_deformation_gradient, cell_internal_force, &
                                       block_deformation_gradient, block_adjugate, &
-                                      block_internal_force
+                                      block_internal_force, adjugate_3x3
   use mefem_stable_time_step, only: cell_critical_omega_squared, block_critical_omega_squared, &
                                     cell_split_weights, inverse_mass_metric
   use mefem_material_state, only: NHIST, material_state_init, BLOCK_CELLS => BLOCK_POINTS
   use mefem_material_update, only: material_update, material_update_block
+  use mefem_tensor_algebra, only: determinant, inverse_cube_root
   use mefem_explicit_state, only: explicit_state_t, set_to_zero, state_peer_view
   use mefem_comm, only: comm_rank, comm_size, comm_barrier, comm_arena_free, comm_arena_sync, &
                         comm_work_reset, &
@@ -33,7 +34,7 @@ module mefem_explicit_cell_forces
   private
 
   public :: explicit_cells_set_up, explicit_cell_loop, block_cell_data, explicit_blocks_group
-  public :: explicit_mass_split
+  public :: explicit_mass_split, volume_scale
   public :: explicit_steal_set_up, explicit_steal_tear_down
 
 contains
@@ -47,6 +48,7 @@ contains
     type(halo_t), intent(inout) :: halo               !< force exchange
     integer, intent(in) :: starts(:), nodes_of(:), order(:)  !< explicit_blocks_group's
     call build_blocks(s, cells, w0, starts, nodes_of, order)
+    call nodal_pressure_set_up(s, cells, halo)
     call plan_pushed_assembly(s, halo)
   end subroutine explicit_cells_set_up
 
@@ -70,6 +72,7 @@ contains
     s%failed = .false.
     if (s%nblock > 0 .or. s%ncell == 0) then
       if (allocated(s%push_node)) call set_to_zero(size(s%f_int_new), s%f_int_new)
+      if (s%nodal_pressure) call nodal_volumes(s, halo)
       if (size(s%peers) == 0) then
         do k = 1, s%nblock
           call block_forces(model, s, k, .false.)
@@ -78,6 +81,7 @@ contains
         call blocks_shared_with_node(model, s, own)
         call add_stolen_blocks(s, own)
       end if
+      if (s%nodal_pressure) call nodal_pressure_forces(s, halo)
       call halo_assemble_start(halo, s%cell_force, s%f_int_new, pushed=allocated(s%push_node))
     else
       do l = 1, s%ncell
@@ -191,7 +195,8 @@ contains
     call comm_arena_sync(s%arena)
     allocate(views(comm_size()), ranks(comm_size()))
     n = 0
-    if (s%dim == 3) then
+    ! (ELFORM 13 cells need the nodal sums between the blocks and their forces: no stealing)
+    if (s%dim == 3 .and. .not. s%nodal_pressure) then
       do r = 0, comm_size() - 1
         if (r == comm_rank()) cycle
         call state_peer_view(s, r, views(n + 1), ok)
@@ -272,16 +277,35 @@ contains
     real(wp), intent(in), contiguous :: w0(:,:)       !< (dim, dim) inverse-mass metric
     real(wp), intent(in) :: hist_old(NHIST)           !< history at t_n
     real(wp) :: ue(3, CELL_MAX_NODES), f(3, 3), tau(3, 3), hist_new(NHIST), sound, omega2
+    real(wp) :: fbar(3, 3), det, jbar, adjugate(3, 3)
     type(status_t) :: status
     integer :: nn, dim, k
+    logical :: averaged
     dim = s%dim
     nn = s%nnodes(l)
     do k = 1, nn                 ! gather by a loop (a vector subscript allocates a temporary)
       ue(1:dim, k) = s%u(1:dim, s%nodes(k, l))
     end do
     call cell_deformation_gradient(dim, nn, grad, ue(1:dim, 1:nn), f)
-    call material_update(model%materials(s%material(l)), model%curves, f, hist_old, &
-                         hist_new, tau, sound_speed=sound, status=status)
+    averaged = s%nodal_pressure
+    if (averaged) averaged = s%np_cell(l)
+    if (averaged) then                        ! as block_forces, one cell
+      det = determinant(f)
+      jbar = element_mean_j(s, l, det)
+      jbar = merge(jbar, det, det > 0.0_wp .and. jbar > 0.0_wp)
+      fbar = f*volume_scale(jbar, det)
+      call material_update(model%materials(s%material(l)), model%curves, fbar, hist_old, &
+                           hist_new, tau, sound_speed=sound, status=status)
+      if (status%ok) then
+        call split_pressure(tau(1, 1), tau(2, 2), tau(3, 3), jbar, s%np_pressure(l))
+        s%np_jbar(l) = jbar
+        call adjugate_3x3(f, adjugate, det)
+        call keep_area_vectors(s, l, grad(:, 1:4), reshape(adjugate, [9]))
+      end if
+    else
+      call material_update(model%materials(s%material(l)), model%curves, f, hist_old, &
+                           hist_new, tau, sound_speed=sound, status=status)
+    end if
     if (.not. status%ok) then
       s%cell_force(:, :, l) = 0.0_wp
       if (.not. s%failed) s%failure = 'element '// &
@@ -343,19 +367,22 @@ contains
   end subroutine keep_smallest_step
 
   !> Group the local cells into blocks for block_forces (3D; before the arena, which they
-  !> size): cells of equal (material, node count) together in ascending cell order, cut into
-  !> blocks of at most BLOCK_CELLS. Block b holds cells order(starts(b):starts(b+1)-1),
+  !> size): cells of equal (material, node count, nodal pressure) together in ascending cell
+  !> order, cut into blocks of at most BLOCK_CELLS. Block b holds cells
+  !> order(starts(b):starts(b+1)-1),
   !> computed with nodes_of(b) nodes (size(nodes_of) blocks). The order of computation does
   !> not change any result: every cell writes its own contributions and the assembly order
   !> is fixed by the layout's plan.
-  subroutine explicit_blocks_group(material, nnodes, starts, nodes_of, order)
+  subroutine explicit_blocks_group(material, nnodes, nodal_pressure, starts, nodes_of, order)
     integer, intent(in) :: material(:)                !< (ncell) material of each cell
     integer, intent(in) :: nnodes(:)                  !< (ncell) nodes of each cell
+    logical, intent(in) :: nodal_pressure(:)          !< (ncell) an ELFORM 13 cell
     integer, allocatable, intent(out) :: starts(:)    !< (nblock+1) offsets into order
     integer, allocatable, intent(out) :: nodes_of(:)  !< (nblock) node count of each block
     integer, allocatable, intent(out) :: order(:)     !< (ncell) cells, block by block
     logical :: placed(size(material))
     integer :: k, m, n, placed_count, key_material, key_nodes, in_block, nblock
+    logical :: key_pressure
     n = size(material)
     allocate(starts(n + 2), nodes_of(n + 1), order(n))
     nblock = 0
@@ -366,10 +393,12 @@ contains
       if (placed(k)) cycle
       key_material = material(k)
       key_nodes = block_node_count(nnodes(k))
+      key_pressure = nodal_pressure(k)
       in_block = 0
       do m = k, n
         if (placed(m)) cycle
-        if (material(m) /= key_material .or. block_node_count(nnodes(m)) /= key_nodes) cycle
+        if (material(m) /= key_material .or. block_node_count(nnodes(m)) /= key_nodes .or. &
+            (nodal_pressure(m) .neqv. key_pressure)) cycle
         if (in_block == BLOCK_CELLS) then
           nblock = nblock + 1
           starts(nblock + 1) = placed_count + 1
@@ -450,7 +479,8 @@ contains
     integer, parameter :: LD = BLOCK_CELLS
     real(wp) :: u(LD, 3, CELL_MAX_NODES), force(LD, 3, CELL_MAX_NODES)
     real(wp) :: f(LD, 9), adj(LD, 9), det(LD), tau(LD, 6), omega2(LD), dt_block(LD)
-    logical :: ok(LD), finite(LD), steps_at_once
+    real(wp) :: fbar(LD, 9), jbar(LD), scale(LD)
+    logical :: ok(LD), finite(LD), steps_at_once, averaged
     integer :: n, nn, i, a, l, node, first
     first = s%block_start(b)
     n = s%block_start(b + 1) - first
@@ -472,8 +502,44 @@ contains
     call block_deformation_gradient(n, nn, u, s%block_grad(:, :, :, b), f)
     call block_adjugate(n, f, adj, det)
     l = s%block_cell(first)
-    call material_update_block(model%materials(s%material(l)), model%curves, n, f, det, &
-                               s%block_hist(:, :, b), tau, ok)
+    averaged = s%nodal_pressure
+    if (averaged) averaged = s%np_cell(l)
+    if (averaged) then
+      ! nodal-pressure tetrahedra: the material sees Fbar = (Jbar/J)^(1/3) F; the forces take
+      ! its deviatoric stress here and the nodally averaged pressure in nodal_pressure_forces
+      do i = 1, n
+        jbar(i) = element_mean_j(s, s%block_cell(first + i - 1), det(i))
+        jbar(i) = merge(jbar(i), det(i), det(i) > 0.0_wp .and. jbar(i) > 0.0_wp)
+        scale(i) = volume_scale(jbar(i), det(i))
+      end do
+      do a = 1, 9
+        do i = 1, n
+          fbar(i, a) = f(i, a)*scale(i)
+        end do
+      end do
+      call material_update_block(model%materials(s%material(l)), model%curves, n, fbar, jbar, &
+                                 s%block_hist(:, :, b), tau, ok)
+      do i = 1, n
+        l = s%block_cell(first + i - 1)
+        call split_pressure(tau(i, 1), tau(i, 2), tau(i, 3), jbar(i), s%np_pressure(l))
+        s%np_jbar(l) = jbar(i)
+      end do
+      ! the area vectors V0 adj(F)^T g_a (keep_area_vectors, the block's cells at once)
+      do a = 1, 4
+        do i = 1, n
+          l = s%block_cell(first + i - 1)
+          s%np_area(1, a, l) = s%block_weight(i, b)*(adj(i, 1)*s%block_grad(i, 1, a, b) + &
+              adj(i, 2)*s%block_grad(i, 2, a, b) + adj(i, 3)*s%block_grad(i, 3, a, b))
+          s%np_area(2, a, l) = s%block_weight(i, b)*(adj(i, 4)*s%block_grad(i, 1, a, b) + &
+              adj(i, 5)*s%block_grad(i, 2, a, b) + adj(i, 6)*s%block_grad(i, 3, a, b))
+          s%np_area(3, a, l) = s%block_weight(i, b)*(adj(i, 7)*s%block_grad(i, 1, a, b) + &
+              adj(i, 8)*s%block_grad(i, 2, a, b) + adj(i, 9)*s%block_grad(i, 3, a, b))
+        end do
+      end do
+    else
+      call material_update_block(model%materials(s%material(l)), model%curves, n, f, det, &
+                                 s%block_hist(:, :, b), tau, ok)
+    end if
     call block_internal_force(n, nn, s%block_grad(:, :, :, b), s%block_weight(:, b), adj, det, &
                               tau, force)
     call block_critical_omega_squared(n, s%block_weight(:, b), s%block_w0(:, :, b), adj, det, &
@@ -528,6 +594,180 @@ contains
     end do
   end subroutine block_forces
 
+  !> Nodal-pressure tetrahedra (ELFORM 13), first of the cycle's two nodal sums: every
+  !> ELFORM 13 cell's current volume J V0 shared equally among its 4 nodes, summed at the
+  !> nodes (the force assembly's order: the same bits on any number of ranks), divided by the
+  !> nodes' reference volumes: the nodal J that element_mean_j averages (doc/theory.md 2.7).
+  !> Collective (every rank calls it when the model has ELFORM 13 cells).
+  subroutine nodal_volumes(s, halo)
+    type(explicit_state_t), intent(inout) :: s        !< local state
+    type(halo_t), intent(inout) :: halo               !< the force assembly's halo
+    real(wp) :: x(3, 4), quarter
+    integer :: k, l, a
+    do k = 1, size(s%np_cells)
+      l = s%np_cells(k)
+      do a = 1, 4
+        x(:, a) = s%x0(:, s%nodes(a, l)) + s%u(:, s%nodes(a, l))
+      end do
+      do a = 2, 4
+        x(:, a) = x(:, a) - x(:, 1)
+      end do
+      ! a quarter of the current volume, (x2 - x1) . ((x3 - x1) x (x4 - x1))/6 (= J V0)
+      quarter = (x(1, 2)*(x(2, 3)*x(3, 4) - x(3, 3)*x(2, 4)) + &
+                 x(2, 2)*(x(3, 3)*x(1, 4) - x(1, 3)*x(3, 4)) + &
+                 x(3, 2)*(x(1, 3)*x(2, 4) - x(2, 3)*x(1, 4)))/24.0_wp
+      do a = 1, 4
+        s%np_values(1, a, l) = quarter
+      end do
+    end do
+    call halo_assemble(halo, s%np_values, s%np_sums)
+    do k = 1, s%nnode
+      s%np_node_j(k) = 1.0_wp
+      if (s%np_volume0(k) > 0.0_wp) s%np_node_j(k) = s%np_sums(1, k)/s%np_volume0(k)
+    end do
+  end subroutine nodal_volumes
+
+  !> Nodal-pressure tetrahedra, second sum, after the material updates: the nodes' pressure
+  !> (the volume-weighted mean of their ELFORM 13 elements' Cauchy pressures), the element's
+  !> force pressure the mean of its nodes' (its own at a node where materials meet), and the
+  !> forces of that pressure, V0 p adj(F)^T g_a, added to the cells' kept contributions.
+  !> With the deviatoric forces of block_forces they are the exact derivative of the strain
+  !> energy of Fbar (doc/theory.md 2.7). Collective.
+  subroutine nodal_pressure_forces(s, halo)
+    type(explicit_state_t), intent(inout) :: s        !< local state
+    type(halo_t), intent(inout) :: halo               !< the force assembly's halo
+    real(wp) :: share, p
+    integer :: k, l, a, node
+    do k = 1, size(s%np_cells)
+      l = s%np_cells(k)
+      share = 0.25_wp*s%weight(l)*s%np_pressure(l)
+      do a = 1, 4
+        s%np_values(1, a, l) = share
+      end do
+    end do
+    call halo_assemble(halo, s%np_values, s%np_sums)
+    do k = 1, s%nnode
+      s%np_node_p(k) = 0.0_wp
+      if (s%np_volume0(k) > 0.0_wp) s%np_node_p(k) = s%np_sums(1, k)/s%np_volume0(k)
+    end do
+    do k = 1, size(s%np_cells)
+      l = s%np_cells(k)
+      p = 0.0_wp
+      do a = 1, 4
+        node = s%nodes(a, l)
+        if (s%np_mixed(node)) then
+          p = p + s%np_pressure(l)
+        else
+          p = p + s%np_node_p(node)
+        end if
+      end do
+      p = 0.25_wp*p
+      s%np_force_pressure(l) = p
+      do a = 1, 4
+        s%cell_force(:, a, l) = s%cell_force(:, a, l) + p*s%np_area(:, a, l)
+      end do
+    end do
+  end subroutine nodal_pressure_forces
+
+  !> Jbar of ELFORM 13 cell l: the mean of its 4 nodes' J (the cell's own J, det, at a node
+  !> where ELFORM 13 elements of different materials meet).
+  real(wp) function element_mean_j(s, l, det)
+    type(explicit_state_t), intent(in) :: s           !< local state
+    integer, intent(in) :: l                          !< local ELFORM 13 cell
+    real(wp), intent(in) :: det                       !< its J = det F
+    integer :: a, node
+    element_mean_j = 0.0_wp
+    do a = 1, 4
+      node = s%nodes(a, l)
+      if (s%np_mixed(node)) then
+        element_mean_j = element_mean_j + det
+      else
+        element_mean_j = element_mean_j + s%np_node_j(node)
+      end if
+    end do
+    element_mean_j = 0.25_wp*element_mean_j
+  end function element_mean_j
+
+  !> (Jbar/J)^(1/3), the factor of Fbar = (Jbar/J)^(1/3) F; 1 where J or Jbar is not positive
+  !> (the material update then fails on F itself and reports it).
+  elemental real(wp) function volume_scale(jbar, det)
+    real(wp), intent(in) :: jbar                      !< mean nodal J of the element
+    real(wp), intent(in) :: det                       !< the element's J
+    volume_scale = 1.0_wp
+    if (det > 0.0_wp .and. jbar > 0.0_wp) volume_scale = inverse_cube_root(det/jbar)
+  end function volume_scale
+
+  !> Take the pressure out of a Kirchhoff stress at Fbar: the Cauchy pressure tr(tau)/(3 Jbar)
+  !> into pressure, the diagonal left deviatoric.
+  pure subroutine split_pressure(t11, t22, t33, jbar, pressure)
+    real(wp), intent(inout) :: t11, t22, t33          !< diagonal of tau (made deviatoric)
+    real(wp), intent(in) :: jbar                      !< J of Fbar
+    real(wp), intent(out) :: pressure                 !< Cauchy pressure (tension positive)
+    real(wp) :: mean
+    mean = (t11 + t22 + t33)/3.0_wp
+    pressure = mean/jbar
+    t11 = t11 - mean
+    t22 = t22 - mean
+    t33 = t33 - mean
+  end subroutine split_pressure
+
+  !> Keep the area vectors V0 adj(F)^T g_a of ELFORM 13 cell l (a = 1..4): its nodal forces
+  !> per unit Cauchy pressure, which nodal_pressure_forces multiplies by the averaged one.
+  pure subroutine keep_area_vectors(s, l, grad, adj)
+    type(explicit_state_t), intent(inout) :: s        !< local state
+    integer, intent(in) :: l                          !< local ELFORM 13 cell
+    real(wp), intent(in) :: grad(3, 4)                !< its reference gradients
+    real(wp), intent(in) :: adj(9)                    !< adj(F), column by column
+    integer :: a
+    do a = 1, 4       ! (adj^T g)_r = sum_k adj(k, r) g_k
+      s%np_area(1, a, l) = s%weight(l)*(adj(1)*grad(1, a) + adj(2)*grad(2, a) + adj(3)*grad(3, a))
+      s%np_area(2, a, l) = s%weight(l)*(adj(4)*grad(1, a) + adj(5)*grad(2, a) + adj(6)*grad(3, a))
+      s%np_area(3, a, l) = s%weight(l)*(adj(7)*grad(1, a) + adj(8)*grad(2, a) + adj(9)*grad(3, a))
+    end do
+  end subroutine keep_area_vectors
+
+  !> Set-up of the nodal-pressure tetrahedra (3D, after the blocks; collective when the model
+  !> has ELFORM 13 cells): which local cells are, the nodes' reference volumes and where ELFORM
+  !> 13 elements of different materials meet (the counts, sums and sums of squares of the
+  !> material indices at the nodes: equal materials iff count sum(m^2) = sum(m)^2).
+  subroutine nodal_pressure_set_up(s, cells, halo)
+    type(explicit_state_t), intent(inout) :: s        !< local state (blocks built)
+    type(cells_t), intent(in) :: cells                !< all cells
+    type(halo_t), intent(inout) :: halo               !< the force assembly's halo
+    real(wp), allocatable :: values(:,:,:), sums(:,:)
+    real(wp) :: m
+    integer :: k, l, a
+    s%nodal_pressure = any(cells%nodal_pressure)
+    if (.not. s%nodal_pressure) return
+    s%np_cell = cells%nodal_pressure(s%cell_global)
+    s%np_cells = pack([(l, l = 1, s%ncell)], s%np_cell)
+    allocate(s%np_values(1, CELL_MAX_NODES, s%ncell), s%np_sums(1, halo%ntarget))
+    allocate(values(3, CELL_MAX_NODES, s%ncell), sums(3, halo%ntarget))
+    s%np_values = 0.0_wp
+    values = 0.0_wp
+    do k = 1, size(s%np_cells)
+      l = s%np_cells(k)
+      m = real(s%material(l), wp)
+      do a = 1, 4
+        s%np_values(1, a, l) = 0.25_wp*s%weight(l)
+        values(:, a, l) = [1.0_wp, m, m*m]
+      end do
+    end do
+    call halo_assemble(halo, s%np_values, s%np_sums)
+    s%np_volume0 = s%np_sums(1, 1:s%nnode)
+    call halo_assemble(halo, values, sums)
+    s%np_mixed = sums(1, 1:s%nnode)*sums(3, 1:s%nnode) /= sums(2, 1:s%nnode)**2
+    s%np_values = 0.0_wp
+    allocate(s%np_node_j(s%nnode), s%np_node_p(s%nnode), s%np_jbar(s%ncell), &
+             s%np_pressure(s%ncell), s%np_force_pressure(s%ncell), s%np_area(3, 4, s%ncell))
+    s%np_area = 0.0_wp
+    s%np_node_j = 1.0_wp
+    s%np_node_p = 0.0_wp
+    s%np_jbar = 1.0_wp
+    s%np_pressure = 0.0_wp
+    s%np_force_pressure = 0.0_wp
+  end subroutine nodal_pressure_set_up
+
   !> Pushed assembly of the 3D cell loop: block_forces adds a cell's contribution straight
   !> into its column of f_int_new (the layout's target: its node's, or its node's partial sum
   !> of the cell's chunk) when the blocks reach that column's cells in ascending global cell
@@ -552,6 +792,10 @@ contains
         column = halo%source_target(a + halo%slots*(l - 1))
         if (position(l) < last_position(column)) pushed(column) = .false.
         last_position(column) = position(l)
+        ! an ELFORM 13 cell's force is complete only after nodal_pressure_forces: kept
+        if (s%nodal_pressure) then
+          if (s%np_cell(l)) pushed(column) = .false.
+        end if
       end do
     end do
     call halo_assembly_push_nodes(halo, pushed)

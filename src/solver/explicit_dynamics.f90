@@ -73,7 +73,7 @@ module mefem_explicit_dynamics
   use mefem_explicit_state, only: explicit_state_t, set_to_zero, state_arena_create
   use mefem_explicit_cell_forces, only: explicit_cells_set_up, explicit_cell_loop, &
                                         explicit_mass_split, &
-                                        block_cell_data, explicit_blocks_group, &
+                                        block_cell_data, explicit_blocks_group, volume_scale, &
                                         explicit_steal_set_up, explicit_steal_tear_down
   use mefem_history_output, only: rwforc_open, rwforc_write, rwforc_close
   use mefem_body_loads, only: body_acceleration, body_load_parts, body_load_nodes, &
@@ -339,7 +339,8 @@ contains
     nblock = 0
     if (dim == 3) then
       call explicit_blocks_group(cells%material(s%cell_global), cells%nnodes(s%cell_global), &
-                                 block_starts, block_nodes_of, block_order)
+                                 cells%nodal_pressure(s%cell_global), block_starts, &
+                                 block_nodes_of, block_order)
       nblock = size(block_nodes_of)
     end if
     call state_arena_create(s, nblock)
@@ -1034,9 +1035,10 @@ contains
     type(output_field_t) :: cell_fields(4)
     real(wp), allocatable :: results(:,:), gathered(:,:)
     real(wp) :: ue(3, CELL_MAX_NODES), f(3, 3), tau(3, 3), scratch(NHIST), sound, finv(3, 3), det
-    real(wp) :: grad(3, CELL_MAX_NODES), w0(3, 3), hist(NHIST)
+    real(wp) :: grad(3, CELL_MAX_NODES), w0(3, 3), hist(NHIST), fbar(3, 3), mean
     type(status_t) :: status
     integer :: l, nn, k, local
+    logical :: averaged
     allocate(results(7, s%ncell))            ! Cauchy stress (Voigt), equivalent plastic strain
     results = 0.0_wp
     do l = 1, s%ncell
@@ -1050,10 +1052,25 @@ contains
         call cell_deformation_gradient(s%dim, nn, s%grad(:, :, l), ue(1:s%dim, 1:nn), f)
       end if
       ! the history is this F's already: re-evaluating returns the committed stress
-      call material_update(model%materials(s%material(l)), model%curves, f, hist, &
-                           scratch, tau, sound_speed=sound, status=status)
-      if (.not. status%ok) cycle
-      call inverse_3x3(f, finv, det)
+      averaged = s%nodal_pressure
+      if (averaged) averaged = s%np_cell(l)
+      if (averaged) then
+        ! ELFORM 13: the material's deviatoric stress at Fbar with the forces' pressure
+        call inverse_3x3(f, finv, det)
+        fbar = f*volume_scale(s%np_jbar(l), det)
+        call material_update(model%materials(s%material(l)), model%curves, fbar, hist, &
+                             scratch, tau, sound_speed=sound, status=status)
+        if (.not. status%ok) cycle
+        mean = (tau(1, 1) + tau(2, 2) + tau(3, 3))/3.0_wp
+        do k = 1, 3
+          tau(k, k) = tau(k, k) - mean + det*s%np_force_pressure(l)
+        end do
+      else
+        call material_update(model%materials(s%material(l)), model%curves, f, hist, &
+                             scratch, tau, sound_speed=sound, status=status)
+        if (.not. status%ok) cycle
+        call inverse_3x3(f, finv, det)
+      end if
       results(1:6, l) = [tau(1, 1), tau(2, 2), tau(3, 3), tau(1, 2), tau(2, 3), tau(3, 1)]/det
       results(7, l) = hist(HIST_ALPHA)
     end do

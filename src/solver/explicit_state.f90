@@ -139,6 +139,28 @@ module mefem_explicit_state
     real(wp), pointer, contiguous :: added(:,:,:) => null()
                                                !< (1, CELL_MAX_NODES, ncell) added masses
     logical :: mass_scaling = .false.          !< DT2MS < 0 given
+    ! nodal-pressure tetrahedra (ELFORM 13; doc/theory.md 2.7): J averaged at the nodes over
+    ! the ELFORM 13 elements of one material, Jbar of an element the mean of its nodes'
+    logical :: nodal_pressure = .false.        !< the model has ELFORM 13 cells (on any rank:
+                                               !< the nodal sums are collective)
+    integer, allocatable :: np_cells(:)        !< local ELFORM 13 cells, ascending
+    logical, allocatable :: np_cell(:)         !< (ncell) an ELFORM 13 cell
+    real(wp), allocatable :: np_volume0(:)     !< (nnode) reference volume of the node: sum of
+                                               !< V0/4 of its ELFORM 13 elements (0: none)
+    logical, allocatable :: np_mixed(:)        !< (nnode) ELFORM 13 elements of different
+                                               !< materials meet: each uses its own J there
+    real(wp), allocatable :: np_node_j(:)      !< (nnode) nodal J = V/V0 of this cycle
+    real(wp), allocatable :: np_node_p(:)      !< (nnode) nodal Cauchy pressure of this cycle
+    real(wp), allocatable :: np_jbar(:)        !< (ncell) Jbar of the cell's last update
+    real(wp), allocatable :: np_pressure(:)    !< (ncell) Cauchy pressure of the material at
+                                               !< Fbar, tr(tau)/(3 Jbar)
+    real(wp), allocatable :: np_force_pressure(:) !< (ncell) the pressure of the forces: the
+                                               !< mean of the nodal pressures
+    real(wp), allocatable :: np_area(:,:,:)    !< (3, 4, ncell) V0 adj(F)^T g_a of the last
+                                               !< update: the forces per unit pressure
+    real(wp), allocatable :: np_values(:,:,:)  !< (1, CELL_MAX_NODES, ncell) contributions to
+                                               !< the nodal sums
+    real(wp), allocatable :: np_sums(:,:)      !< (1, ntarget) the nodal sums
     ! time step of the last force evaluation
     real(wp) :: dt_stable = huge(1.0_wp)       !< TSSFAC min 2/omega over the cells computed
     integer :: dt_element = 0                  !< model element (first of its cell) that set it
