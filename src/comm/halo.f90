@@ -51,6 +51,7 @@ module mefem_halo
 
   public :: halo_build, halo_sum, halo_sum_start, halo_sum_finish
   public :: halo_assemble, halo_assemble_start, halo_assemble_finish, halo_assembly_push_nodes
+  public :: halo_assemble_summed
   public :: halo_gather_cell_results, halo_assembly_share_on_node, halo_free
 
   integer, parameter :: DEFAULT_TAG = 7100     !< message tag when none is given
@@ -360,7 +361,7 @@ contains
     real(wp), intent(in) :: cell_values(:,:,:)     !< (ncomp, slots, ncell_local), all final
     real(wp), intent(inout) :: f(:,:)              !< (ncomp, ntarget) sums of own chunks
     logical, intent(in), optional :: pushed        !< the pushed columns are summed in f already
-    integer :: ncomp, k, first, last
+    integer :: ncomp
     logical :: use_push
 
     ncomp = size(cell_values, 1)
@@ -379,6 +380,35 @@ contains
       call sum_in_plan_order(halo, ncomp, size(cell_values, 2)*size(cell_values, 3), &
                              cell_values, f)
     end if
+    call start_exchange(halo, ncomp, f)
+  end subroutine halo_assemble_start
+
+  !> halo_assemble for a caller that has summed this rank's contributions into every column of
+  !> f itself (zero, then each contribution added to its column source_target(j + slots (l-1))
+  !> in ascending local cell order, the plan's order): the exchange and the sums over the
+  !> chunks only. The same bits as halo_assemble of the same contributions.
+  subroutine halo_assemble_summed(halo, f)
+    type(halo_t), intent(inout), asynchronous :: halo !< halo built from an explicit layout
+    real(wp), intent(inout) :: f(:,:)              !< (ncomp, ntarget) in: own chunks' sums;
+                                                   !< out: nodal sums
+    if (.not. halo%has_assembly) call fatal_local('halo_assemble_summed: the halo was not '// &
+                                                  'built from an explicit layout')
+    if (size(f, 2) /= halo%ntarget .or. size(f, 1) > halo%ncomp_max) &
+      call fatal_local('halo_assemble_summed: f does not fit the halo')
+    if (halo%assembly_ncomp /= 0) &
+      call fatal_local('halo_assemble_summed: previous exchange not finished')
+    halo%assembly_ncomp = size(f, 1)
+    call start_exchange(halo, size(f, 1), f)
+    call halo_assemble_finish(halo, f)
+  end subroutine halo_assemble_summed
+
+  !> The exchange of halo_assemble_start once this rank's chunk sums are in f: post the
+  !> receives, send the neighbours their sums, combine the nodes of own chunks only.
+  subroutine start_exchange(halo, ncomp, f)
+    type(halo_t), intent(inout), asynchronous :: halo !< halo built from an explicit layout
+    integer, intent(in) :: ncomp                   !< components per sum
+    real(wp), intent(inout) :: f(:,:)              !< (ncomp, ntarget) sums of own chunks
+    integer :: k, first, last
     ! the neighbours of this node have read the last exchange before any of the buffer is
     ! written again, by this rank or by a message (with another number of components the
     ! parts lie elsewhere: a receive may land where they were reading)
@@ -403,7 +433,7 @@ contains
     end do
     if (halo%on_node) call comm_mail_post(halo%mailbox, halo%exchanges)
     call combine_chunks(halo, ncomp, 1, halo%ncombine_local, f)
-  end subroutine halo_assemble_start
+  end subroutine start_exchange
 
   !> Wait for the neighbours' sums and add, at every node with some of them, the chunks' sums
   !> in ascending chunk order into its column (the nodes of own chunks only were combined by

@@ -16,7 +16,8 @@ module mefem_explicit_cell_forces
   use mefem_errors, only: status_t
   use mefem_strings, only: itoa
   use mefem_model, only: model_t
-  use mefem_halo, only: halo_t, halo_assemble, halo_assemble_start, halo_assembly_push_nodes
+  use mefem_halo, only: halo_t, halo_assemble, halo_assemble_start, halo_assembly_push_nodes, &
+                        halo_assemble_summed
   use mefem_cells, only: cells_t, CELL_MAX_NODES
   use mefem_cell_finite_strain, only: cell_deformation_gradient, cell_internal_force, &
                                       block_deformation_gradient, block_adjugate, &
@@ -300,6 +301,8 @@ contains
         call split_pressure(tau(1, 1), tau(2, 2), tau(3, 3), jbar, s%np_pressure(l))
         s%np_jbar(l) = jbar
         call adjugate_3x3(f, adjugate, det)
+        s%np_deviator(:, l) = [tau(1, 1), tau(2, 2), tau(3, 3), tau(1, 2), tau(2, 3), &
+                               tau(1, 3)]/det
         call keep_area_vectors(s, l, grad(:, 1:4), reshape(adjugate, [9]))
       end if
     else
@@ -318,7 +321,9 @@ contains
     else
       s%hist(:, l) = hist_new
     end if
-    call cell_internal_force(dim, nn, grad, s%weight(l), f, tau, s%cell_force(:, 1:nn, l))
+    ! (an ELFORM 13 cell's forces follow in nodal_pressure_forces)
+    if (.not. averaged) call cell_internal_force(dim, nn, grad, s%weight(l), f, tau, &
+                                                 s%cell_force(:, 1:nn, l))
     omega2 = cell_critical_omega_squared(dim, s%weight(l), w0, f, s%lame(1, l), s%lame(2, l))
     call take_cell_step(model, s, l, omega2)
   end subroutine cell_evaluate
@@ -523,6 +528,9 @@ contains
         l = s%block_cell(first + i - 1)
         call split_pressure(tau(i, 1), tau(i, 2), tau(i, 3), jbar(i), s%np_pressure(l))
         s%np_jbar(l) = jbar(i)
+        do a = 1, 6
+          s%np_deviator(a, l) = tau(i, a)/det(i)
+        end do
       end do
       ! the area vectors V0 adj(F)^T g_a (keep_area_vectors, the block's cells at once)
       do a = 1, 4
@@ -540,8 +548,8 @@ contains
       call material_update_block(model%materials(s%material(l)), model%curves, n, f, det, &
                                  s%block_hist(:, :, b), tau, ok)
     end if
-    call block_internal_force(n, nn, s%block_grad(:, :, :, b), s%block_weight(:, b), adj, det, &
-                              tau, force)
+    if (.not. averaged) call block_internal_force(n, nn, s%block_grad(:, :, :, b), &
+                                                  s%block_weight(:, b), adj, det, tau, force)
     call block_critical_omega_squared(n, s%block_weight(:, b), s%block_w0(:, :, b), adj, det, &
                                       s%lame(1, l), s%lame(2, l), omega2)
     ! the cells' steps as take_cell_step computes them, for the whole block at once when no
@@ -556,7 +564,8 @@ contains
       steps_at_once = all(finite(1:n))
     end if
     ! the forces: added to the pushed nodes at once (the blocks run in ascending cell order
-    ! for them: plan_pushed_assembly), kept for the halo's assembly otherwise; the step
+    ! for them: plan_pushed_assembly), kept for the halo's assembly otherwise (ELFORM 13: in
+    ! nodal_pressure_forces); the step
     do i = 1, n
       l = s%block_cell(first + i - 1)
       if (.not. ok(i)) then
@@ -565,7 +574,9 @@ contains
           force(i, :, a) = s%cell_force(:, a, l)
         end do
       end if
-      if (store_all) then
+      if (averaged) then
+        continue
+      else if (store_all) then
         do a = 1, s%nnodes(l)
           s%cell_force(1, a, l) = force(i, 1, a)
           s%cell_force(2, a, l) = force(i, 2, a)
@@ -604,7 +615,8 @@ contains
     type(halo_t), intent(inout) :: halo               !< the force assembly's halo
     real(wp) :: x(3, 4), quarter
     integer :: k, l, a
-    do k = 1, size(s%np_cells)
+    call set_to_zero(size(s%np_sums), s%np_sums)
+    do k = 1, size(s%np_cells)                        ! ascending cell order: the plan's
       l = s%np_cells(k)
       do a = 1, 4
         x(:, a) = s%x0(:, s%nodes(a, l)) + s%u(:, s%nodes(a, l))
@@ -617,10 +629,10 @@ contains
                  x(2, 2)*(x(3, 3)*x(1, 4) - x(1, 3)*x(3, 4)) + &
                  x(3, 2)*(x(1, 3)*x(2, 4) - x(2, 3)*x(1, 4)))/24.0_wp
       do a = 1, 4
-        s%np_values(1, a, l) = quarter
+        s%np_sums(1, s%np_column(a, k)) = s%np_sums(1, s%np_column(a, k)) + quarter
       end do
     end do
-    call halo_assemble(halo, s%np_values, s%np_sums)
+    call halo_assemble_summed(halo, s%np_sums)
     do k = 1, s%nnode
       s%np_node_j(k) = 1.0_wp
       if (s%np_volume0(k) > 0.0_wp) s%np_node_j(k) = s%np_sums(1, k)/s%np_volume0(k)
@@ -630,27 +642,28 @@ contains
   !> Nodal-pressure tetrahedra, second sum, after the material updates: the nodes' pressure
   !> (the volume-weighted mean of their ELFORM 13 elements' Cauchy pressures), the element's
   !> force pressure the mean of its nodes' (its own at a node where materials meet), and the
-  !> forces of that pressure, V0 p adj(F)^T g_a, added to the cells' kept contributions.
-  !> With the deviatoric forces of block_forces they are the exact derivative of the strain
-  !> energy of Fbar (doc/theory.md 2.7). Collective.
+  !> ELFORM 13 cells' forces, (dev(tau_bar)/J + p 1) V0 adj(F)^T g_a: the exact derivative of
+  !> the strain energy of Fbar (doc/theory.md 2.7). They are added to the pushed columns in
+  !> ascending cell order (after all blocks: plan_pushed_assembly) or kept. Collective.
   subroutine nodal_pressure_forces(s, halo)
     type(explicit_state_t), intent(inout) :: s        !< local state
     type(halo_t), intent(inout) :: halo               !< the force assembly's halo
-    real(wp) :: share, p
-    integer :: k, l, a, node
-    do k = 1, size(s%np_cells)
+    real(wp) :: share, p, sigma(6), force(3)
+    integer :: k, l, a, node, column
+    call set_to_zero(size(s%np_sums), s%np_sums)
+    do k = 1, size(s%np_cells)                        ! ascending cell order: the plan's
       l = s%np_cells(k)
       share = 0.25_wp*s%weight(l)*s%np_pressure(l)
       do a = 1, 4
-        s%np_values(1, a, l) = share
+        s%np_sums(1, s%np_column(a, k)) = s%np_sums(1, s%np_column(a, k)) + share
       end do
     end do
-    call halo_assemble(halo, s%np_values, s%np_sums)
+    call halo_assemble_summed(halo, s%np_sums)
     do k = 1, s%nnode
       s%np_node_p(k) = 0.0_wp
       if (s%np_volume0(k) > 0.0_wp) s%np_node_p(k) = s%np_sums(1, k)/s%np_volume0(k)
     end do
-    do k = 1, size(s%np_cells)
+    do k = 1, size(s%np_cells)                        ! ascending cell order (pushed columns)
       l = s%np_cells(k)
       p = 0.0_wp
       do a = 1, 4
@@ -663,8 +676,22 @@ contains
       end do
       p = 0.25_wp*p
       s%np_force_pressure(l) = p
+      ! Cauchy stress dev(tau_bar)/J + p 1 on the area vectors
+      sigma = s%np_deviator(:, l)
+      sigma(1:3) = sigma(1:3) + p
       do a = 1, 4
-        s%cell_force(:, a, l) = s%cell_force(:, a, l) + p*s%np_area(:, a, l)
+        force(1) = sigma(1)*s%np_area(1, a, l) + sigma(4)*s%np_area(2, a, l) + &
+                   sigma(6)*s%np_area(3, a, l)
+        force(2) = sigma(4)*s%np_area(1, a, l) + sigma(2)*s%np_area(2, a, l) + &
+                   sigma(5)*s%np_area(3, a, l)
+        force(3) = sigma(6)*s%np_area(1, a, l) + sigma(5)*s%np_area(2, a, l) + &
+                   sigma(3)*s%np_area(3, a, l)
+        column = s%push_node(a, l)
+        if (column > 0) then
+          s%f_int_new(:, column) = s%f_int_new(:, column) + force
+        else
+          s%cell_force(:, a, l) = force
+        end if
       end do
     end do
   end subroutine nodal_pressure_forces
@@ -741,26 +768,28 @@ contains
     if (.not. s%nodal_pressure) return
     s%np_cell = cells%nodal_pressure(s%cell_global)
     s%np_cells = pack([(l, l = 1, s%ncell)], s%np_cell)
-    allocate(s%np_values(1, CELL_MAX_NODES, s%ncell), s%np_sums(1, halo%ntarget))
+    allocate(s%np_sums(1, halo%ntarget), s%np_column(4, size(s%np_cells)))
     allocate(values(3, CELL_MAX_NODES, s%ncell), sums(3, halo%ntarget))
-    s%np_values = 0.0_wp
     values = 0.0_wp
+    call set_to_zero(size(s%np_sums), s%np_sums)
     do k = 1, size(s%np_cells)
       l = s%np_cells(k)
       m = real(s%material(l), wp)
       do a = 1, 4
-        s%np_values(1, a, l) = 0.25_wp*s%weight(l)
+        s%np_column(a, k) = halo%source_target(a + halo%slots*(l - 1))
+        s%np_sums(1, s%np_column(a, k)) = s%np_sums(1, s%np_column(a, k)) + 0.25_wp*s%weight(l)
         values(:, a, l) = [1.0_wp, m, m*m]
       end do
     end do
-    call halo_assemble(halo, s%np_values, s%np_sums)
+    call halo_assemble_summed(halo, s%np_sums)
     s%np_volume0 = s%np_sums(1, 1:s%nnode)
     call halo_assemble(halo, values, sums)
     s%np_mixed = sums(1, 1:s%nnode)*sums(3, 1:s%nnode) /= sums(2, 1:s%nnode)**2
-    s%np_values = 0.0_wp
     allocate(s%np_node_j(s%nnode), s%np_node_p(s%nnode), s%np_jbar(s%ncell), &
-             s%np_pressure(s%ncell), s%np_force_pressure(s%ncell), s%np_area(3, 4, s%ncell))
+             s%np_pressure(s%ncell), s%np_force_pressure(s%ncell), s%np_area(3, 4, s%ncell), &
+             s%np_deviator(6, s%ncell))
     s%np_area = 0.0_wp
+    s%np_deviator = 0.0_wp
     s%np_node_j = 1.0_wp
     s%np_node_p = 0.0_wp
     s%np_jbar = 1.0_wp
@@ -782,9 +811,17 @@ contains
     integer :: m, l, a, column
     ! the order in which contributions reach the nodal array: the blocks' cells
     allocate(position(s%ncell), last_position(halo%ntarget), pushed(halo%ntarget))
+    ! (the order in which each cell's contributions are added: its place in the blocks, or
+    ! for an ELFORM 13 cell after all blocks, in nodal_pressure_forces)
     do m = 1, s%ncell
       position(s%block_cell(m)) = m
     end do
+    ! ELFORM 13 cells add their forces after all blocks, in ascending order
+    if (s%nodal_pressure) then
+      do m = 1, size(s%np_cells)
+        position(s%np_cells(m)) = s%ncell + m
+      end do
+    end if
     pushed = .true.
     last_position = 0
     do l = 1, s%ncell                                 ! ascending local = global cell order
@@ -792,10 +829,6 @@ contains
         column = halo%source_target(a + halo%slots*(l - 1))
         if (position(l) < last_position(column)) pushed(column) = .false.
         last_position(column) = position(l)
-        ! an ELFORM 13 cell's force is complete only after nodal_pressure_forces: kept
-        if (s%nodal_pressure) then
-          if (s%np_cell(l)) pushed(column) = .false.
-        end if
       end do
     end do
     call halo_assembly_push_nodes(halo, pushed)

@@ -156,10 +156,12 @@ module mefem_explicit_state
                                                !< Fbar, tr(tau)/(3 Jbar)
     real(wp), allocatable :: np_force_pressure(:) !< (ncell) the pressure of the forces: the
                                                !< mean of the nodal pressures
+    real(wp), allocatable :: np_deviator(:,:)  !< (6, ncell) dev(tau_bar)/J of the last update
+                                               !< (Voigt: xx yy zz xy yz zx)
     real(wp), allocatable :: np_area(:,:,:)    !< (3, 4, ncell) V0 adj(F)^T g_a of the last
                                                !< update: the forces per unit pressure
-    real(wp), allocatable :: np_values(:,:,:)  !< (1, CELL_MAX_NODES, ncell) contributions to
-                                               !< the nodal sums
+    integer, allocatable :: np_column(:,:)     !< (4, size(np_cells)) the assembly column of
+                                               !< each corner (halo source_target)
     real(wp), allocatable :: np_sums(:,:)      !< (1, ntarget) the nodal sums
     ! time step of the last force evaluation
     real(wp) :: dt_stable = huge(1.0_wp)       !< TSSFAC min 2/omega over the cells computed
