@@ -532,10 +532,11 @@ contains
           s%np_deviator(a, l) = tau(i, a)/det(i)
         end do
       end do
-      ! the area vectors V0 adj(F)^T g_a (keep_area_vectors, the block's cells at once)
-      do a = 1, 4
-        do i = 1, n
-          l = s%block_cell(first + i - 1)
+      ! the area vectors V0 adj(F)^T g_a (keep_area_vectors; cell by cell: each cell's 12
+      ! values stored together)
+      do i = 1, n
+        l = s%block_cell(first + i - 1)
+        do a = 1, 4
           s%np_area(1, a, l) = s%block_weight(i, b)*(adj(i, 1)*s%block_grad(i, 1, a, b) + &
               adj(i, 2)*s%block_grad(i, 2, a, b) + adj(i, 3)*s%block_grad(i, 3, a, b))
           s%np_area(2, a, l) = s%block_weight(i, b)*(adj(i, 4)*s%block_grad(i, 1, a, b) + &

@@ -3,8 +3,8 @@
 # NX x NY x NZ cubes x 5 tets of elasto-plastic aluminium (*MAT_PIECEWISE_LINEAR_PLASTICITY with
 # an EPS/ES table), bottom face fixed, top face driven down at a constant speed (plastic wave
 # from the first cycles), ENDCYC cycles, one result state (at the end). The same deck is run
-# with ME-FEM tets (ELFORM 43) and standard linear tets (ELFORM 10) on 1 and 2 ranks; the table
-# gives ns per element-cycle and per cell-cycle (core time = loop wall time x ranks, as the
+# with ME-FEM tets (ELFORM 43), nodal-pressure tets (13) and standard tets (10) on 1 and 2
+# ranks; the table gives ns per element-cycle and per cell-cycle (core time = loop wall time x ranks, as the
 # driver's summary line "explicit: ... ns per element-cycle" says), the driver's phase shares of
 # rank 0, peak memory, the speed-up from 1 to 2 ranks and the spread of the force time over
 # the ranks (driver's line "explicit: min / max over ranks: ...").
@@ -19,7 +19,7 @@
 #   default: 34 x 34 x 35 cubes = 202 300 tets, 300 cycles (about 4 minutes on 2 cores)
 #   --small: 12 x 12 x 12 cubes = 8 640 tets, 100 cycles (a few seconds)
 # Environment: BENCH_EX_CELLS="NX NY NZ", BENCH_EX_CYCLES, BENCH_EX_RANKS (default "1 2"),
-# BENCH_EX_ELFORMS (default "43 10"), BENCH_EX_SPEED (top speed, mm/s; default 20000),
+# BENCH_EX_ELFORMS (default "43 13 10"), BENCH_EX_SPEED (top speed, mm/s; default 20000),
 # BENCH_EX_REPEAT (default 3), BENCH_EX_PAIR (default 1: after each 2-rank run, two independent
 # 1-rank runs at the same time, see below; 0: not), MEFEM (binary, default bin/mefem).
 #
@@ -45,7 +45,7 @@ fi
 cells=${BENCH_EX_CELLS:-$cells}
 cycles=${BENCH_EX_CYCLES:-$cycles}
 ranks=${BENCH_EX_RANKS:-1 2}
-elforms=${BENCH_EX_ELFORMS:-43 10}
+elforms=${BENCH_EX_ELFORMS:-43 13 10}
 speed=${BENCH_EX_SPEED:-20000.0}
 repeat=${BENCH_EX_REPEAT:-3}
 pair=${BENCH_EX_PAIR:-1}
@@ -193,7 +193,7 @@ for line in open(sys.argv[1]):
     runs.append(dict(w.split('=', 1) for w in line.split()))
 def f(d, k):
     return float(d[k])
-name = {'43': 'ME-FEM tet (43)', '10': 'standard tet (10)'}
+name = {'43': 'ME-FEM tet (43)', '13': 'nodal-pressure tet (13)', '10': 'standard tet (10)'}
 pairs = [d for d in runs if d['np'] == 'pair']
 runs = [d for d in runs if d['np'] != 'pair']
 cases = []                                   # (elform, np) in the order first run
@@ -282,6 +282,9 @@ ns = {e: median(v.values()) for (e, n), v in ns_of.items() if n == '1'}
 if '43' in ns and '10' in ns:
     print(f'\nME-FEM / standard cost per element-cycle on 1 rank (medians): '
           f'{ns["43"] / ns["10"]:.2f}')
+if '13' in ns and '10' in ns:
+    print(f'nodal-pressure / standard cost per element-cycle on 1 rank (medians): '
+          f'{ns["13"] / ns["10"]:.2f}')
 print('(rows: the run with the median ns per element-cycle of its case, runs listed in the '
       'order made; ns per element-cycle: wall time of the cycle loop x ranks / (elements x '
       'cycles); shares: rank 0; memory: peak resident (VmHWM), max over ranks; per element: '

@@ -15,7 +15,7 @@ time, the number of cycles, the first and last stable steps, the final length an
 radius (from the last state of the HDF5 file), the energy ratio and the largest jump of the
 cell plastic strain between face neighbours near the impact face.
 
-usage: /usr/bin/python3 tests/bench/taylor_copper.py [--elforms 43 10] [--meshes coarse]
+usage: /usr/bin/python3 tests/bench/taylor_copper.py [--elforms 43 13 10] [--meshes coarse]
        [--ranks 1] [--workdir /tmp/taylor_copper] [--mefem bin/mefem]
 """
 import argparse
@@ -150,7 +150,7 @@ def run(elform, mesh, ranks, workdir, mefem):
 
 def main(argv):
     ap = argparse.ArgumentParser(description=__doc__.split('\n')[0])
-    ap.add_argument('--elforms', type=int, nargs='+', default=[43, 10])
+    ap.add_argument('--elforms', type=int, nargs='+', default=[43, 13, 10])
     ap.add_argument('--meshes', nargs='+', default=['coarse'], choices=sorted(MESHES))
     ap.add_argument('--ranks', type=int, default=1)
     ap.add_argument('--workdir', default='/tmp/taylor_copper')
@@ -176,9 +176,15 @@ def main(argv):
         base = [r for r in rows if r['mesh'] == mesh and r['elform'] == 10]
         for r in rows:
             if base and r['mesh'] == mesh and r['elform'] != 10:
-                print('%s: ELFORM %d / ELFORM 10: wall %.2f, cycles %.2f' % (
+                print('%s: ELFORM %d / ELFORM 10: wall %.2f, cycles %.2f, wall per cycle %.2f' % (
                     mesh, r['elform'], r['wall'] / base[0]['wall'],
-                    r['cycles'] / base[0]['cycles']))
+                    r['cycles'] / base[0]['cycles'],
+                    (r['wall'] / r['cycles']) / (base[0]['wall'] / base[0]['cycles'])))
+        nodal = [r for r in rows if r['mesh'] == mesh and r['elform'] == 13]
+        mefem = [r for r in rows if r['mesh'] == mesh and r['elform'] == 43]
+        if nodal and mefem:
+            print('%s: ELFORM 43 / ELFORM 13: wall %.2f, cycles %.2f' % (
+                mesh, mefem[0]['wall'] / nodal[0]['wall'], mefem[0]['cycles'] / nodal[0]['cycles']))
 
 
 if __name__ == '__main__':
