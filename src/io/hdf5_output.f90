@@ -6,8 +6,9 @@
 !> same data. Each rank writes only its own rows (the nodes it owns, the cells of its piece)
 !> through a selection of the global dataset made of one hyperslab per run of consecutive
 !> global positions, with collective MPI-IO transfers. The selections are built once, in
-!> h5_output_write_mesh, and reused for every state. The file is flushed after each state, so
-!> it stays readable up to the last state if the run dies later.
+!> h5_output_write_mesh, and reused for every state. The file is flushed after each state's
+!> data and again after /time_history lists it, so it stays readable up to the last listed
+!> state if the run dies later.
 !> Layout (names, shapes, types): doc/hdf5_layout.md. Every public routine is collective.
 module mefem_hdf5_output
   use, intrinsic :: iso_c_binding, only: c_ptr, c_loc, c_char, c_int, c_int64_t
@@ -201,6 +202,9 @@ contains
       call write_real_rows(trim(group_name)//'/cell/'//trim(cell_fields(f)%name), &
                            ENTITY_CELL, cell_fields(f)%values)
     end do
+    ! the state's data on disk before /time_history lists it: a run killed in between leaves
+    ! an index of complete states only
+    call flush_file()
     call append_history(step, time)
     call flush_file()
   end subroutine h5_output_write_state

@@ -5,6 +5,7 @@ program mefem
   use mefem_kinds, only: wp
   use mefem_comm, only: comm_init, comm_size, comm_wtime
   use mefem_errors, only: say, terminate
+  use mefem_signals, only: signal_exit_code
   use mefem_strings, only: itoa, rtoa
   use mefem_command_line, only: run_options_t, parse_command_line, MEFEM_VERSION
   use mefem_model, only: model_t
@@ -85,5 +86,5 @@ program mefem
            options%output_dir//'/'//deck_stem(options%deck)//'.h5 (HDF5)')
   call say('wall time '//rtoa(comm_wtime() - t_start)//' s, peak memory '// &
            rtoa(peak_memory_mib())//' MiB per rank')
-  call terminate(0)
+  call terminate(signal_exit_code())    ! 0, or 128 + the signal that stopped the analysis
 end program mefem

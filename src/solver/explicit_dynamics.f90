@@ -34,6 +34,7 @@ module mefem_explicit_dynamics
   use mefem_comm, only: comm_sum, comm_min, comm_max, comm_wtime, comm_size, comm_min_start, &
                         comm_min_progress, comm_min_finish
   use mefem_errors, only: status_t, fatal, say, warn
+  use mefem_signals, only: signals_install, signal_caught, signal_name, signal_record_stop
   use mefem_strings, only: itoa, rtoa
   use mefem_sense_switch, only: sense_switch, sense_switch_warn_leftover, SENSE_STOP, &
                                 SENSE_STATUS, SENSE_STATE
@@ -84,6 +85,9 @@ module mefem_explicit_dynamics
   public :: explicit_dynamics_run, explicit_writes_initial_state, explicit_analysis
 
   integer, parameter :: SENSE_INTERVAL = 100   !< cycles between looks for a d3kil file
+  !> what a rank puts into the cycle's minimum of the stable step instead of its step: a cell
+  !> failed (wins), a signal was caught (mefem_signals); steps are positive
+  real(wp), parameter :: STEP_FAILED = -1.0_wp, STEP_SIGNALLED = -0.5_wp
   !> cycles between two stiffness-weighted mass splits of the step bound (explicit_mass_split:
   !> any split is safe, a fresh one follows the geometry). Measured on the copper Taylor bar
   !> (4 860 ME-FEM tets): the splits take 2 % of the run every 200 cycles, and the run needs
@@ -133,7 +137,7 @@ contains
     type(timing_t) :: timing
     type(status_t) :: status
     real(wp) :: t, dt, dt_old, dt_first, end_time, clock, t_start, dt_floor, dt_full
-    integer :: cycle, end_cycle, action
+    integer :: cycle, end_cycle, action, signum
     logical :: printed
 
     t_start = comm_wtime()
@@ -171,6 +175,7 @@ contains
     call write_outputs(model, decomp, cells, layout, s, schedule, cycle, t, dt, .false., timing)
     call progress_start('explicit', end_time, end_cycle)
     call sense_switch_warn_leftover()
+    call signals_install()
 
     do while ((end_time <= 0.0_wp .or. t < end_time*(1.0_wp - 1.0e-12_wp)) .and. &
               (end_cycle <= 0 .or. cycle < end_cycle))
@@ -201,6 +206,14 @@ contains
       clock = comm_wtime()
       call next_time_step(s, dt)
       timing%reduction = timing%reduction + (comm_wtime() - clock)
+      if (dt == STEP_SIGNALLED) then                  ! SIGTERM, SIGINT or SIGUSR1 on a rank
+        signum = signal_caught()
+        call comm_max(signum)
+        call signal_record_stop(signum)
+        call say('explicit: '//signal_name(signum)//': stopped at cycle '//itoa(cycle)// &
+                 ', t = '//rtoa(t)//'; the state reached is written')
+        exit
+      end if
       call bound_step(model, t, .false., dt)
       if (dt < 0.0_wp) call stop_on_failure(model, decomp, cells, layout, s, schedule, cycle, &
                                             t, dt_old, timing)
@@ -679,7 +692,9 @@ contains
     ! the next step depends on the cells only: its minimum over the ranks runs while the
     ! forces are assembled and the accelerations computed (next_time_step waits for it)
     if (s%failed) then
-      call comm_min_start(s%dt_reduction, -1.0_wp)
+      call comm_min_start(s%dt_reduction, STEP_FAILED)
+    else if (signal_caught() /= 0) then          ! (a failure elsewhere, smaller, wins)
+      call comm_min_start(s%dt_reduction, STEP_SIGNALLED)
     else
       call comm_min_start(s%dt_reduction, s%dt_stable)
     end if
@@ -923,7 +938,8 @@ contains
   !> it prints what happened.
   subroutine next_time_step(s, dt)
     type(explicit_state_t), intent(inout) :: s        !< local state
-    real(wp), intent(out) :: dt                       !< the step (-1: a cell failed)
+    real(wp), intent(out) :: dt                       !< the step (STEP_FAILED: a cell failed;
+                                                      !< STEP_SIGNALLED: a rank caught a signal)
     call comm_min_finish(s%dt_reduction, dt)
     if (dt < 0.0_wp .and. s%failed) write(error_unit, '(a)') 'mefem: error: '//trim(s%failure)
   end subroutine next_time_step

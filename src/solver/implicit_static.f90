@@ -18,6 +18,7 @@ module mefem_implicit_static
   use mefem_kinds, only: wp
   use mefem_comm, only: comm_sum, comm_max, comm_is_root, comm_wtime, comm_any
   use mefem_errors, only: status_t, fatal, say
+  use mefem_signals, only: signals_install, signal_caught, signal_name, signal_record_stop
   use mefem_strings, only: itoa, rtoa
   use mefem_model, only: model_t, ON_PART, MAT_RIGID, ON_NODE, ON_NODE_SET
   use mefem_decomposition, only: decomposition_t
@@ -108,7 +109,7 @@ contains
     real(wp), allocatable :: u_last(:,:)
     real(wp) :: dt_last
     real(wp) :: t, dt, dt_min, dt_max, end_time, next_output, t0, dt_planned
-    integer :: dim, n_all, n_equations, step, iterations, output_step, c, cuts, action
+    integer :: dim, n_all, n_equations, step, iterations, output_step, c, cuts, action, signum
     logical :: converged, written
 
     t0 = comm_wtime()
@@ -162,6 +163,7 @@ contains
     dt_last = 0.0_wp
     u_last = u
     call sense_switch_warn_leftover()
+    call signals_install()
     do while (t < end_time*(1.0_wp - 1.0e-12_wp))
       dt = min(dt, end_time - t)
       ! land on the next output time rather than step over it (then go on with the planned
@@ -216,6 +218,17 @@ contains
         output_step = output_step + 1
         next_output = schedule_after(next_output, output_interval(model), t)
         written = .true.
+      end if
+      ! a signal caught on any rank (mefem_signals): stop, the state reached written
+      signum = signal_caught()
+      call comm_max(signum)
+      if (signum /= 0) then
+        if (.not. written) call write_state(model, decomp, cells, u, hist, equation, t, &
+                                            output_step)
+        call signal_record_stop(signum)
+        call say('implicit: '//signal_name(signum)//': stopped after step '//itoa(step)// &
+                 ', t = '//rtoa(t)//'; the state reached is written')
+        exit
       end if
       ! LS-DYNA's d3kil file: stop (the state reached written), status, or a state now
       action = sense_switch()
