@@ -30,7 +30,7 @@ module mefem_hdf5_output
   use mefem_kinds, only: wp, i8
   use mefem_comm, only: comm_fortran_handle, comm_info_null_handle, comm_any, comm_sum, &
                         comm_min, comm_max, comm_bcast, comm_is_root
-  use mefem_errors, only: fatal
+  use mefem_errors, only: fatal, fatal_abort
   use mefem_output_mesh, only: output_mesh_t, output_field_t, vtk_cell_type
   implicit none
   private
@@ -237,7 +237,7 @@ contains
   subroutine check(hdferr, what)
     integer, intent(in) :: hdferr          !< error code of the HDF5 call (< 0: failure)
     character(len=*), intent(in) :: what   !< what was being done
-    if (comm_any(hdferr < 0)) call fatal('HDF5 output '''//file_path//''': '//what)
+    if (comm_any(hdferr < 0)) call fatal_abort('HDF5 output '''//file_path//''': '//what)
   end subroutine check
 
   !> Stop if no file is open.

@@ -54,6 +54,7 @@ module mefem_history_output
   use mefem_kinds, only: wp
   use mefem_comm, only: comm_is_root
   use mefem_errors, only: fatal_local
+  use mefem_text_file, only: text_open, text_put, text_flush, text_close
   implicit none
   private
 
@@ -92,20 +93,20 @@ module mefem_history_output
     character(len=80) :: controlled_by = ''      !< e.g. "solid 123 of part 1"
   end type glstat_record_t
 
-  integer :: glstat_unit = -1                     !< unit of the open glstat file
+  integer :: glstat_unit = -1                     !< handle of the open glstat file (mefem_text_file)
   logical :: glstat_opened = .false.
   character(len=:), allocatable :: glstat_path
-  integer :: nodout_unit = -1                     !< unit of the open nodout file
+  integer :: nodout_unit = -1                     !< handle of the open nodout file (mefem_text_file)
   logical :: nodout_opened = .false.
   character(len=:), allocatable :: nodout_path
   integer, allocatable :: nodout_ids(:)           !< user ids of the history nodes
-  integer :: rcforc_unit = -1                     !< unit of the open rcforc file
+  integer :: rcforc_unit = -1                     !< handle of the open rcforc file (mefem_text_file)
   logical :: rcforc_opened = .false.
   character(len=:), allocatable :: rcforc_path
-  integer :: rbdout_unit = -1                     !< unit of the open rbdout file
+  integer :: rbdout_unit = -1                     !< handle of the open rbdout file (mefem_text_file)
   logical :: rbdout_opened = .false.
   character(len=:), allocatable :: rbdout_path
-  integer :: rwforc_unit = -1                     !< unit of the open rwforc file
+  integer :: rwforc_unit = -1                     !< handle of the open rwforc file (mefem_text_file)
   logical :: rwforc_opened = .false.
   character(len=:), allocatable :: rwforc_path
 
@@ -153,7 +154,7 @@ contains
         call write_banner(glstat_unit, glstat_path, DEFAULT_TITLE)
       end if
     end if
-    flush(glstat_unit)
+    call flush_history(glstat_unit, glstat_path)
   end subroutine glstat_open
 
   !> True on the rank that has the glstat file open (rank 0 after glstat_open).
@@ -164,18 +165,14 @@ contains
   !> Append one record to glstat and flush it.
   subroutine glstat_write(rec)
     type(glstat_record_t), intent(in) :: rec   !< global values of this output time
-    integer :: u, ios
+    integer :: u
     if (.not. comm_is_root()) return
     if (.not. glstat_opened) call fatal_local('glstat_write called before glstat_open')
     u = glstat_unit
-    write(u, '(a)', iostat=ios) ''
-    call check_write(ios, glstat_path)
-    write(u, '(a)', iostat=ios) ''
-    call check_write(ios, glstat_path)
-    write(u, '(a)', iostat=ios) trim(cycle_line(rec%cycle, rec%controlled_by))
-    call check_write(ios, glstat_path)
-    write(u, '(a)', iostat=ios) ''
-    call check_write(ios, glstat_path)
+    call put_line(u, '', glstat_path)
+    call put_line(u, '', glstat_path)
+    call put_line(u, trim(cycle_line(rec%cycle, rec%controlled_by)), glstat_path)
+    call put_line(u, '', glstat_path)
     call write_value(u, 'time', rec%time)
     call write_value(u, 'time step', rec%time_step)
     call write_value(u, 'kinetic energy', rec%kinetic_energy)
@@ -195,19 +192,17 @@ contains
     call write_value(u, 'global x velocity', rec%global_velocity(1))
     call write_value(u, 'global y velocity', rec%global_velocity(2))
     call write_value(u, 'global z velocity', rec%global_velocity(3))
-    write(u, '(a)', iostat=ios) ''
-    call check_write(ios, glstat_path)
-    write(u, '(a)', iostat=ios) ''
-    call check_write(ios, glstat_path)
+    call put_line(u, '', glstat_path)
+    call put_line(u, '', glstat_path)
     call write_value(u, 'added mass', rec%added_mass)
     call write_value(u, 'percentage increase', rec%percent_mass_increase)
-    flush(u)
+    call flush_history(u, glstat_path)
   end subroutine glstat_write
 
   !> Close glstat (no-op when it is not open).
   subroutine glstat_close()
     if (.not. glstat_opened) return
-    close(glstat_unit)
+    call close_history(glstat_unit, glstat_path)
     glstat_opened = .false.
     glstat_unit = -1
   end subroutine glstat_close
@@ -219,7 +214,8 @@ contains
     character(len=*), intent(in), optional :: title  !< run title for line 1 (default "mefem")
     logical, intent(in), optional :: append          !< continue an existing file (restart)
     logical :: appending
-    integer :: i, ios
+    integer :: i
+    character(len=10) :: id_text
     if (.not. comm_is_root()) return
     if (nodout_opened) call nodout_close()
     appending = .false.
@@ -234,16 +230,16 @@ contains
       else
         call write_banner(nodout_unit, nodout_path, DEFAULT_TITLE)
       end if
-      write(nodout_unit, '(a/a/a)', iostat=ios) '', '{BEGIN LEGEND}', ' Entity #        Title'
-      call check_write(ios, nodout_path)
+      call put_line(nodout_unit, '', nodout_path)
+      call put_line(nodout_unit, '{BEGIN LEGEND}', nodout_path)
+      call put_line(nodout_unit, ' Entity #        Title', nodout_path)
       do i = 1, size(nodout_ids)
-        write(nodout_unit, '(i10)', iostat=ios) nodout_ids(i)
-        call check_write(ios, nodout_path)
+        write(id_text, '(i10)') nodout_ids(i)
+        call put_line(nodout_unit, id_text, nodout_path)
       end do
-      write(nodout_unit, '(a)', iostat=ios) '{END LEGEND}'
-      call check_write(ios, nodout_path)
+      call put_line(nodout_unit, '{END LEGEND}', nodout_path)
     end if
-    flush(nodout_unit)
+    call flush_history(nodout_unit, nodout_path)
   end subroutine nodout_open
 
   !> True on the rank that has the nodout file open (rank 0 after nodout_open).
@@ -262,7 +258,8 @@ contains
     character(len=32) :: time_text
     character(len=40) :: row_format
     character(len=320) :: header
-    integer :: i, n, ios
+    character(len=256) :: row
+    integer :: i, n
     if (.not. comm_is_root()) return
     if (.not. nodout_opened) call fatal_local('nodout_write called before nodout_open')
     n = size(nodout_ids)
@@ -272,21 +269,20 @@ contains
                        nodout_path)
     end if
     write(time_text, '('//NODOUT_VALUE//')') time
-    write(nodout_unit, '(a/a/a)', iostat=ios) '', '', ''
-    call check_write(ios, nodout_path)
-    write(nodout_unit, '(a)', iostat=ios) NODOUT_HEADER//int_field(cycle, 8)//repeat(' ', 30)// &
-        '( at time '//trim(adjustl(time_text))//' )'
-    call check_write(ios, nodout_path)
+    do i = 1, 3
+      call put_line(nodout_unit, '', nodout_path)
+    end do
+    call put_line(nodout_unit, NODOUT_HEADER//int_field(cycle, 8)//repeat(' ', 30)// &
+                  '( at time '//trim(adjustl(time_text))//' )', nodout_path)
     header = nodout_column_header()
-    write(nodout_unit, '(a/a)', iostat=ios) '', trim(header)
-    call check_write(ios, nodout_path)
+    call put_line(nodout_unit, '', nodout_path)
+    call put_line(nodout_unit, trim(header), nodout_path)
     row_format = '(i10,12'//NODOUT_VALUE//')'
     do i = 1, n
-      write(nodout_unit, row_format, iostat=ios) nodout_ids(i), disp(:, i), vel(:, i), &
-          acc(:, i), coor(:, i)
-      call check_write(ios, nodout_path)
+      write(row, row_format) nodout_ids(i), disp(:, i), vel(:, i), acc(:, i), coor(:, i)
+      call put_line(nodout_unit, trim(row), nodout_path)
     end do
-    flush(nodout_unit)
+    call flush_history(nodout_unit, nodout_path)
   end subroutine nodout_write
 
   !> Open <dir>/rwforc on rank 0 (rigid wall forces): banner, title and column header
@@ -309,21 +305,22 @@ contains
     integer, intent(in) :: wall_ids(:)        !< wall ids (RWID, or their order)
     real(wp), intent(in) :: normal_force(:)   !< (walls) force along the wall normal
     real(wp), intent(in) :: force(:,:)        !< (3, walls) force components
-    integer :: k, ios
+    character(len=128) :: row
+    integer :: k
     if (.not. comm_is_root()) return
     if (.not. rwforc_opened) call fatal_local('rwforc_write called before rwforc_open')
     do k = 1, size(wall_ids)
-      write(rwforc_unit, '('//NODOUT_VALUE//',i8,4'//NODOUT_VALUE//')', iostat=ios) time, &
+      write(row, '('//NODOUT_VALUE//',i8,4'//NODOUT_VALUE//')') time, &
           merge(wall_ids(k), k, wall_ids(k) > 0), normal_force(k), force(:, k)
-      call check_write(ios, rwforc_path)
+      call put_line(rwforc_unit, trim(row), rwforc_path)
     end do
-    flush(rwforc_unit)
+    call flush_history(rwforc_unit, rwforc_path)
   end subroutine rwforc_write
 
   !> Close rwforc (no-op when it is not open).
   subroutine rwforc_close()
     if (.not. rwforc_opened) return
-    close(rwforc_unit)
+    call close_history(rwforc_unit, rwforc_path)
     rwforc_opened = .false.
     rwforc_unit = -1
   end subroutine rwforc_close
@@ -351,21 +348,21 @@ contains
     real(wp), intent(in) :: time              !< simulation time
     integer, intent(in) :: part_ids(:)        !< part id of each body
     real(wp), intent(in) :: values(:,:)       !< (12, bodies)
-    integer :: k, ios
+    character(len=320) :: row
+    integer :: k
     if (.not. comm_is_root()) return
     if (.not. rbdout_opened) call fatal_local('rbdout_write called before rbdout_open')
     do k = 1, size(part_ids)
-      write(rbdout_unit, '('//NODOUT_VALUE//',i8,12'//NODOUT_VALUE//')', iostat=ios) time, &
-          part_ids(k), values(:, k)
-      call check_write(ios, rbdout_path)
+      write(row, '('//NODOUT_VALUE//',i8,12'//NODOUT_VALUE//')') time, part_ids(k), values(:, k)
+      call put_line(rbdout_unit, trim(row), rbdout_path)
     end do
-    flush(rbdout_unit)
+    call flush_history(rbdout_unit, rbdout_path)
   end subroutine rbdout_write
 
   !> Close rbdout (no-op when it is not open).
   subroutine rbdout_close()
     if (.not. rbdout_opened) return
-    close(rbdout_unit)
+    call close_history(rbdout_unit, rbdout_path)
     rbdout_opened = .false.
     rbdout_unit = -1
   end subroutine rbdout_close
@@ -392,22 +389,19 @@ contains
     character(len=*), intent(in) :: path             !< file path
     character(len=*), intent(in) :: name             !< the table's spaced-out name line
     character(len=*), intent(in) :: header           !< column header ('' for none)
-    integer, intent(out) :: unit                     !< the open unit
+    integer, intent(out) :: unit                     !< the open file's handle
     character(len=*), intent(in), optional :: title  !< run title for line 1
-    integer :: ios
     call open_history(path, .false., unit)
     if (present(title)) then
       call write_banner(unit, path, title)
     else
       call write_banner(unit, path, DEFAULT_TITLE)
     end if
-    write(unit, '(a/a/a)', iostat=ios) '', name, ''
-    call check_write(ios, path)
-    if (len(header) > 0) then
-      write(unit, '(a)', iostat=ios) header
-      call check_write(ios, path)
-    end if
-    flush(unit)
+    call put_line(unit, '', path)
+    call put_line(unit, name, path)
+    call put_line(unit, '', path)
+    if (len(header) > 0) call put_line(unit, header, path)
+    call flush_history(unit, path)
   end subroutine open_table
 
   !> Append the slave and master resultants of one interface at one time.
@@ -421,24 +415,24 @@ contains
     real(wp), intent(in) :: tangential_force         !< tangential (friction) force magnitude
     character(len=*), parameter :: row = '(a,i10,a,'//NODOUT_VALUE//',3(a,'//NODOUT_VALUE// &
         '),a,'//NODOUT_VALUE//',a,'//NODOUT_VALUE//',a,'//NODOUT_VALUE//')'
-    integer :: ios
+    character(len=256) :: line
     if (.not. comm_is_root()) return
     if (.not. rcforc_opened) call fatal_local('rcforc_write called before rcforc_open')
-    write(rcforc_unit, row, iostat=ios) '  slave ', interface_id, ' time', time, ' x', &
+    write(line, row) '  slave ', interface_id, ' time', time, ' x', &
         force_slave(1), ' y', force_slave(2), ' z', force_slave(3), ' mass', 0.0_wp, &
         ' normal', normal_force, ' tangential', tangential_force
-    call check_write(ios, rcforc_path)
-    write(rcforc_unit, row, iostat=ios) '  master', interface_id, ' time', time, ' x', &
+    call put_line(rcforc_unit, trim(line), rcforc_path)
+    write(line, row) '  master', interface_id, ' time', time, ' x', &
         force_master(1), ' y', force_master(2), ' z', force_master(3), ' mass', 0.0_wp, &
         ' normal', normal_force, ' tangential', tangential_force
-    call check_write(ios, rcforc_path)
-    flush(rcforc_unit)
+    call put_line(rcforc_unit, trim(line), rcforc_path)
+    call flush_history(rcforc_unit, rcforc_path)
   end subroutine rcforc_write
 
   !> Close rcforc (no-op when it is not open).
   subroutine rcforc_close()
     if (.not. rcforc_opened) return
-    close(rcforc_unit)
+    call close_history(rcforc_unit, rcforc_path)
     rcforc_opened = .false.
     rcforc_unit = -1
   end subroutine rcforc_close
@@ -446,7 +440,7 @@ contains
   !> Close nodout (no-op when it is not open).
   subroutine nodout_close()
     if (.not. nodout_opened) return
-    close(nodout_unit)
+    call close_history(nodout_unit, nodout_path)
     nodout_opened = .false.
     nodout_unit = -1
     if (allocated(nodout_ids)) deallocate(nodout_ids)
@@ -468,57 +462,73 @@ contains
     end if
   end function join_path
 
-  !> Open a history file for writing (replace or append); fatal on failure, naming the path.
+  !> Open a history file for writing (replace or append; mefem_text_file, whose writes are
+  !> checked); fatal on failure, naming the path and the system's reason.
   subroutine open_history(path, appending, unit)
     character(len=*), intent(in) :: path   !< file to open
     logical, intent(in) :: appending       !< keep the existing content and write after it
-    integer, intent(out) :: unit           !< the new unit
-    integer :: ios
-    character(len=256) :: message
-    message = ''
-    if (appending) then
-      open(newunit=unit, file=path, status='unknown', position='append', action='write', &
-           form='formatted', iostat=ios, iomsg=message)
-    else
-      open(newunit=unit, file=path, status='replace', action='write', form='formatted', &
-           iostat=ios, iomsg=message)
-    end if
-    if (ios /= 0) call fatal_local('cannot open history file '//path//': '//trim(message))
+    integer, intent(out) :: unit           !< the file's handle
+    logical :: ok
+    character(len=:), allocatable :: message
+    call text_open(path, appending, unit, ok, message)
+    if (.not. ok) call fatal_local('cannot open history file '//path//': '//message)
   end subroutine open_history
 
-  !> Abort with the path when a write failed (disk full, file removed, ...).
-  subroutine check_write(ios, path)
-    integer, intent(in) :: ios              !< iostat of the write
-    character(len=*), intent(in) :: path    !< the file written
-    if (ios /= 0) call fatal_local('cannot write history file '//path)
-  end subroutine check_write
+  !> Write one line; a failure stops the run with the path and the system's reason.
+  subroutine put_line(unit, text, path)
+    integer, intent(in) :: unit             !< the file's handle
+    character(len=*), intent(in) :: text    !< the line
+    character(len=*), intent(in) :: path    !< its path, for the message
+    logical :: ok
+    character(len=:), allocatable :: message
+    call text_put(unit, text, ok, message)
+    if (.not. ok) call fatal_local('cannot write history file '//path//': '//message)
+  end subroutine put_line
+
+  !> Hand a history file's record to the system (each record reaches the file at once); a
+  !> failure (a full disk shows here) stops the run with the system's reason.
+  subroutine flush_history(unit, path)
+    integer, intent(in) :: unit             !< the file's handle
+    character(len=*), intent(in) :: path    !< its path, for the message
+    logical :: ok
+    character(len=:), allocatable :: message
+    call text_flush(unit, ok, message)
+    if (.not. ok) call fatal_local('cannot write history file '//path//': '//message)
+  end subroutine flush_history
+
+  !> Close a history file; a failure stops the run with the system's reason.
+  subroutine close_history(unit, path)
+    integer, intent(in) :: unit             !< the file's handle
+    character(len=*), intent(in) :: path    !< its path, for the message
+    logical :: ok
+    character(len=:), allocatable :: message
+    call text_close(unit, ok, message)
+    if (.not. ok) call fatal_local('cannot close history file '//path//': '//message)
+  end subroutine close_history
 
   !> Banner of LS-DYNA's ASCII files: the title, then program name and date.
   subroutine write_banner(unit, path, title)
-    integer, intent(in) :: unit             !< open history file
+    integer, intent(in) :: unit             !< open history file's handle
     character(len=*), intent(in) :: path    !< its path, for error messages
     character(len=*), intent(in) :: title   !< run title (cut to 72 characters)
     character(len=8) :: today
-    integer :: ios
     call date_and_time(date=today)
-    write(unit, '(a)', iostat=ios) ' '//title(1:min(len_trim(title), 72))
-    call check_write(ios, path)
-    write(unit, '(a)', iostat=ios) repeat(' ', 25)//'mefem'//repeat(' ', 26)//'date '// &
-        today(5:6)//'/'//today(7:8)//'/'//today(1:4)
-    call check_write(ios, path)
+    call put_line(unit, ' '//title(1:min(len_trim(title), 72)), path)
+    call put_line(unit, repeat(' ', 25)//'mefem'//repeat(' ', 26)//'date '// &
+                  today(5:6)//'/'//today(7:8)//'/'//today(1:4), path)
   end subroutine write_banner
 
   !> One glstat line: " label......" to column 32, then the value.
   subroutine write_value(unit, label, value)
-    integer, intent(in) :: unit             !< the glstat unit
+    integer, intent(in) :: unit             !< the glstat file's handle
     character(len=*), intent(in) :: label   !< label text (trailing blanks are kept)
     real(wp), intent(in) :: value           !< the value
     character(len=LABEL_WIDTH) :: text
-    integer :: ios
+    character(len=LABEL_WIDTH + 32) :: line
     text = repeat('.', LABEL_WIDTH)
     text(1:1 + len(label)) = ' '//label
-    write(unit, '(a,'//GLSTAT_VALUE//')', iostat=ios) text, value
-    call check_write(ios, glstat_path)
+    write(line, '(a,'//GLSTAT_VALUE//')') text, value
+    call put_line(unit, trim(line), glstat_path)
   end subroutine write_value
 
   !> The " dt of cycle ... is controlled by ..." line, in LS-DYNA's columns when possible.

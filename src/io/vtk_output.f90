@@ -416,15 +416,22 @@ contains
     integer, intent(in) :: unit                     !< its unit
     integer, intent(in) :: write_status             !< iostat of the writes (0 = fine)
     character(len=*), intent(in) :: write_message   !< iomsg of the failed write
-    integer :: ios
+    integer :: ios, position, on_disk
     character(len=256) :: message
     if (write_status /= 0) then
       close(unit, iostat=ios)
       call fatal_local(CALLER//': cannot write '//path//': '//trim(write_message))
     end if
+    inquire(unit=unit, pos=position)
     message = ''
     close(unit, iostat=ios, iomsg=message)
     if (ios /= 0) call fatal_local(CALLER//': cannot close '//path//': '//trim(message))
+    ! gfortran does not report a write the system refused (a full disk: the writes and the
+    ! close return 0): the file's size on disk, once closed, tells (mefem_text_file)
+    inquire(file=path, size=on_disk)
+    if (on_disk /= position - 1) call fatal_local(CALLER//': cannot write '//path//': '// &
+        itoa(max(on_disk, 0))//' of its '//itoa(position - 1)//' bytes reached the disk '// &
+        '(is the file system full?)')
   end subroutine close_stream
 
   !> Describe one appended array of n tuples of ncomp values of the given byte size.

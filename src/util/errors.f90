@@ -9,12 +9,12 @@
 module mefem_errors
   use, intrinsic :: iso_fortran_env, only: error_unit, output_unit
   use, intrinsic :: iso_c_binding, only: c_int
-  use mefem_comm, only: comm_is_root, comm_abort, comm_finalize
+  use mefem_comm, only: comm_is_root, comm_abort, comm_finalize, comm_barrier
   implicit none
   private
 
   public :: input_error, input_error_count, reset_input_errors
-  public :: warn, warn_once, fatal, fatal_local, say, terminate
+  public :: warn, warn_once, fatal, fatal_local, fatal_abort, say, terminate
   public :: status_t
 
   integer, parameter :: MAX_PRINTED = 500   !< input errors printed before the rest is only counted
@@ -112,6 +112,19 @@ contains
     if (comm_is_root()) write(error_unit, '(a)') 'mefem: error: '//trim(message)
     call terminate(1)
   end subroutine fatal
+
+  !> An error every rank detects alike, when finishing MPI is not safe (the HDF5 file after a
+  !> failed write: MPI_Finalize lets HDF5 close it, which crashed on a full disk): print on
+  !> rank 0, abort all ranks (exit code 1). Files flushed before stay as they are.
+  subroutine fatal_abort(message)
+    character(len=*), intent(in) :: message  !< what went wrong and where
+    if (comm_is_root()) then
+      write(error_unit, '(a)') 'mefem: error: '//trim(message)
+      call flush_output()
+    end if
+    call comm_barrier()
+    call comm_abort(1)
+  end subroutine fatal_abort
 
   !> An error found on one rank only: print it from this rank and abort all ranks.
   subroutine fatal_local(message)
