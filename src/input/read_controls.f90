@@ -472,6 +472,7 @@ contains
     call split_card(rd, card, W_10)
     associate (c => model%controls)
       call get_real(card, 1, 'DT', c%plot_interval)
+      c%plot_src = source_t(card%file, card%line)
       call get_int(card, 2, 'LCDT', lcdt)
       call get_int(card, 3, 'BEAM', beam)
       call get_int(card, 4, 'NPLTC', c%plot_count)
@@ -514,10 +515,13 @@ contains
         select case (which)
         case (DATABASE_GLSTAT)
           model%controls%glstat_interval = dt
+          model%controls%glstat_src = source_t(card%file, card%line)
         case (DATABASE_RCFORC)
           model%controls%rcforc_interval = dt
+          model%controls%rcforc_src = source_t(card%file, card%line)
         case (DATABASE_NODOUT)
           model%controls%nodout_interval = dt
+          model%controls%nodout_src = source_t(card%file, card%line)
         end select
       end if
     end if

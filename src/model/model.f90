@@ -247,6 +247,7 @@ module mefem_model
     real(wp) :: plot_interval = 0.0_wp        !< *DATABASE_BINARY_D3PLOT DT (0: none)
     integer :: plot_count = 0                 !< NPLTC
     real(wp) :: glstat_interval = 0.0_wp, rcforc_interval = 0.0_wp, nodout_interval = 0.0_wp
+    type(source_t) :: plot_src, glstat_src, rcforc_src, nodout_src   !< where each DT was given
     integer :: n_history_nodes = 0
     integer, allocatable :: history_node_ids(:), history_nodes(:)
     integer :: n_history_sets = 0

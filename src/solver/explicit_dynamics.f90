@@ -57,7 +57,7 @@ module mefem_explicit_dynamics
                                        initial_velocities
   use mefem_output_mesh, only: output_field_t
   use mefem_results, only: results_write_state, results_directory, node_set_fields
-  use mefem_solver_common, only: cell_result_fields, schedule_after
+  use mefem_solver_common, only: cell_result_fields, schedule_after, warn_output_every_step
   use mefem_history_output, only: glstat_record_t, glstat_open, glstat_write, glstat_close, &
                                   glstat_total_energy, glstat_energy_ratio, nodout_open, &
                                   nodout_write, nodout_close
@@ -169,6 +169,7 @@ contains
                                           0.0_wp, timing)
     call bound_step(model, t, .true., dt)
     dt_first = dt
+    call warn_output_every_step(model, dt_first, 'the first time step', 'cycle', .true.)
     dt_floor = model%controls%dt_min_fraction*dt_first
     dt_old = 0.0_wp
     call open_histories(model, schedule)

@@ -38,7 +38,8 @@ module mefem_implicit_static
   use mefem_results, only: results_write_state
   use mefem_sense_switch, only: sense_switch, sense_switch_warn_leftover, SENSE_STOP, &
                                 SENSE_STATUS, SENSE_STATE
-  use mefem_solver_common, only: number_equations, cell_result_fields, schedule_after
+  use mefem_solver_common, only: number_equations, cell_result_fields, schedule_after, &
+                                 warn_output_every_step
   use mefem_mortar_contact, only: mortar_contact_t, mortar_contact_setup, mortar_contact_forces, &
                                   mortar_contact_slave_rows
   use mefem_curves, only: curve_value
@@ -155,6 +156,8 @@ contains
     if (dt_max <= 0.0_wp) dt_max = end_time
     dt_min = model%controls%auto_dtmin
     if (dt_min <= 0.0_wp) dt_min = 1.0e-6_wp*end_time
+    call warn_output_every_step(model, dt_min, 'the smallest step, DTMIN,', 'step', &
+                                .false.)
     next_output = output_interval(model)
     output_step = 1
     t = 0.0_wp

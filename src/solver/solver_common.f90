@@ -1,7 +1,10 @@
 !> Pieces shared by the analyses: equation numbering and the stress output fields.
 module mefem_solver_common
   use mefem_kinds, only: wp
-  use mefem_model, only: model_t
+  use mefem_model, only: model_t, source_t
+  use mefem_deck_source, only: location
+  use mefem_errors, only: warn
+  use mefem_strings, only: rtoa
   use mefem_decomposition, only: decomposition_t
   use mefem_cells, only: cells_t
   use mefem_output_mesh, only: output_field_t
@@ -9,6 +12,7 @@ module mefem_solver_common
   private
 
   public :: number_equations, stress_fields, cell_result_fields, schedule_after
+  public :: warn_output_every_step
 
 contains
 
@@ -141,5 +145,41 @@ contains
     if (after <= t + tol) after = after + interval           ! (rounding of the ratio)
     if (.not. (after > t)) after = nearest(t, 1.0_wp)
   end function schedule_after
+
+  !> A warning, naming the keyword and its line, for each output interval (D3PLOT, GLSTAT,
+  !> RCFORC, NODOUT) below the smallest step the analysis takes (step: the explicit first
+  !> step, the implicit DTMIN): such an interval cannot be kept, the output is written every
+  !> cycle or step instead (schedule_after), which may be many more records than meant.
+  subroutine warn_output_every_step(model, step, step_name, what, histories)
+    type(model_t), intent(in) :: model                !< resolved model
+    real(wp), intent(in) :: step                      !< the smallest step
+    character(len=*), intent(in) :: step_name         !< what that step is, for the message
+    character(len=*), intent(in) :: what              !< 'cycle' or 'step'
+    logical, intent(in) :: histories                  !< the histories follow their DT too
+                                                      !< (explicit; the implicit analysis
+                                                      !< writes rcforc every step anyway)
+    associate (c => model%controls)
+      if (c%plot_count == 0) call check_one(c%plot_interval, c%plot_src, &
+                                            '*DATABASE_BINARY_D3PLOT', 'result state')
+      if (.not. histories) return
+      call check_one(c%glstat_interval, c%glstat_src, '*DATABASE_GLSTAT', 'glstat record')
+      call check_one(c%rcforc_interval, c%rcforc_src, '*DATABASE_RCFORC', 'rcforc record')
+      call check_one(c%nodout_interval, c%nodout_src, '*DATABASE_NODOUT', 'nodout block')
+    end associate
+
+  contains
+
+    !> The warning for one interval.
+    subroutine check_one(interval, src, keyword, record)
+      real(wp), intent(in) :: interval                !< the DT given (0: none)
+      type(source_t), intent(in) :: src               !< where
+      character(len=*), intent(in) :: keyword, record !< its keyword, what it writes
+      if (interval <= 0.0_wp .or. interval >= step) return
+      call warn(location(src%file, src%line)//': '//keyword//': DT = '//rtoa(interval)// &
+                ' s is below '//step_name//' ('//rtoa(step)//' s): a '//record// &
+                ' is written every '//what)
+    end subroutine check_one
+
+  end subroutine warn_output_every_step
 
 end module mefem_solver_common

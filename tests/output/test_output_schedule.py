@@ -12,6 +12,7 @@ step: 81 states, and the final state is that of
 the deck's DT of 0.025 (41 states) up to round-off.
 """
 import os
+import re
 import shutil
 import subprocess
 import sys
@@ -68,6 +69,16 @@ for name, interval in (('schedule_1e-20', 1.0e-20), ('schedule_1e-300', 1.0e-300
                  text[-600:])
     if rc != 0:
         continue
+    # one warning per keyword, naming its line: the interval is below the step
+    warned = [kw for kw in ('*DATABASE_BINARY_D3PLOT', '*DATABASE_GLSTAT', '*DATABASE_NODOUT')
+              if re.search(r'%s\.k:\d+: \%s: DT = \S+ s is below the first time step '
+                           r'\(\S+ s\): a .* is written every cycle' % (re.escape(name), kw), text)]
+    if interval < 1.0e-9:
+        checks.check(len(warned) == 3, '%s: a warning with the line of each of the 3 '
+                     'intervals' % name, text[-800:])
+    else:
+        checks.check(len(warned) == 0 and 'is below the first time step' not in text,
+                     '%s: no warning for an interval above the step' % name, text[-800:])
     states, u = final_displacement(out, name)
     records = len(read_glstat(os.path.join(out, 'glstat'))['time'])
     blocks = len(read_nodout(os.path.join(out, 'nodout'))['time'])
@@ -113,6 +124,11 @@ for name, dt in (('punch_tiny', '     1e-12'), ('punch_regular', '     0.025')):
     if rc == 0:
         steps = text.count('\nstep ') + text.startswith('step ')
         finals[name] = (steps,) + final_displacement(out, name)
+        warned = re.search(r'%s\.k:\d+: \*DATABASE_BINARY_D3PLOT: DT = \S+ s is below the '
+                           r'smallest step, DTMIN, \(\S+ s\): a result state is written '
+                           r'every step' % name, text)
+        checks.check(bool(warned) == (name == 'punch_tiny'), 'implicit %s: a warning with the '
+                     'line of D3PLOT exactly when its DT is below DTMIN' % name, text[-600:])
 if len(finals) == 2:
     (steps_tiny, states_tiny, u_tiny), (steps_regular, states_regular, u_regular) = (
         finals['punch_tiny'], finals['punch_regular'])
