@@ -65,10 +65,12 @@ contains
       call chunk_elements(model, elem_start, elem_nodes, ncommon, elem_chunk, nchunk)
       call chunks_to_ranks(elem_chunk, nchunk, comm_size(), elem_part)
       call move_alloc(elem_chunk, element_chunk)
-    else if (comm_size() > 1) then
+    else if (min(comm_size(), model%elements%n) > 1) then
+      ! more ranks than elements: the elements on the first ranks, the others idle
       if (comm_is_root()) then
         call metis_partition_elements(model%elements%n, model%nodes%n, elem_start, elem_nodes, &
-                                      ncommon, comm_size(), elem_part=elem_part, status=status)
+                                      ncommon, min(comm_size(), model%elements%n), &
+                                      elem_part=elem_part, status=status)
       end if
       call check_partitioning(status)
       call comm_bcast(elem_part)
