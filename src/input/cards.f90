@@ -9,7 +9,7 @@
 module mefem_cards
   use mefem_kinds, only: wp
   use mefem_errors, only: input_error, warn
-  use mefem_strings, only: itoa
+  use mefem_strings, only: itoa, rtoa
   use mefem_numbers, only: parse_real, parse_int
   use mefem_parameters, only: parameter_lookup
   use mefem_deck_source, only: deck_t, deck_next_line, deck_push_back, location, MAX_LINE, &
@@ -334,7 +334,7 @@ contains
     real(wp), intent(in), optional :: default       !< value of a blank field (default 0)
     logical, intent(in), optional :: required       !< a blank field is an error
     character(len=:), allocatable :: s
-    logical :: ok
+    logical :: ok, overflow
     integer :: lo, hi
     value = 0.0_wp
     if (present(default)) value = default
@@ -362,8 +362,15 @@ contains
       end if
       return
     end if
-    call parse_real(s, value, ok)
-    if (.not. ok) then
+    call parse_real(s, value, ok, overflow)
+    if (overflow) then
+      call card_error(card, field_label(card, i, name)//': '//as_written(card, i, s)// &
+                      ' is beyond the largest number of double precision ('// &
+                      rtoa(huge(1.0_wp))//')')
+      card%bad = .true.
+      value = 0.0_wp
+      if (present(default)) value = default
+    else if (.not. ok) then
       call card_error(card, field_label(card, i, name)//': '//as_written(card, i, s)// &
                       ' is not a number')
       card%bad = .true.

@@ -298,6 +298,7 @@ contains
     integer(i8) :: nbytes
     logical :: exists, is_directory
     character(len=256) :: msg
+    character(len=1) :: probe
 
     ok = .false.
     if (present(from_file)) then
@@ -347,6 +348,18 @@ contains
       if (ios == 0) close(unit)
       call input_error(where, 'cannot read "'//path//'": '//trim(msg))
       return
+    end if
+    ! a device, a pipe or a /proc file reports no size but has bytes to read: not a deck
+    ! (it would be read as empty, or forever)
+    if (nbytes == 0) then
+      read(unit, iostat=ios) probe
+      if (ios == 0) then
+        close(unit)
+        call input_error(where, '"'//path//'" is not a regular file (a device, a pipe or '// &
+            'a /proc file); a deck and its includes must be files')
+        return
+      end if
+      rewind(unit)
     end if
     deck%depth = deck%depth + 1
     associate (f => deck%stack(deck%depth))

@@ -13,6 +13,9 @@ module mefem_numbers
 
   public :: parse_real, parse_int
 
+  !> Decimal exponent of huge(1.0_wp) (1.8e308)
+  integer, parameter :: MAX_DECIMAL_EXPONENT = int(log10(huge(1.0_wp)))
+
   !> Powers of ten that are exact in double precision.
   real(wp), parameter :: EXACT_POWERS(0:22) = [ &
     1.0e0_wp, 1.0e1_wp, 1.0e2_wp, 1.0e3_wp, 1.0e4_wp, 1.0e5_wp, 1.0e6_wp, 1.0e7_wp, 1.0e8_wp, &
@@ -22,10 +25,11 @@ module mefem_numbers
 contains
 
   !> Read a real number from text s (already trimmed of blanks). ok is false if s is no number.
-  pure subroutine parse_real(s, x, ok)
+  pure subroutine parse_real(s, x, ok, overflow)
     character(len=*), intent(in) :: s   !< the field text, no leading/trailing blanks
     real(wp), intent(out) :: x          !< the value
     logical, intent(out) :: ok          !< true when s is a valid number
+    logical, intent(out), optional :: overflow  !< s is a number beyond huge(x) (ok false)
     integer :: i, n, exp_sign, n_digits, ios
     integer(i8) :: mantissa
     integer :: exp10, exp_value, dropped
@@ -35,6 +39,7 @@ contains
 
     x = 0.0_wp
     ok = .false.
+    if (present(overflow)) overflow = .false.
     n = len(s)
     if (n == 0) return
     i = 1
@@ -108,14 +113,28 @@ contains
         x = real(mantissa, wp)/EXACT_POWERS(-exp10)
       end if
     else
-      if (exp10 > 400) return          ! overflows double precision
+      ! beyond double precision: decided before converting (a conversion that overflows
+      ! traps in the debug build); the value is mantissa 10^exp10, of n_digits digits
+      if (exp10 + n_digits - 1 > MAX_DECIMAL_EXPONENT) then
+        if (present(overflow)) overflow = .true.
+        return
+      end if
       if (exp10 < -400) then
         x = 0.0_wp
+      else if (exp10 + n_digits - 1 == MAX_DECIMAL_EXPONENT) then
+        ! 1e308 <= |x| < 1e309: compare a scaled conversion with huge
+        write(normal, '(i0,a,i0)') mantissa, 'e', exp10 - 10
+        read(normal, *, iostat=ios) x
+        if (ios /= 0) return
+        if (x > huge(x)/1.0e10_wp) then
+          if (present(overflow)) overflow = .true.
+          return
+        end if
+        x = x*1.0e10_wp
       else
         write(normal, '(i0,a,i0)') mantissa, 'e', exp10
         read(normal, *, iostat=ios) x
         if (ios /= 0) return
-        if (x > huge(x)) return
       end if
     end if
     if (negative) x = -x

@@ -3,7 +3,7 @@
 !> occurrence and appends to the model; ids are resolved later (model_resolve).
 module mefem_read_mesh
   use mefem_kinds, only: wp
-  use mefem_strings, only: itoa
+  use mefem_strings, only: itoa, rtoa
   use mefem_cards, only: LONG_WIDTH, reader_t, card_t, next_card, split_card, get_int, get_real, &
                          card_error, keyword_error
   use mefem_model, only: model_t, nodes_t, elements_t, part_t, section_t, source_t, &
@@ -17,6 +17,9 @@ module mefem_read_mesh
   integer, parameter :: W_NODE(6) = [8, 16, 16, 16, 8, 8]    !< *NODE field widths
   integer, parameter :: W_I8(10) = 8                          !< element cards: I8 fields
   integer, parameter :: W_10(8) = 10                          !< standard 8 x 10 card
+  !> largest |coordinate| accepted: volumes (cubes of coordinate differences) stay far from
+  !> overflow (1e308), and no unit system puts a real part beyond 1e30 of its length unit
+  real(wp), parameter :: COORDINATE_LIMIT = 1.0e30_wp
   !> Names of the node fields N1..N10 (constants: building them per card costs more than
   !> reading the card; the trailing blank is dropped in messages)
   character(len=3), parameter :: NODE_FIELD(10) = [character(len=3) :: 'N1', 'N2', 'N3', &
@@ -55,6 +58,12 @@ contains
       end if
       if (.not. card%bad .and. (tc < 0 .or. tc > 7 .or. rc < 0 .or. rc > 7)) then
         call card_error(card, 'fields TC/RC: constraint codes must be 0 to 7')
+        card%bad = .true.
+      end if
+      if (.not. card%bad .and. any(abs(x) > COORDINATE_LIMIT)) then
+        call card_error(card, 'fields X/Y/Z: coordinate '//rtoa(x(maxloc(abs(x), 1)))// &
+            ' is beyond '//rtoa(COORDINATE_LIMIT)//' in magnitude (element volumes would '// &
+            'overflow); check the units')
         card%bad = .true.
       end if
       if (card%bad) cycle
