@@ -206,12 +206,20 @@ contains
     type(part_t), allocatable :: grown(:)
     character(len=:), allocatable :: title
     logical :: got
+    integer :: nread
     if (len_trim(options) > 0) then
       call keyword_error(rd, 'options "'//trim(adjustl(options))//'" are not supported')
     end if
+    nread = 0
     do
       call next_card(rd, heading, got, keep_blank=.true.)
-      if (.not. got) exit
+      if (.not. got) then
+        ! a *PART without a card at all (a truncated deck ends with it)
+        if (nread == 0) call keyword_error(rd, 'no cards: give a heading card and the card '// &
+                                           'PID SECID MID')
+        exit
+      end if
+      nread = nread + 1
       call next_card(rd, card, got)
       if (.not. got) then
         if (len_trim(heading%text(1:heading%length)) > 0) &
