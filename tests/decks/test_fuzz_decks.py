@@ -1,5 +1,6 @@
-"""Mutated decks (issue 21): a hundred decks (MEFEM_FUZZ_MUTANTS) made from the project's good decks by random
-edits (a fixed seed: the same decks every run) are checked by both builds (`--check`). Each
+"""Mutated decks (issue 21): a hundred decks (MEFEM_FUZZ_MUTANTS) made from the project's good
+decks by random edits (a fixed seed: the same decks every run) are checked by both builds
+(`--check`). Each
 must end within a few seconds with exit code 0 (accepted) or 1 (input errors), never a crash
 (a signal, an MPI abort, a run-time error of the debug build) or a hang.
 
