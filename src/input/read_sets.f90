@@ -18,7 +18,6 @@ module mefem_read_sets
 
   integer, parameter :: W_10(8) = 10                       !< standard 8 x 10 card
   integer, parameter :: W_HEADER(6) = [10, 10, 10, 10, 10, 10]   !< SID DA1-DA4 SOLVER
-  integer, parameter :: MAX_RANGE = 10000000               !< ids in one GENERATE range at most
 
 contains
 
@@ -124,13 +123,12 @@ contains
     logical, intent(in) :: generate              !< cards hold ranges B1 E1 B2 E2 ...
     type(card_t) :: card
     logical :: got, bad
-    integer :: i, ids(8), first_id, last_id, k
+    integer :: i, ids(8), first_id, last_id
     if (.not. read_header(rd, options, set)) then
       call skip_members(rd)
       return
     end if
     bad = .false.
-    set%generated = generate
     set%generated = generate
     allocate(set%member_ids(64))
     do
@@ -160,17 +158,11 @@ contains
             bad = .true.
             cycle
           end if
-          if (last_id - first_id >= MAX_RANGE) then
-            call card_error(card, what//' set '//itoa(set%id)//': range '//itoa(first_id)// &
-                ' to '//itoa(last_id)//' holds more than '//itoa(MAX_RANGE)//' ids')
-            bad = .true.
-            cycle
-          end if
-          call ensure_room(set%member_ids, set%n + (last_id - first_id + 1))
-          do k = first_id, last_id
-            set%n = set%n + 1
-            set%member_ids(set%n) = k
-          end do
+          ! the range itself (B, E): resolve_sets takes the defined nodes in it, so memory
+          ! follows the nodes, not the width of the ranges
+          call ensure_room(set%member_ids, 2*(set%n + 1))
+          set%n = set%n + 1
+          set%member_ids(2*set%n - 1:2*set%n) = [first_id, last_id]
         end do
       else
         do i = 1, 8
@@ -253,6 +245,8 @@ contains
     end if
     if (set%kind == SET_SEGMENT) then
       exact = set%member_ids(1:4*set%n)
+    else if (set%generated) then
+      exact = set%member_ids(1:2*set%n)            ! ranges B E (resolve_sets)
     else
       exact = set%member_ids(1:set%n)
     end if

@@ -110,7 +110,9 @@ module mefem_model
     integer :: kind = SET_NODE
     character(len=80) :: title = ''
     integer :: n = 0
-    integer, allocatable :: member_ids(:)   !< (n) node or part ids; segments: (4*n) node ids
+    integer, allocatable :: member_ids(:)   !< (n) node or part ids; segments: (4*n) node ids;
+                                            !< generated sets: (2*n) ranges B E until
+                                            !< resolved, then the (n) ids of their nodes
     integer, allocatable :: members(:)      !< indices (after resolve)
     logical :: generated = .false.          !< from _GENERATE ranges: ids in a range that no
                                             !< node has are left out (as LS-DYNA does)

@@ -10,7 +10,7 @@ module mefem_resolve_conditions
   use mefem_errors, only: input_error, warn
   use mefem_strings, only: itoa
   use mefem_deck_source, only: location
-  use mefem_id_map, only: id_map_t, id_map_build, id_map_find
+  use mefem_id_map, only: id_map_t, id_map_build, id_map_find, sort_with_index
   use mefem_model, only: model_t, source_t, ON_NODE, ON_NODE_SET, ON_PART, ON_ALL_NODES, &
                          ON_PART_SET, ON_SEGMENT_SET, SET_NODE, SET_SEGMENT, SET_PART, &
                          MAT_PIECEWISE_LINEAR, MAT_RIGID
@@ -265,6 +265,16 @@ contains
     do s = 1, model%n_sets
       associate (set => model%sets(s))
         if (.not. allocated(set%member_ids)) allocate(set%member_ids(0))
+        ! _GENERATE: "all defined ids between B and E" (LS-DYNA), in ascending id order,
+        ! each once; an empty set is an error
+        if (set%generated) then
+          call nodes_in_ranges(model, set%member_ids, set%members)
+          set%member_ids = model%nodes%id(set%members)
+          set%n = size(set%members)
+          if (set%n == 0) call input_error(where_is(set%src, set_keyword(set%kind)), &
+              set_name(set%kind)//' '//itoa(set%id)//': no node of its ranges is defined')
+          cycle
+        end if
         if (allocated(set%members)) deallocate(set%members)
         allocate(set%members(size(set%member_ids)))
         set%members = 0
@@ -276,21 +286,61 @@ contains
           else
             set%members(i) = id_map_find(look%nodes, set%member_ids(i))
           end if
-          if (set%members(i) == 0 .and. .not. set%generated) call input_error(where, &
+          if (set%members(i) == 0) call input_error(where, &
               set_name(set%kind)//' '//itoa(set%id)//': '//member//' '// &
               itoa(set%member_ids(i))//' is not defined')
         end do
-        ! _GENERATE: "all defined ids between B and E" (LS-DYNA); an empty set is an error
-        if (set%generated) then
-          set%member_ids = pack(set%member_ids, set%members > 0)
-          set%members = pack(set%members, set%members > 0)
-          set%n = size(set%members)
-          if (set%n == 0) call input_error(where, set_name(set%kind)//' '//itoa(set%id)// &
-              ': no '//member//' of its ranges is defined')
-        end if
       end associate
     end do
   end subroutine resolve_sets
+
+  !> The nodes whose ids lie in any of the ranges (B1 E1 B2 E2 ...), each once, in ascending
+  !> id order: the ranges sorted and merged, each node's id found by bisection (time
+  !> n log(ranges), memory of the nodes found).
+  subroutine nodes_in_ranges(model, ranges, members)
+    type(model_t), intent(in) :: model               !< the model (nodes read)
+    integer, intent(in) :: ranges(:)                 !< (2 * ranges) B E pairs
+    integer, allocatable, intent(out) :: members(:)  !< node indices
+    integer, allocatable :: b(:), e(:), ids(:)
+    integer :: nr, k, m, node, lo, hi, mid
+    logical, allocatable :: inside(:)
+    nr = size(ranges)/2
+    b = ranges(1:2*nr:2)
+    e = ranges(2:2*nr:2)
+    call sort_with_index(b, e)
+    m = 0                                          ! merge overlapping or touching ranges
+    do k = 1, nr
+      if (m > 0) then
+        if (b(k) <= e(m) + 1) then
+          e(m) = max(e(m), e(k))
+          cycle
+        end if
+      end if
+      m = m + 1
+      b(m) = b(k)
+      e(m) = e(k)
+    end do
+    allocate(inside(model%nodes%n))
+    do node = 1, model%nodes%n
+      lo = 1                                       ! last range with b <= id
+      hi = m
+      inside(node) = .false.
+      if (m == 0) cycle
+      if (model%nodes%id(node) < b(1)) cycle
+      do while (lo < hi)
+        mid = (lo + hi + 1)/2
+        if (b(mid) <= model%nodes%id(node)) then
+          lo = mid
+        else
+          hi = mid - 1
+        end if
+      end do
+      inside(node) = model%nodes%id(node) <= e(lo)
+    end do
+    members = pack([(node, node = 1, model%nodes%n)], inside)
+    ids = model%nodes%id(members)
+    call sort_with_index(ids, members)
+  end subroutine nodes_in_ranges
 
   !> SPCs and prescribed motions: targets, curves, rigid parts.
   subroutine resolve_constraints(model, look)
