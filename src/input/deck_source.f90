@@ -11,6 +11,7 @@ module mefem_deck_source
   use mefem_kinds, only: i8
   use mefem_errors, only: input_error
   use mefem_strings, only: to_upper, itoa, dirname, join_path, is_absolute_path
+  use mefem_file_system, only: canonical_path
   implicit none
   private
 
@@ -331,8 +332,8 @@ contains
       call input_error(where, '"'//name//'" is a directory, not a keyword deck')
       return
     end if
-    do k = 1, deck%depth
-      if (file_name(deck%stack(k)%file) == path) then
+    do k = 1, deck%depth            ! (the real paths: a file named two ways is one file)
+      if (canonical_path(file_name(deck%stack(k)%file)) == canonical_path(path)) then
         call input_error(where, 'file "'//name//'" includes itself (recursive *INCLUDE)')
         return
       end if

@@ -1,11 +1,13 @@
 !> File-system helpers: create a directory (with its parents), as `mkdir -p` does, and say what
 !> is in the way when it cannot be made or written.
 module mefem_file_system
-  use, intrinsic :: iso_c_binding, only: c_int, c_char, c_null_char
+  use, intrinsic :: iso_c_binding, only: c_int, c_char, c_null_char, c_ptr, c_associated
   implicit none
   private
 
-  public :: make_directory
+  public :: make_directory, canonical_path
+
+  integer, parameter :: PATH_BUFFER = 4096                 !< PATH_MAX of Linux
 
   integer(c_int), parameter :: MODE_RWX = int(o'755', c_int)  !< rwxr-xr-x for new directories
 
@@ -16,9 +18,37 @@ module mefem_file_system
       character(kind=c_char), intent(in) :: path(*)
       integer(c_int), value :: mode
     end function c_mkdir
+    !> POSIX realpath(3) into a caller's buffer of PATH_BUFFER bytes.
+    type(c_ptr) function c_realpath(path, resolved) bind(C, name='realpath')
+      import :: c_ptr, c_char
+      character(kind=c_char), intent(in) :: path(*)
+      character(kind=c_char), intent(out) :: resolved(*)
+    end function c_realpath
   end interface
 
 contains
+
+  !> The absolute path of an existing file with every link, '.' and '..' resolved (two names
+  !> of one file give the same text); the path as given when that fails.
+  function canonical_path(path) result(canonical)
+    character(len=*), intent(in) :: path                 !< existing file
+    character(len=:), allocatable :: canonical
+    character(kind=c_char) :: resolved(PATH_BUFFER)
+    integer :: n, k
+    if (.not. c_associated(c_realpath(path//c_null_char, resolved))) then
+      canonical = path
+      return
+    end if
+    n = 0
+    do while (n < PATH_BUFFER)
+      if (resolved(n + 1) == c_null_char) exit
+      n = n + 1
+    end do
+    allocate(character(len=n) :: canonical)
+    do k = 1, n
+      canonical(k:k) = resolved(k)
+    end do
+  end function canonical_path
 
   !> Create directory path and any missing parents; ok is false when it cannot be made or its
   !> files cannot be created, and reason (if present) then names the part of the path that is
