@@ -10,6 +10,7 @@ module mefem_errors
   use, intrinsic :: iso_fortran_env, only: error_unit, output_unit
   use, intrinsic :: iso_c_binding, only: c_int
   use mefem_comm, only: comm_is_root, comm_abort, comm_finalize, comm_barrier
+  use mefem_text_file, only: text_put_stdout
   implicit none
   private
 
@@ -97,12 +98,21 @@ contains
     call warn(message)
   end subroutine warn_once
 
-  !> Print a line of progress or information on rank 0.
+  !> Print a line of progress or information on rank 0 (the run's log, standard output,
+  !> through the C library: a write the system refuses, e.g. a log on a full disk, stops the
+  !> run with the reason on standard error; gfortran's units do not report it).
   subroutine say(message)
     character(len=*), intent(in) :: message  !< the text
+    logical :: ok
+    character(len=:), allocatable :: reason
     if (comm_is_root()) then
-      write(output_unit, '(a)') trim(message)
-      flush(output_unit)
+      call text_put_stdout(trim(message), ok, reason)
+      if (.not. ok) then
+        write(error_unit, '(a)') 'mefem: error: cannot write the log (standard output): '// &
+                                 reason
+        flush(error_unit)
+        call comm_abort(1)
+      end if
     end if
   end subroutine say
 

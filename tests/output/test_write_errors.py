@@ -8,7 +8,8 @@ tmpfs its WRITE, FLUSH and CLOSE return 0), so before this test the histories we
 "successfully" into nothing and the run exited 0 (doc/verification.md).
 
 1. /dev/full in place of each history file (glstat, nodout, rwforc, rbdout, rcforc) and of the
-   first .vtu of a short contact run that writes all of them.
+   first .vtu of a short contact run that writes all of them; and as the run's log (standard
+   output).
 2. A tmpfs of 300 KiB to 3 MiB as the output directory of the copper Taylor bar (coarse mesh,
    16 states) on 1 and 2 ranks: the disk fills at a different file each time. Skipped with a
    message where mounting a tmpfs is not allowed.
@@ -89,6 +90,18 @@ for target in ('glstat', 'nodout', 'rwforc', 'rbdout', 'rcforc', 'all_histories_
                  'exit code 1 naming the file and the reason' % target,
                  'rc %d: %s' % (rc, text[-400:]))
     results_intact(out, 'all_histories', target + ' on /dev/full')
+
+# ---- the log (standard output) on /dev/full ------------------------------------------------
+out = os.path.join(OUT, 'full_log')
+subprocess.run(['rm', '-rf', out])
+with open('/dev/full', 'w') as log:
+    p = subprocess.run([os.path.join(ROOT, 'bin', 'mefem'), '-o', out, deck], stdout=log,
+                       stderr=subprocess.PIPE, text=True,
+                       env=dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT='1',
+                                OMPI_ALLOW_RUN_AS_ROOT_CONFIRM='1'))
+checks.check(p.returncode == 1 and 'cannot write the log (standard output): No space left on '
+             'device' in p.stderr, 'the log on /dev/full: the run stops with exit code 1 and '
+             'the reason on standard error', 'rc %d: %s' % (p.returncode, p.stderr[-300:]))
 
 # ---- 2. a full file system ---------------------------------------------------------------
 mount_point = os.path.join(OUT, 'tmpfs')

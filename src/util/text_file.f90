@@ -1,4 +1,5 @@
-!> Text files whose every write is checked, through the C library's buffered streams.
+!> Text files whose every write is checked, through the C library's buffered streams (and
+!> the run's log on standard output, text_put_stdout).
 !>
 !> Why not Fortran units: gfortran's run-time library does not report a failed write(2) of a
 !> formatted or stream unit. On a full file system (a 64 KiB tmpfs) or on /dev/full, WRITE,
@@ -14,10 +15,12 @@ module mefem_text_file
   implicit none
   private
 
-  public :: text_open, text_put, text_flush, text_close
+  public :: text_open, text_put, text_flush, text_close, text_put_stdout
 
   integer, parameter :: MAX_FILES = 32           !< files open at the same time
   type(c_ptr), save :: streams(MAX_FILES) = c_null_ptr   !< FILE* of each handle
+  type(c_ptr), save :: log_stream = c_null_ptr           !< standard output (file 1), opened
+                                                         !< by text_put_stdout at first use
 
   interface
     function c_fopen(path, mode) bind(C, name='fopen') result(stream)
@@ -25,6 +28,12 @@ module mefem_text_file
       character(kind=c_char), intent(in) :: path(*), mode(*)
       type(c_ptr) :: stream
     end function c_fopen
+    function c_fdopen(descriptor, mode) bind(C, name='fdopen') result(stream)
+      import :: c_ptr, c_char, c_int
+      integer(c_int), value :: descriptor
+      character(kind=c_char), intent(in) :: mode(*)
+      type(c_ptr) :: stream
+    end function c_fdopen
     function c_fputs(text, stream) bind(C, name='fputs') result(status)
       import :: c_ptr, c_char, c_int
       character(kind=c_char), intent(in) :: text(*)
@@ -134,6 +143,20 @@ contains
     streams(handle) = c_null_ptr
     if (.not. ok) message = system_error()
   end subroutine text_close
+
+  !> Write text and a newline to standard output (the run's log) and flush it: ok is false when
+  !> the system refused it (a log on a full disk).
+  subroutine text_put_stdout(text, ok, message)
+    character(len=*), intent(in) :: text            !< the line, without its newline
+    logical, intent(out) :: ok                      !< written
+    character(len=:), allocatable, intent(out) :: message  !< the reason when not
+    message = ''
+    if (.not. c_associated(log_stream)) log_stream = c_fdopen(1_c_int, 'a'//c_null_char)
+    ok = c_associated(log_stream)
+    if (ok) ok = c_fputs(text//new_line('a')//c_null_char, log_stream) >= 0
+    if (ok) ok = c_fflush(log_stream) == 0
+    if (.not. ok) message = system_error()
+  end subroutine text_put_stdout
 
   !> True for the handle of an open file.
   logical function valid(handle)
