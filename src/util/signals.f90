@@ -4,11 +4,12 @@
 !> handler records the signal; the time loops ask signal_caught at points where all ranks are,
 !> agree over the ranks, finish the cycle or step, write the state reached, close every file
 !> and leave with exit code 128 + the signal's number (signal_exit_code), what a shell reports
-!> for a process the signal ended. A second signal of the same kind ends the process at once
-!> (the default action): Ctrl-C twice still stops a run that does not reach its next check.
-!> Signal numbers are Linux's (x86-64 and arm64).
+!> for a process the signal ended. Further signals change nothing: a scheduler signals every
+!> process of a job, mpirun too, which passes the signal on, so each rank gets it twice (a
+!> second signal that ended the process would undo the clean stop). SIGKILL ends a run at
+!> once. Signal numbers are Linux's (x86-64 and arm64).
 module mefem_signals
-  use, intrinsic :: iso_c_binding, only: c_int, c_funptr, c_funloc, c_null_funptr
+  use, intrinsic :: iso_c_binding, only: c_int, c_funptr, c_funloc
   implicit none
   private
 
@@ -30,12 +31,6 @@ module mefem_signals
       type(c_funptr), value :: handler
       type(c_funptr) :: previous
     end function c_signal
-    !> C library raise(): send a signal to this process.
-    function c_raise(signum) bind(C, name='raise') result(status)
-      import :: c_int
-      integer(c_int), value :: signum
-      integer(c_int) :: status
-    end function c_raise
   end interface
 
 contains
@@ -49,18 +44,10 @@ contains
     previous = c_signal(SIGUSR1_NUMBER, c_funloc(on_signal))
   end subroutine signals_install
 
-  !> The handler: record the signal; the same signal a second time restores the default
-  !> action and raises it again (only async-signal-safe calls).
+  !> The handler: record the first signal (only an assignment: async-signal-safe).
   subroutine on_signal(signum) bind(C)
     integer(c_int), value, intent(in) :: signum  !< the signal
-    type(c_funptr) :: previous
-    integer(c_int) :: status
-    if (caught == signum) then
-      previous = c_signal(signum, c_null_funptr)       ! SIG_DFL
-      status = c_raise(signum)
-      return
-    end if
-    caught = signum
+    if (caught == 0) caught = signum
   end subroutine on_signal
 
   !> The signal caught on this rank since signals_install (0: none).
