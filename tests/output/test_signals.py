@@ -96,9 +96,22 @@ def check_results(name, out, stem, text, explicit=True):
     return t_stop
 
 
+def wait_for(name, text, proc, limit=60.0):
+    """Wait until the run's log holds text (the analysis has started: the handlers are set),
+    at most limit seconds."""
+    t0 = time.time()
+    while time.time() - t0 < limit and proc.poll() is None:
+        with open(os.path.join(OUT, name + '.log')) as f:
+            if text in f.read():
+                return
+        time.sleep(0.05)
+
+
 def signal_run(name, ranks, delay, sig, to_ranks=True):
-    """Run the Taylor deck, send sig after delay seconds (to the ranks, or to mpirun)."""
+    """Run the Taylor deck, send sig delay seconds after its first cycle (to mpirun and the
+    ranks, or to mpirun only)."""
     proc, out = start(name, deck, ranks)
+    wait_for(name, 'explicit: cycle', proc)
     time.sleep(delay)
     if proc.poll() is not None:
         checks.check(False, '%s: still running after %.1f s' % (name, delay), '')
@@ -125,16 +138,17 @@ def signal_run(name, ranks, delay, sig, to_ranks=True):
     check_results(name, out, 'taylor_signals', text)
 
 
-for k, delay in enumerate((0.8, 1.7, 2.6)):
+for k, delay in enumerate((0.5, 1.4, 2.3)):
     signal_run('term_np1_%d' % k, 1, delay, signal.SIGTERM)
-for k, delay in enumerate((1.5, 2.5)):
+for k, delay in enumerate((1.0, 2.0)):
     signal_run('term_np2_%d' % k, 2, delay, signal.SIGTERM)
-signal_run('term_mpirun', 2, 2.0, signal.SIGTERM, to_ranks=False)
-signal_run('usr1_np2', 2, 1.5, signal.SIGUSR1)
-signal_run('int_np1', 1, 1.2, signal.SIGINT)
+signal_run('term_mpirun', 2, 1.5, signal.SIGTERM, to_ranks=False)
+signal_run('usr1_np2', 2, 1.0, signal.SIGUSR1)
+signal_run('int_np1', 1, 0.9, signal.SIGINT)
 
 # a second signal changes nothing: the stop stays a clean one
 proc, out = start('int_twice', deck, 1)
+wait_for('int_twice', 'explicit: cycle', proc)
 time.sleep(1.0)
 proc.send_signal(signal.SIGINT)
 time.sleep(0.05)                      # (two signals at once would be delivered as one)
@@ -148,7 +162,8 @@ check_results('int_twice', out, 'taylor_signals', text)
 # implicit: the punch (s2 mesh, about 12 s) stopped after a step
 punch = os.path.join(ROOT, 'input', 'punch', 'punch_s2_mefem.k')
 proc, out = start('term_implicit', punch, 1)
-time.sleep(3.0)
+wait_for('term_implicit', 'step 1:', proc)
+time.sleep(1.0)
 proc.send_signal(signal.SIGTERM)
 rc = proc.wait(timeout=120)
 text = open(os.path.join(OUT, 'term_implicit.log')).read()
