@@ -471,7 +471,7 @@ contains
     logical :: ok
     character(len=:), allocatable :: message
     call text_open(path, appending, unit, ok, message)
-    if (.not. ok) call fatal_local('cannot open history file '//path//': '//message)
+    call stop_unless(ok, 'open', path, message)
   end subroutine open_history
 
   !> Write one line; a failure stops the run with the path and the system's reason.
@@ -482,7 +482,7 @@ contains
     logical :: ok
     character(len=:), allocatable :: message
     call text_put(unit, text, ok, message)
-    if (.not. ok) call fatal_local('cannot write history file '//path//': '//message)
+    call stop_unless(ok, 'write', path, message)
   end subroutine put_line
 
   !> Hand a history file's record to the system (each record reaches the file at once); a
@@ -493,7 +493,7 @@ contains
     logical :: ok
     character(len=:), allocatable :: message
     call text_flush(unit, ok, message)
-    if (.not. ok) call fatal_local('cannot write history file '//path//': '//message)
+    call stop_unless(ok, 'write', path, message)
   end subroutine flush_history
 
   !> Close a history file; a failure stops the run with the system's reason.
@@ -503,8 +503,17 @@ contains
     logical :: ok
     character(len=:), allocatable :: message
     call text_close(unit, ok, message)
-    if (.not. ok) call fatal_local('cannot close history file '//path//': '//message)
+    call stop_unless(ok, 'close', path, message)
   end subroutine close_history
+
+  !> Stop the run (this rank found it) unless ok: "cannot <action> history file <path>: <why>".
+  subroutine stop_unless(ok, action, path, message)
+    logical, intent(in) :: ok               !< the operation succeeded
+    character(len=*), intent(in) :: action  !< open, write or close
+    character(len=*), intent(in) :: path    !< the file
+    character(len=*), intent(in) :: message !< the system's reason
+    if (.not. ok) call fatal_local('cannot '//action//' history file '//path//': '//message)
+  end subroutine stop_unless
 
   !> Banner of LS-DYNA's ASCII files: the title, then program name and date.
   subroutine write_banner(unit, path, title)

@@ -305,8 +305,9 @@ contains
     integer :: nr, k, m, node, lo, hi, mid
     logical, allocatable :: inside(:)
     nr = size(ranges)/2
-    b = ranges(1:2*nr:2)
-    e = ranges(2:2*nr:2)
+    allocate(b(nr), e(nr))
+    b(:) = ranges(1:2*nr:2)
+    e(:) = ranges(2:2*nr:2)
     call sort_with_index(b, e)
     m = 0                                          ! merge overlapping or touching ranges
     do k = 1, nr

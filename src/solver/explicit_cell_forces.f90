@@ -614,10 +614,9 @@ contains
   subroutine nodal_volumes(s, halo)
     type(explicit_state_t), intent(inout) :: s        !< local state
     type(halo_t), intent(inout) :: halo               !< the force assembly's halo
-    real(wp) :: x(3, 4), quarter
+    real(wp) :: x(3, 4), quarters(size(s%np_cells))
     integer :: k, l, a
-    call set_to_zero(size(s%np_sums), s%np_sums)
-    do k = 1, size(s%np_cells)                        ! ascending cell order: the plan's
+    do k = 1, size(s%np_cells)
       l = s%np_cells(k)
       do a = 1, 4
         x(:, a) = s%x0(:, s%nodes(a, l)) + s%u(:, s%nodes(a, l))
@@ -626,18 +625,11 @@ contains
         x(:, a) = x(:, a) - x(:, 1)
       end do
       ! a quarter of the current volume, (x2 - x1) . ((x3 - x1) x (x4 - x1))/6 (= J V0)
-      quarter = (x(1, 2)*(x(2, 3)*x(3, 4) - x(3, 3)*x(2, 4)) + &
-                 x(2, 2)*(x(3, 3)*x(1, 4) - x(1, 3)*x(3, 4)) + &
-                 x(3, 2)*(x(1, 3)*x(2, 4) - x(2, 3)*x(1, 4)))/24.0_wp
-      do a = 1, 4
-        s%np_sums(1, s%np_column(a, k)) = s%np_sums(1, s%np_column(a, k)) + quarter
-      end do
+      quarters(k) = (x(1, 2)*(x(2, 3)*x(3, 4) - x(3, 3)*x(2, 4)) + &
+                     x(2, 2)*(x(3, 3)*x(1, 4) - x(1, 3)*x(3, 4)) + &
+                     x(3, 2)*(x(1, 3)*x(2, 4) - x(2, 3)*x(1, 4)))/24.0_wp
     end do
-    call halo_assemble_summed(halo, s%np_sums)
-    do k = 1, s%nnode
-      s%np_node_j(k) = 1.0_wp
-      if (s%np_volume0(k) > 0.0_wp) s%np_node_j(k) = s%np_sums(1, k)/s%np_volume0(k)
-    end do
+    call nodal_mean(s, halo, quarters, 1.0_wp, s%np_node_j)
   end subroutine nodal_volumes
 
   !> Nodal-pressure tetrahedra, second sum, after the material updates: the nodes' pressure
@@ -649,21 +641,13 @@ contains
   subroutine nodal_pressure_forces(s, halo)
     type(explicit_state_t), intent(inout) :: s        !< local state
     type(halo_t), intent(inout) :: halo               !< the force assembly's halo
-    real(wp) :: share, p, sigma(6), force(3)
+    real(wp) :: p, sigma(6), force(3), shares(size(s%np_cells))
     integer :: k, l, a, node, column
-    call set_to_zero(size(s%np_sums), s%np_sums)
-    do k = 1, size(s%np_cells)                        ! ascending cell order: the plan's
+    do k = 1, size(s%np_cells)
       l = s%np_cells(k)
-      share = 0.25_wp*s%weight(l)*s%np_pressure(l)
-      do a = 1, 4
-        s%np_sums(1, s%np_column(a, k)) = s%np_sums(1, s%np_column(a, k)) + share
-      end do
+      shares(k) = 0.25_wp*s%weight(l)*s%np_pressure(l)
     end do
-    call halo_assemble_summed(halo, s%np_sums)
-    do k = 1, s%nnode
-      s%np_node_p(k) = 0.0_wp
-      if (s%np_volume0(k) > 0.0_wp) s%np_node_p(k) = s%np_sums(1, k)/s%np_volume0(k)
-    end do
+    call nodal_mean(s, halo, shares, 0.0_wp, s%np_node_p)
     do k = 1, size(s%np_cells)                        ! ascending cell order (pushed columns)
       l = s%np_cells(k)
       p = 0.0_wp
@@ -696,6 +680,30 @@ contains
       end do
     end do
   end subroutine nodal_pressure_forces
+
+  !> A nodal mean over the ELFORM 13 elements: each element's share (its value times V0/4) added
+  !> at its 4 nodes in ascending cell order (the assembly plan's: the same bits on any number
+  !> of ranks), the sums over the chunks and ranks, divided by the nodes' reference volumes;
+  !> nodes without ELFORM 13 elements get the default.
+  subroutine nodal_mean(s, halo, shares, default, nodal)
+    type(explicit_state_t), intent(inout) :: s        !< local state
+    type(halo_t), intent(inout) :: halo               !< the force assembly's halo
+    real(wp), intent(in) :: shares(:)                 !< (ELFORM 13 cells) share per corner
+    real(wp), intent(in) :: default                   !< value at nodes without any
+    real(wp), intent(out) :: nodal(:)                 !< (nnode) the nodal means
+    integer :: k, a
+    call set_to_zero(size(s%np_sums), s%np_sums)
+    do k = 1, size(s%np_cells)
+      do a = 1, 4
+        s%np_sums(1, s%np_column(a, k)) = s%np_sums(1, s%np_column(a, k)) + shares(k)
+      end do
+    end do
+    call halo_assemble_summed(halo, s%np_sums)
+    do k = 1, s%nnode
+      nodal(k) = default
+      if (s%np_volume0(k) > 0.0_wp) nodal(k) = s%np_sums(1, k)/s%np_volume0(k)
+    end do
+  end subroutine nodal_mean
 
   !> Jbar of ELFORM 13 cell l: the mean of its 4 nodes' J (the cell's own J, det, at a node
   !> where ELFORM 13 elements of different materials meet).

@@ -103,12 +103,8 @@ contains
     character(len=*), intent(in) :: text            !< the line, without its newline
     logical, intent(out) :: ok                      !< written
     character(len=:), allocatable, intent(out) :: message  !< the reason when not
-    message = ''
-    ok = valid(handle)
-    if (.not. ok) then
-      message = 'not an open text file'
-      return
-    end if
+    call check_handle(handle, ok, message)
+    if (.not. ok) return
     ok = c_fputs(text//new_line('a')//c_null_char, streams(handle)) >= 0
     if (.not. ok) message = system_error()
   end subroutine text_put
@@ -118,12 +114,8 @@ contains
     integer, intent(in) :: handle                   !< open file
     logical, intent(out) :: ok                      !< flushed
     character(len=:), allocatable, intent(out) :: message  !< the reason when not
-    message = ''
-    ok = valid(handle)
-    if (.not. ok) then
-      message = 'not an open text file'
-      return
-    end if
+    call check_handle(handle, ok, message)
+    if (.not. ok) return
     ok = c_fflush(streams(handle)) == 0
     if (.not. ok) message = system_error()
   end subroutine text_flush
@@ -133,12 +125,8 @@ contains
     integer, intent(in) :: handle                   !< open file
     logical, intent(out) :: ok                      !< closed with everything written
     character(len=:), allocatable, intent(out) :: message  !< the reason when not
-    message = ''
-    ok = valid(handle)
-    if (.not. ok) then
-      message = 'not an open text file'
-      return
-    end if
+    call check_handle(handle, ok, message)
+    if (.not. ok) return
     ok = c_fclose(streams(handle)) == 0
     streams(handle) = c_null_ptr
     if (.not. ok) message = system_error()
@@ -158,13 +146,16 @@ contains
     if (.not. ok) message = system_error()
   end subroutine text_put_stdout
 
-  !> True for the handle of an open file.
-  logical function valid(handle)
+  !> ok when handle names an open file (else the message says it does not).
+  subroutine check_handle(handle, ok, message)
     integer, intent(in) :: handle                   !< handle
-    valid = .false.
-    if (handle < 1 .or. handle > MAX_FILES) return
-    valid = c_associated(streams(handle))
-  end function valid
+    logical, intent(out) :: ok                      !< an open file
+    character(len=:), allocatable, intent(out) :: message  !< '' or why not
+    message = ''
+    ok = .false.
+    if (handle >= 1 .and. handle <= MAX_FILES) ok = c_associated(streams(handle))
+    if (.not. ok) message = 'not an open text file'
+  end subroutine check_handle
 
   !> The C library's text for the current errno (e.g. "No space left on device").
   function system_error() result(text)

@@ -25,9 +25,8 @@ import numpy as np
 ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), '..', '..'))
 sys.path.insert(0, os.path.join(ROOT, 'tests', 'verification'))
 sys.path.insert(0, os.path.join(ROOT, 'tests', 'bench'))
-from deck_writer import Checks, f10, write_deck, run                      # noqa: E402
-from explicit_cases import (curve, face_segments, smooth_ramp,            # noqa: E402
-                            block_on_plate, block_on_plate_cards)
+from deck_writer import Checks, write_deck, run                           # noqa: E402
+from explicit_cases import all_histories_blocks                           # noqa: E402
 import taylor_copper as tc                                                # noqa: E402
 
 checks = Checks('write_errors')
@@ -65,18 +64,8 @@ def results_intact(out, stem, name):
 
 
 # ---- 1. /dev/full in place of one file ---------------------------------------------------
-x, cb, quads, nb = block_on_plate(0.0)
-probe = int(np.argmin(np.linalg.norm(x[:nb] - [1.5, 1.5, 0.0], axis=1)))
 deck = os.path.join(OUT, 'all_histories.k')
-write_deck(deck, block_on_plate_cards(x, cb, quads, 1.0e-9, 1000.0, 0.3) + [
-    face_segments(x, cb, 2, 0.5, 1, 9), ['*LOAD_SEGMENT_SET', f10(9, 1, 1.0)],
-    curve(1, smooth_ramp(2.0e-4, 10.0) + [(1.0, 10.0)]),
-    ['*CONTACT_AUTOMATIC_SURFACE_TO_SURFACE_MORTAR', f10(1, 2, 3, 3), '', ''],
-    ['*RIGIDWALL_PLANAR', f10(0), f10(0.0, 0.0, -1.0, 0.0, 0.0, 0.0)],
-    ['*CONTROL_TERMINATION', f10(2.0e-4), '*DATABASE_BINARY_D3PLOT', f10(1.0e-4),
-     '*DATABASE_GLSTAT', f10(1.0e-5), '*DATABASE_RCFORC', f10(1.0e-5),
-     '*DATABASE_NODOUT', f10(1.0e-5), '*DATABASE_HISTORY_NODE', f10(probe + 1)]],
-           title='all_histories')
+write_deck(deck, all_histories_blocks(1.0e-4), title='all_histories')
 for target in ('glstat', 'nodout', 'rwforc', 'rbdout', 'rcforc', 'all_histories_000000.vtu'):
     out = os.path.join(OUT, 'full_' + target.split('.')[0])
     subprocess.run(['rm', '-rf', out])

@@ -122,3 +122,19 @@ def block_on_plate_cards(x, cb, quads, rho, young, poisson):
              '*PART', 'plate', f10(2, 2, 2), '*SECTION_SHELL', f10(2, 2),
              f10(0.1, 0.1, 0.1, 0.1),
              '*MAT_RIGID', free(2, 7.85e-9, 210000.0, 0.3), f10(1.0, 7, 7)]]
+
+
+def all_histories_blocks(plot_interval):
+    """A short run that writes every history file (glstat, nodout, rwforc, rbdout, rcforc): the
+    block of block_on_plate pressed onto the rigid plate by a ramped pressure (contact), a
+    rigid wall below, a history node; result states every plot_interval (0.2 ms in all)."""
+    x, cb, quads, nb = block_on_plate(0.0)
+    probe = int(np.argmin(np.linalg.norm(x[:nb] - [1.5, 1.5, 0.0], axis=1)))
+    return block_on_plate_cards(x, cb, quads, 1.0e-9, 1000.0, 0.3) + [
+        face_segments(x, cb, 2, 0.5, 1, 9), ['*LOAD_SEGMENT_SET', f10(9, 1, 1.0)],
+        curve(1, smooth_ramp(2.0e-4, 10.0) + [(1.0, 10.0)]),
+        ['*CONTACT_AUTOMATIC_SURFACE_TO_SURFACE_MORTAR', f10(1, 2, 3, 3), '', ''],
+        ['*RIGIDWALL_PLANAR', f10(0), f10(0.0, 0.0, -1.0, 0.0, 0.0, 0.0)],
+        ['*CONTROL_TERMINATION', f10(2.0e-4), '*DATABASE_BINARY_D3PLOT', f10(plot_interval),
+         '*DATABASE_GLSTAT', f10(1.0e-5), '*DATABASE_RCFORC', f10(1.0e-5),
+         '*DATABASE_NODOUT', f10(1.0e-5), '*DATABASE_HISTORY_NODE', f10(probe + 1)]]
