@@ -28,6 +28,28 @@ module mefem_model_resolve
   integer, parameter, public :: ELFORM_TET_NODAL_PRESSURE = 13 !< linear tetrahedron with the
                                                                !< volume averaged at the nodes
 
+  ! LS-DYNA's solid formulations that mefem does not compute for deformable parts: ELFORM
+  ! ranges, what they are, what to do instead (unsupported_solid_text)
+  integer, parameter :: N_SOLID_ELFORM_ROWS = 10
+  integer, parameter :: SOLID_ELFORM_FIRST(N_SOLID_ELFORM_ROWS) = &
+      [-2, 0, 4, 15, 16, 18, 19, 23, 41, 101]
+  integer, parameter :: SOLID_ELFORM_LAST(N_SOLID_ELFORM_ROWS) = &
+      [2, 3, 4, 15, 17, 18, 22, 23, 47, 105]
+  character(len=*), parameter :: SPLIT_HEXES = 'mefem has no deformable hexahedra yet; '// &
+      'split each into tetrahedra (5 or 6) and use 43 or 13'
+  character(len=48), parameter :: SOLID_ELFORM_NAME(N_SOLID_ELFORM_ROWS) = [character(len=48) :: &
+      'a hexahedron', 'a hexahedron', 'a quadratic tetrahedron', 'a pentahedron', &
+      'a 10-node tetrahedron', 'an enhanced-strain hexahedron', 'a cohesive element', &
+      'a 20-node hexahedron', 'a meshfree solid (EFG, SPG)', 'a user element']
+  character(len=96), parameter :: SOLID_ELFORM_ADVICE(N_SOLID_ELFORM_ROWS) = &
+      [character(len=96) :: SPLIT_HEXES, SPLIT_HEXES, &
+      'give the 4 corner nodes of each tetrahedron and use 43 or 13', &
+      'split each into 3 tetrahedra and use 43 or 13', &
+      'give the 4 corner nodes of each tetrahedron and use 43 or 13', SPLIT_HEXES, &
+      'cohesive elements are not computed', SPLIT_HEXES, &
+      'ME-FEM (43) is the meshfree-enriched tetrahedron mefem computes', &
+      'user elements are not computed']
+
   !> Outward faces of a hexahedron (LS-DYNA order: N1-N4 bottom, N5-N8 top); degenerate
   !> elements (tets, pentas) are measured through their collapsed 8-node form.
   integer, parameter :: HEX_FACES(4, 6) = reshape([1, 4, 3, 2,  5, 6, 7, 8,  1, 2, 6, 5, &
@@ -245,8 +267,8 @@ contains
         ! once per part, where it is to be mended: the section, not each element
         if (.not. part_reported(p)) call input_error(section_where(model, s), &
             'section '//itoa(model%sections(s)%id)//': solid ELFORM '//itoa(elform)// &
-            ' is not supported for deformable parts (43 ME-FEM tetrahedron, 13 nodal-'// &
-            'pressure tetrahedron, 10 standard linear tetrahedron); part '// &
+            unsupported_solid_text(elform)//'; mefem computes 43 ME-FEM tetrahedron, 13 '// &
+            'nodal-pressure tetrahedron, 10 standard linear tetrahedron; part '// &
             itoa(model%parts(p)%id)//', first element '// &
             itoa(model%elements%id(e))//' at '//element_where(model, e))
         part_reported(p) = .true.
@@ -282,6 +304,21 @@ contains
       end if
     end if
   end subroutine check_formulation
+
+  !> What LS-DYNA's solid ELFORM is and what to use instead, for the message of a deformable
+  !> part whose formulation mefem does not compute (the table SOLID_ELFORM_*).
+  function unsupported_solid_text(elform) result(text)
+    integer, intent(in) :: elform            !< the section's ELFORM
+    character(len=:), allocatable :: text
+    integer :: k
+    text = ' is not supported for deformable parts'
+    do k = 1, size(SOLID_ELFORM_FIRST)
+      if (elform < SOLID_ELFORM_FIRST(k) .or. elform > SOLID_ELFORM_LAST(k)) cycle
+      text = ' ('//trim(SOLID_ELFORM_NAME(k))//') is not supported for deformable parts: '// &
+             trim(SOLID_ELFORM_ADVICE(k))
+      return
+    end do
+  end function unsupported_solid_text
 
   !> Volume (solids) or area (shells) must be positive; plane-strain triangles lie in z = 0
   !> and run counter-clockwise about +z.
