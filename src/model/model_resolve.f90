@@ -32,9 +32,9 @@ module mefem_model_resolve
   ! ranges, what they are, what to do instead (unsupported_solid_text)
   integer, parameter :: N_SOLID_ELFORM_ROWS = 10
   integer, parameter :: SOLID_ELFORM_FIRST(N_SOLID_ELFORM_ROWS) = &
-      [-2, 0, 4, 15, 16, 18, 19, 23, 41, 101]
+      [-2, 9, 4, 15, 16, 18, 19, 23, 41, 101]
   integer, parameter :: SOLID_ELFORM_LAST(N_SOLID_ELFORM_ROWS) = &
-      [2, 3, 4, 15, 17, 18, 22, 23, 47, 105]
+      [3, 9, 4, 15, 17, 18, 22, 23, 47, 105]
   character(len=*), parameter :: SPLIT_HEXES = 'mefem has no deformable hexahedra yet; '// &
       'split each into tetrahedra (5 or 6) and use 43 or 13'
   character(len=48), parameter :: SOLID_ELFORM_NAME(N_SOLID_ELFORM_ROWS) = [character(len=48) :: &
