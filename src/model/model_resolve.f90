@@ -36,7 +36,7 @@ module mefem_model_resolve
   integer, parameter :: SOLID_ELFORM_LAST(N_SOLID_ELFORM_ROWS) = &
       [3, 9, 4, 15, 17, 18, 22, 23, 47, 105]
   character(len=*), parameter :: SPLIT_HEXES = 'mefem has no deformable hexahedra yet; '// &
-      'split each into tetrahedra (5 or 6) and use 43 or 13'
+      'split them into tetrahedra (input/hex_to_tet.py) and use 43 or 13'
   character(len=48), parameter :: SOLID_ELFORM_NAME(N_SOLID_ELFORM_ROWS) = [character(len=48) :: &
       'a hexahedron', 'a hexahedron', 'a quadratic tetrahedron', 'a pentahedron', &
       'a 10-node tetrahedron', 'an enhanced-strain hexahedron', 'a cohesive element', &
