@@ -19,6 +19,7 @@ module mefem_keyword_reader
   use mefem_read_controls, only: read_keyword_card, read_title, read_parameter, &
                                  read_parameter_expression, &
                                  read_control_termination, read_control_timestep, &
+                                 read_control_solution, &
                                  read_control_implicit_general, &
                                  read_control_implicit_solution, read_control_implicit_auto, &
                                  read_database_binary_d3plot, read_database_interval, &
@@ -58,6 +59,7 @@ module mefem_keyword_reader
                         H_MEFEM_ENRICHMENT = 44, H_PARAMETER_EXPRESSION = 45
   integer, parameter :: H_LOAD_BODY_X = 46, H_LOAD_BODY_Y = 47, H_LOAD_BODY_Z = 48, &
                         H_LOAD_BODY_PARTS = 49
+  integer, parameter :: H_CONTROL_SOLUTION = 50
 
   !> One registered keyword.
   type :: keyword_entry_t
@@ -66,7 +68,7 @@ module mefem_keyword_reader
     character(len=64) :: options = ''    !< options accepted, as ' OPT1 OPT2 '
   end type keyword_entry_t
 
-  integer, parameter :: N_ENTRIES = 57
+  integer, parameter :: N_ENTRIES = 58
   type(keyword_entry_t), parameter :: REGISTRY(N_ENTRIES) = [ &
     keyword_entry_t('NODE', H_NODE, ' '), &
     keyword_entry_t('ELEMENT_SOLID', H_ELEMENT_SOLID, ' '), &
@@ -124,6 +126,7 @@ module mefem_keyword_reader
     keyword_entry_t('RIGIDWALL_PLANAR', H_RIGIDWALL_PLANAR, ' ID '), &
     ! controls and output requests (matched before the DATABASE_ skip rule)
     keyword_entry_t('CONTROL_TIMESTEP', H_CONTROL_TIMESTEP, ' '), &
+    keyword_entry_t('CONTROL_SOLUTION', H_CONTROL_SOLUTION, ' '), &
     keyword_entry_t('CONTROL_IMPLICIT_GENERAL', H_CONTROL_IMPLICIT_GENERAL, ' '), &
     keyword_entry_t('CONTROL_IMPLICIT_SOLUTION', H_CONTROL_IMPLICIT_SOLUTION, ' '), &
     keyword_entry_t('CONTROL_IMPLICIT_AUTO', H_CONTROL_IMPLICIT_AUTO, ' '), &
@@ -391,6 +394,8 @@ contains
       call read_rigidwall_planar(rd, options, model)
     case (H_CONTROL_TIMESTEP)
       call read_control_timestep(rd, model)
+    case (H_CONTROL_SOLUTION)
+      call read_control_solution(rd)
     case (H_CONTROL_IMPLICIT_GENERAL)
       call read_control_implicit_general(rd, model)
     case (H_CONTROL_IMPLICIT_SOLUTION)

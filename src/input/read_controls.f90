@@ -16,7 +16,7 @@ module mefem_read_controls
 
   public :: read_keyword_card, read_title, read_parameter, read_parameter_expression, &
             read_control_termination
-  public :: read_control_timestep, read_control_implicit_general, &
+  public :: read_control_timestep, read_control_solution, read_control_implicit_general, &
             read_control_implicit_solution, read_control_implicit_auto, &
             read_database_binary_d3plot, read_database_interval, read_database_history_node, &
             read_mefem_enrichment
@@ -245,6 +245,33 @@ contains
       c%have_termination = .true.
     end associate
   end subroutine read_control_termination
+
+  !> *CONTROL_SOLUTION: SOLN NLQ ISNAN LCINT LCACC NCDCF NOCOP. LS-PrePost writes it into
+  !> nearly every deck; SOLN 0 (structural) is what mefem computes, the thermal analyses
+  !> (SOLN 1, 2) are an error. The other fields tune LS-DYNA's own implementation (vector
+  !> length, NaN checks, curve discretisation: mefem evaluates curves exactly) and are read,
+  !> not used.
+  subroutine read_control_solution(rd)
+    type(reader_t), intent(inout) :: rd      !< reading state
+    type(card_t) :: card
+    logical :: got
+    integer :: soln, nlq, isnan, lcint, lcacc, ncdcf, nocop
+    call next_card(rd, card, got, keep_blank=.true.)
+    if (got) then
+      call split_card(rd, card, W_10)
+      call get_int(card, 1, 'SOLN', soln)
+      call get_int(card, 2, 'NLQ', nlq)
+      call get_int(card, 3, 'ISNAN', isnan)
+      call get_int(card, 4, 'LCINT', lcint)
+      call get_int(card, 5, 'LCACC', lcacc)
+      call get_int(card, 6, 'NCDCF', ncdcf)
+      call get_int(card, 7, 'NOCOP', nocop)
+      if (.not. card%bad .and. soln /= 0) call card_error(card, 'field SOLN = '//itoa(soln)// &
+          ': mefem computes structural analyses only (SOLN 0); thermal (1) and coupled '// &
+          'thermal-structural (2) analyses are not supported')
+    end if
+    call skip_remaining(rd)
+  end subroutine read_control_solution
 
   !> *CONTROL_TIMESTEP: DTINIT TSSFAC ISDO TSLIMT DT2MS LCTM ERODE MS1ST; the optional further
   !> cards (mass-scaling refinements) are accepted and not used. TSSFAC 0 means 0.9.
