@@ -32,6 +32,8 @@ module mefem_deck_source
     integer :: line = 0                    !< number of the line last read
     integer :: file = 0                    !< index in the file-name table
     integer :: garbage = 0                 !< binary-data messages given
+    logical :: include_list = .false.      !< in an *INCLUDE whose next data lines name more
+                                           !< files (LS-DYNA: one file name per card)
   end type open_file_t
 
   !> A deck being read: the include stack and the current line.
@@ -114,6 +116,17 @@ contains
         deck%reprocess = .false.
       else
         call read_raw_line(deck)
+      end if
+      ! after an included file: more file names of the same *INCLUDE, until a keyword
+      if (deck%depth > 0 .and. deck%kind /= LINE_EOF) then
+        if (deck%stack(deck%depth)%include_list) then
+          if (deck%kind == LINE_BLANK) cycle
+          if (deck%kind == LINE_DATA) then
+            call include_named_file(deck)
+            cycle
+          end if
+          deck%stack(deck%depth)%include_list = .false.
+        end if
       end if
       if (deck%kind /= LINE_KEYWORD) return
       head = keyword_head(deck%text(1:deck%length))
@@ -247,7 +260,7 @@ contains
     character(len=*), intent(in) :: head   !< '*INCLUDE' or '*INCLUDE_PATH(_RELATIVE)'
     character(len=:), allocatable :: name
     integer :: kw_file, kw_line
-    logical :: ok, got
+    logical :: got
     kw_file = deck%file
     kw_line = deck%line
     got = .false.
@@ -258,20 +271,12 @@ contains
         if (deck%kind == LINE_KEYWORD) deck%reprocess = .true.
         exit
       end if
-      name = trim(adjustl(deck%text(1:deck%length)))
-      ! a name may continue on the next line when it ends with ' +'
-      do while (len(name) > 2)
-        if (name(len(name)-1:) /= ' +') exit
-        name = name(1:len(name)-2)
-        call read_raw_line(deck)
-        if (deck%kind /= LINE_DATA) exit
-        name = name//trim(adjustl(deck%text(1:deck%length)))
-      end do
       got = .true.
       if (head == '*INCLUDE') then
-        call push_file(deck, name, dirname(file_name(deck%file)), ok, deck%file, deck%line)
+        call include_named_file(deck)
         exit
       else
+        name = file_name_card(deck)
         if (deck%n_paths < size(deck%paths)) then
           deck%n_paths = deck%n_paths + 1
           if (head == '*INCLUDE_PATH_RELATIVE') then
@@ -285,6 +290,36 @@ contains
     if (.not. got) call input_error(location(kw_file, kw_line)//': '//trim(head), &
         'missing the file name card')
   end subroutine handle_include
+
+  !> The file name of the current data line of an *INCLUDE (it continues on the next line when
+  !> it ends with ' +').
+  function file_name_card(deck) result(name)
+    type(deck_t), intent(inout) :: deck    !< the deck source (at the name's first line)
+    character(len=:), allocatable :: name
+    name = trim(adjustl(deck%text(1:deck%length)))
+    do while (len(name) > 2)
+      if (name(len(name)-1:) /= ' +') exit
+      name = name(1:len(name)-2)
+      call read_raw_line(deck)
+      if (deck%kind /= LINE_DATA) exit
+      name = name//trim(adjustl(deck%text(1:deck%length)))
+    end do
+  end function file_name_card
+
+  !> Include the file named on the current data line: the including file remembers that its
+  !> next data lines may name more files, then the named one is opened on top of it.
+  subroutine include_named_file(deck)
+    type(deck_t), intent(inout) :: deck    !< the deck source (at a file-name line)
+    character(len=:), allocatable :: name
+    integer :: from_file, from_line, level
+    logical :: ok
+    level = deck%depth
+    name = file_name_card(deck)
+    from_file = deck%file
+    from_line = deck%line
+    deck%stack(level)%include_list = .true.
+    call push_file(deck, name, dirname(file_name(from_file)), ok, from_file, from_line)
+  end subroutine include_named_file
 
   !> Open a file and push it on the include stack (for an *INCLUDE: relative to base_dir,
   !> then the include paths). Missing files and recursion are reported at from_file:from_line.

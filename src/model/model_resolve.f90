@@ -41,8 +41,8 @@ module mefem_model_resolve
       'a hexahedron', 'a hexahedron', 'a quadratic tetrahedron', 'a pentahedron', &
       'a 10-node tetrahedron', 'an enhanced-strain hexahedron', 'a cohesive element', &
       'a 20-node hexahedron', 'a meshfree solid (EFG, SPG)', 'a user element']
-  character(len=96), parameter :: SOLID_ELFORM_ADVICE(N_SOLID_ELFORM_ROWS) = &
-      [character(len=96) :: SPLIT_HEXES, SPLIT_HEXES, &
+  character(len=112), parameter :: SOLID_ELFORM_ADVICE(N_SOLID_ELFORM_ROWS) = &
+      [character(len=112) :: SPLIT_HEXES, SPLIT_HEXES, &
       'give the 4 corner nodes of each tetrahedron and use 43 or 13', &
       'split each into 3 tetrahedra and use 43 or 13', &
       'give the 4 corner nodes of each tetrahedron and use 43 or 13', SPLIT_HEXES, &
