@@ -144,6 +144,23 @@ module mefem_keyword_reader
     character(len=128) :: reason = ''    !< the consequence, stated in the warning
   end type skipped_entry_t
 
+  !> An LS-DYNA keyword whose name begins with that of a keyword mefem reads but which is
+  !> another keyword (not an option of it): reported as itself, never as an option of the
+  !> shorter one, and without a "did you mean".
+  type :: distinct_keyword_t
+    character(len=40) :: name = ''       !< the whole keyword name (options may follow)
+    character(len=48) :: what = ''       !< what it is
+  end type distinct_keyword_t
+  integer, parameter :: N_DISTINCT = 7
+  type(distinct_keyword_t), parameter :: DISTINCT(N_DISTINCT) = [ &
+    distinct_keyword_t('MAT_ELASTIC_PLASTIC_THERMAL', 'material MAT_004'), &
+    distinct_keyword_t('MAT_ELASTIC_PLASTIC_HYDRO', 'material MAT_010'), &
+    distinct_keyword_t('MAT_ELASTIC_VISCOPLASTIC_THERMAL', 'material MAT_106'), &
+    distinct_keyword_t('MAT_ELASTIC_SPRING_DISCRETE_BEAM', 'material MAT_S01'), &
+    distinct_keyword_t('MAT_ELASTIC_6DOF_SPRING_DISCRETE_BEAM', 'material MAT_093'), &
+    distinct_keyword_t('MAT_RIGID_DISCRETE', 'material MAT_220'), &
+    distinct_keyword_t('ELEMENT_TSHELL', 'thick shell elements')]
+
   character(len=*), parameter :: OUTPUT_ONLY = 'output or cosmetic setting not used by mefem'
 
   !> Keywords skipped with one warning: output and cosmetic settings (they cannot change
@@ -266,6 +283,17 @@ contains
     rd%kw_line = rd%deck%line
     if (first .and. name /= 'KEYWORD') call keyword_error(rd, &
         'the deck must begin with *KEYWORD (only comments may precede it)')
+    ! another LS-DYNA keyword whose name begins with a registered one
+    do e = 1, N_DISTINCT
+      if (name == trim(DISTINCT(e)%name) .or. starts_with(name, trim(DISTINCT(e)%name)//'_')) &
+        then
+        call keyword_error(rd, 'keyword not supported by mefem (*'//trim(DISTINCT(e)%name)// &
+            ', '//trim(DISTINCT(e)%what)//'); it could change the analysis, so it is not '// &
+            'ignored')
+        call skip_cards(rd)
+        return
+      end if
+    end do
     ! longest registered base name that the keyword starts with
     best = 0
     do e = 1, N_ENTRIES
