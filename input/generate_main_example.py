@@ -114,8 +114,9 @@ def tet_det(x, tets):
                      p[:, 3] - p[:, 0])
 
 
-def billet_mesh(n_core, n_radial, n_layers):
-    """Nodes (n, 3) and positively oriented tets (m, 4) (0-based) of the quarter billet."""
+def billet_hex_cube_order(n_core, n_radial, n_layers):
+    """Nodes (n, 3), hexahedra (m, 8) with corners in cube order a + 2b + 4c (0-based), and
+    the two-colouring of the nodes, of the quarter billet."""
     xy, quads = quarter_disk(n_core, n_radial)
     n2 = len(xy)
     colour2 = two_colours(n2, quads)
@@ -126,6 +127,26 @@ def billet_mesh(n_core, n_radial, n_layers):
     layer = np.arange(n_layers)[:, None, None] * n2
     bottom = quads[:, [0, 1, 3, 2]][None, :, :] + layer
     hexes = np.concatenate([bottom, bottom + n2], axis=2).reshape(-1, 8)
+    return x, hexes, colour
+
+
+def billet_hex_mesh(n_core, n_radial, n_layers):
+    """Nodes (n, 3) and positively oriented hexahedra (m, 8) in LS-DYNA's node order (N1-N4
+    the bottom face, counter-clockwise seen from N5) of the quarter billet."""
+    x, hexes, _ = billet_hex_cube_order(n_core, n_radial, n_layers)
+    hexes = hexes[:, [0, 1, 3, 2, 4, 5, 7, 6]]
+    # orientation: (N2 - N1) x (N4 - N1) . (N5 - N1) > 0, else the faces are swapped
+    d1 = x[hexes[:, 1]] - x[hexes[:, 0]]
+    d2 = x[hexes[:, 3]] - x[hexes[:, 0]]
+    d3 = x[hexes[:, 4]] - x[hexes[:, 0]]
+    flip = np.einsum('ij,ij->i', np.cross(d1, d2), d3) < 0
+    hexes[flip] = hexes[flip][:, [0, 3, 2, 1, 4, 7, 6, 5]]
+    return x, hexes
+
+
+def billet_mesh(n_core, n_radial, n_layers):
+    """Nodes (n, 3) and positively oriented tets (m, 4) (0-based) of the quarter billet."""
+    x, hexes, colour = billet_hex_cube_order(n_core, n_radial, n_layers)
     cube = np.array([[a, b, c] for c in (0, 1) for b in (0, 1) for a in (0, 1)])
     tets = []
     for h in hexes:

@@ -28,14 +28,14 @@ PLOTS = 12               # output states
 
 def quarter_bar_cards(x, tets, speed, gap, end_time, tssfac=0.9):
     """Cards of a quarter-bar impact (shared with tests/bench/taylor_copper.py): *NODE,
-    *ELEMENT_SOLID (part 1, tets as degenerate hexes), the symmetry planes x = 0 and y = 0
+    *ELEMENT_SOLID (part 1: hexahedra, or tets as degenerate hexes), the symmetry planes x = 0 and y = 0
     (node sets 1, 2), the initial velocity -speed along z, a fixed frictionless
     *RIGIDWALL_PLANAR at z = -gap (normal +z), *CONTROL_TERMINATION and *CONTROL_TIMESTEP."""
     sym_x = [k + 1 for k in range(len(x)) if abs(x[k, 0]) < 1e-9]
     sym_y = [k + 1 for k in range(len(x)) if abs(x[k, 1]) < 1e-9]
     L = ['*NODE'] + node_lines([(k + 1, p[0], p[1], p[2]) for k, p in enumerate(x)])
     L += ['*ELEMENT_SOLID']
-    L += ['%8d%8d' % (e + 1, 1) + ''.join('%8d' % (v + 1) for v in list(t) + [t[3]] * 4)
+    L += ['%8d%8d' % (e + 1, 1) + ''.join('%8d' % (v + 1) for v in list(t) + [t[3]] * (8 - len(t)))
           for e, t in enumerate(tets)]
     for sid, nodes in ((1, sym_x), (2, sym_y)):
         L += ['*SET_NODE_LIST', card(sid)]

@@ -58,6 +58,8 @@ module mefem_mortar_contact
                                     contact_search_build
   use mefem_mortar_segmentation, only: mortar_segment_pair_2d, mortar_triangle_pair_3d
   use mefem_material_update, only: material_elastic_moduli
+  use mefem_model_resolve, only: element_measure
+  use mefem_output_mesh, only: NODES_OF_TOPO
   use mefem_comm, only: comm_rank, comm_size, comm_allgatherv_real
   implicit none
   private
@@ -289,6 +291,7 @@ contains
     real(wp), intent(in) :: mass(:)                   !< (mesh nodes) lumped masses
     type(contact_interface_t), intent(inout) :: it    !< the interface
     real(wp) :: lambda, mu, bulk, size_normal, measure, a(3), total_area, weighted
+    real(wp) :: corners(3, 8)
     real(wp), allocatable :: node_area(:)
     integer :: f, e, i, m, nv
     allocate(node_area(size(it%slave%nodes)))
@@ -311,8 +314,11 @@ contains
       if (m <= 0) cycle
       call material_elastic_moduli(model%materials(m), lambda, mu)
       bulk = lambda + 2.0_wp*mu/3.0_wp
-      nv = model%dimension + 1
-      measure = simplex_measure(model%dimension, model%nodes%x(:, model%elements%conn(1:nv, e)))
+      nv = NODES_OF_TOPO(model%elements%topology(e))
+      do i = 1, nv
+        corners(:, i) = model%nodes%x(:, model%elements%conn(i, e))
+      end do
+      measure = abs(element_measure(model%elements%topology(e), corners(:, 1:nv)))
       a = contact_facet_area_vector(it%slave, f, model%nodes%x)
       if (norm2(a) <= 0.0_wp) cycle
       size_normal = measure/norm2(a)
@@ -325,22 +331,6 @@ contains
         'has no deformable elements to take the penalty stiffness from (SURFA must be the '// &
         'deformable side; rigid tools belong on SURFB)')
   end subroutine slave_penalty
-
-  !> Area of a triangle (dim 2) or volume of a tetrahedron (dim 3) from its corners.
-  pure real(wp) function simplex_measure(dim, xc)
-    integer, intent(in) :: dim              !< 2 or 3
-    real(wp), intent(in) :: xc(:,:)         !< (3, dim+1) corners
-    real(wp) :: d1(3), d2(3), d3(3)
-    d1 = xc(:, 2) - xc(:, 1)
-    d2 = xc(:, 3) - xc(:, 1)
-    if (dim == 2) then
-      simplex_measure = 0.5_wp*abs(d1(1)*d2(2) - d1(2)*d2(1))
-    else
-      d3 = xc(:, 4) - xc(:, 1)
-      simplex_measure = abs(d1(1)*(d2(2)*d3(3) - d2(3)*d3(2)) - d1(2)*(d2(1)*d3(3) - &
-          d2(3)*d3(1)) + d1(3)*(d2(1)*d3(2) - d2(2)*d3(1)))/6.0_wp
-    end if
-  end function simplex_measure
 
   !> Mean size of a surface's facets: length (2D) or square root of the area (3D).
   real(wp) function mean_facet_size(surface, x)

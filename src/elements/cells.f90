@@ -4,7 +4,11 @@
 !> live: for the ME-FEM elements (ELFORM 43) a smoothing domain (one per edge in 2D, per face
 !> in 3D), for the linear elements (tetrahedra 10 and 13, triangle 13) the element itself: a
 !> cell of the nodal-pressure tetrahedron (solid ELFORM 13) is flagged (nodal_pressure), and
-!> the explicit solver averages its volume change at the nodes (doc/theory.md 2.7). Each cell
+!> the explicit solver averages its volume change at the nodes (doc/theory.md 2.7); a cell of
+!> the one-point hexahedron (solid ELFORM 1, a pentahedron as a collapsed hexahedron) holds
+!> its uniform gradients and, in the hexahedron arrays (hex_of), its hourglass shape vectors
+!> and hourglass coefficients (doc/theory.md 2.8; a tetrahedron in such a part is the linear
+!> tetrahedron, which is what the collapsed hexahedron's uniform gradient gives). Each cell
 !> holds its nodes (mesh nodes and the enriched nodes the code creates, one per ME-FEM element,
 !> numbered after the mesh nodes), the gradients of their shape functions in the reference
 !> configuration, smoothed over the cell (formulation 2.6), and its weight (area or volume).
@@ -23,8 +27,12 @@ module mefem_cells
   use mefem_kinds, only: wp
   use mefem_errors, only: status_t, say
   use mefem_strings, only: itoa, rtoa
-  use mefem_model, only: model_t, MAT_RIGID, ELEM_SOLID, ELEM_SHELL
-  use mefem_model_resolve, only: ELFORM_MEFEM, ELFORM_TET_NODAL_PRESSURE
+  use mefem_model, only: model_t, MAT_RIGID, ELEM_SOLID, ELEM_SHELL, TOPO_TET4, TOPO_PENTA6
+  use mefem_model_resolve, only: ELFORM_MEFEM, ELFORM_TET_NODAL_PRESSURE, part_hourglass, &
+                                 hexahedral_formulation
+  use mefem_hexahedron, only: HOURGLASS_MODES, hexahedron_reference, hourglass_mode_metric
+  use mefem_material_update, only: material_elastic_moduli
+  use mefem_cell_finite_strain, only: inverse_3x3
   use mefem_enrichment, only: enrichment_t, enrichment_setup
   use mefem_smoothing_domains, only: smoothing_domains_t, smoothing_domains_build
   implicit none
@@ -32,7 +40,17 @@ module mefem_cells
 
   public :: cells_build, cells_summary
 
-  integer, parameter, public :: CELL_MAX_NODES = 7   !< 3D interior face: 5 corners + 2 enriched
+  integer, parameter, public :: CELL_MAX_NODES = 8   !< a hexahedron
+  integer, parameter, public :: MEFEM_FACE_NODES = 7 !< 3D interior face: 5 corners + 2 enriched
+  ! hourglass forms (HOURGLASS_FORM by IHQ 1..10) and the stiffness forms' scale of the
+  ! elastic bending stiffness at QM = 1 (doc/theory.md 2.8)
+  integer, parameter :: HOURGLASS_VISCOUS = 1, HOURGLASS_STIFFNESS = 2
+  integer, parameter :: HOURGLASS_FORM(10) = [HOURGLASS_VISCOUS, HOURGLASS_VISCOUS, &
+      HOURGLASS_VISCOUS, HOURGLASS_STIFFNESS, HOURGLASS_STIFFNESS, HOURGLASS_STIFFNESS, &
+      HOURGLASS_STIFFNESS, HOURGLASS_STIFFNESS, HOURGLASS_STIFFNESS, HOURGLASS_STIFFNESS]
+  real(wp), parameter :: BENDING_SCALE(10) = [0.0_wp, 0.0_wp, 0.0_wp, 2.5_wp, 2.5_wp, &
+      1.0_wp, 1.0_wp, 1.0_wp, 1.0_wp, 1.0_wp]
+  integer, parameter :: STATIC_IHQ = 6   !< the static analyses' form in place of a viscous one
 
   !> All integration cells of the model's deformable parts.
   type, public :: cells_t
@@ -50,16 +68,31 @@ module mefem_cells
     integer, allocatable :: enriched_of(:)    !< (model elements) enriched node, 0 if none
     integer, allocatable :: enriched_element(:) !< (n_enriched) its model element
     type(enrichment_t) :: enrichment          !< constants used by the ME-FEM cells
+    ! one-point hexahedra (ELFORM 1; doc/theory.md 2.8)
+    integer :: n_hex = 0                      !< hexahedral cells
+    integer, allocatable :: hex_of(:)         !< (n) index in the arrays below, 0 if none
+    real(wp), allocatable :: hg_gamma(:,:,:)  !< (CELL_MAX_NODES, HOURGLASS_MODES, n_hex)
+                                              !< hourglass shape vectors at the cell's nodes
+    real(wp), allocatable :: hg_stiffness(:,:) !< (6, n_hex) K (XX YY ZZ XY YZ ZX), force
+                                              !< per length
+    real(wp), allocatable :: hg_viscosity(:)  !< (n_hex) c, force per velocity
+    real(wp), allocatable :: hg_metric(:)     !< (n_hex) bound of lambda_max(G), G the modes'
+                                              !< inverse-mass metric (hourglass_mode_metric)
+    real(wp), allocatable :: node_volume(:,:) !< (CELL_MAX_NODES, n_hex) int N_I dV
   end type cells_t
 
 contains
 
   !> Build the cells of every deformable part, part by part (smoothing domains do not cross
   !> part boundaries, so every cell has one material).
-  subroutine cells_build(model, cells, status)
+  subroutine cells_build(model, cells, status, static)
     type(model_t), intent(in) :: model       !< resolved model
     type(cells_t), intent(out) :: cells      !< the cells
     type(status_t), intent(out) :: status    !< failure (bad mesh) and its reason
+    logical, intent(in), optional :: static  !< for a static analysis: hexahedra with a viscous
+                                             !< hourglass form (no static resistance) get the
+                                             !< physical stiffness form IHQ 6 at their QM, as
+                                             !< LS-DYNA's implicit analyses switch to type 6
     integer :: p, e, count_cells, count_enriched, dim, nv
     logical :: mefem
     dim = model%dimension
@@ -87,6 +120,13 @@ contains
       end if
     end do
     cells%n_enriched = count_enriched
+    allocate(cells%hex_of(count_cells))
+    cells%hex_of = 0
+    call count_hexahedra(model, cells%n_hex)
+    allocate(cells%hg_gamma(CELL_MAX_NODES, HOURGLASS_MODES, cells%n_hex), &
+             cells%hg_stiffness(6, cells%n_hex), cells%hg_viscosity(cells%n_hex), &
+             cells%hg_metric(cells%n_hex), cells%node_volume(CELL_MAX_NODES, cells%n_hex))
+    cells%n_hex = 0                 ! counted again as they are added
     allocate(cells%enriched_element(count_enriched))
     do e = 1, model%elements%n
       if (cells%enriched_of(e) > 0) cells%enriched_element(cells%enriched_of(e) - model%nodes%n) = e
@@ -100,11 +140,141 @@ contains
     cells%grad = 0.0_wp
     cells%elements = 0
     do p = 1, model%n_parts
+      if (is_hexahedral_part(model, p)) then
+        call add_hexahedral_part_cells(model, p, cells, static)
+        cycle
+      end if
       mefem = is_mefem_part(model, p)
       call add_part_cells(model, p, mefem, cells, status)
       if (.not. status%ok) return
     end do
   end subroutine cells_build
+
+  !> Number of hexahedral cells: the non-tetrahedral elements of hexahedral parts.
+  subroutine count_hexahedra(model, n_hex)
+    type(model_t), intent(in) :: model   !< resolved model
+    integer, intent(out) :: n_hex        !< their number
+    integer :: e
+    n_hex = 0
+    do e = 1, model%elements%n
+      if (.not. is_deformable(model, e)) cycle
+      if (.not. is_hexahedral_part(model, model%elements%part(e))) cycle
+      if (model%elements%topology(e) /= TOPO_TET4) n_hex = n_hex + 1
+    end do
+  end subroutine count_hexahedra
+
+  !> True for parts computed as one-point hexahedra (ELFORM 1, 2, -1, -2; deformable).
+  logical function is_hexahedral_part(model, p)
+    type(model_t), intent(in) :: model   !< resolved model
+    integer, intent(in) :: p             !< part index
+    is_hexahedral_part = .false.
+    if (model%parts(p)%section == 0 .or. model%parts(p)%material == 0) return
+    if (model%materials(model%parts(p)%material)%kind == MAT_RIGID) return
+    is_hexahedral_part = hexahedral_formulation(model%sections(model%parts(p)%section)%elform)
+  end function is_hexahedral_part
+
+  !> Append the cells of hexahedral part p: one per element. A hexahedron or a pentahedron
+  !> (a collapsed hexahedron, its repeated corners merged) is a hexahedral cell with its
+  !> hourglass data; a tetrahedron the linear tetrahedron's cell (as LS-DYNA's ESORT = 1: one
+  !> point integrates it exactly and it has no hourglass modes).
+  subroutine add_hexahedral_part_cells(model, p, cells, static)
+    type(model_t), intent(in) :: model        !< resolved model
+    integer, intent(in) :: p                  !< part index
+    type(cells_t), intent(inout) :: cells     !< cells appended to
+    logical, intent(in), optional :: static   !< a static analysis (cells_build)
+    integer :: e, c, h, a, k, nn, corners(8), ihq, material
+    real(wp) :: x(3, 8), volume, grad(3, 8), node_volume(8), gamma(8, HOURGLASS_MODES)
+    real(wp) :: lambda, mu, young, rho, wave_speed, sum_bb(6), node_mass(CELL_MAX_NODES), qm
+    material = model%parts(p)%material
+    rho = model%materials(material)%density
+    call material_elastic_moduli(model%materials(material), lambda, mu)
+    young = mu*(3.0_wp*lambda + 2.0_wp*mu)/(lambda + mu)
+    wave_speed = sqrt((lambda + 2.0_wp*mu)/rho)
+    call part_hourglass(model, p, ihq, qm)
+    if (present(static)) then
+      if (static .and. HOURGLASS_FORM(ihq) == HOURGLASS_VISCOUS) ihq = STATIC_IHQ
+    end if
+    do e = 1, model%elements%n
+      if (model%elements%part(e) /= p) cycle
+      if (.not. is_deformable(model, e)) cycle
+      associate (conn => model%elements%conn(:, e))
+        select case (model%elements%topology(e))
+        case (TOPO_TET4)       ! LS-DYNA's N1 N2 N3 N4 N4 N4 N4 N4
+          corners = [conn(1), conn(2), conn(3), conn(4), conn(4), conn(4), conn(4), conn(4)]
+        case (TOPO_PENTA6)     ! LS-DYNA's N1 N2 N3 N4 N5 N5 N6 N6 (classify's wedge order)
+          corners = [conn(1), conn(2), conn(5), conn(4), conn(3), conn(3), conn(6), conn(6)]
+        case default
+          corners = conn(1:8)
+        end select
+      end associate
+      do a = 1, 8
+        x(:, a) = model%nodes%x(:, corners(a))
+      end do
+      if (model%elements%topology(e) == TOPO_TET4) then
+        call tetrahedron_gradients(x(:, 1:4), volume, grad(:, 1:4))
+        corners(5:8) = corners(4)          ! (merged into N4 with zero gradients below)
+        grad(:, 5:8) = 0.0_wp
+      else
+        call hexahedron_reference(x, volume, grad, node_volume, gamma)
+      end if
+      c = cells%n + 1
+      cells%n = c
+      cells%weight(c) = volume
+      cells%material(c) = material
+      cells%elements(1, c) = e
+      cells%nnodes(c) = 0
+      h = 0
+      if (model%elements%topology(e) /= TOPO_TET4) then
+        cells%n_hex = cells%n_hex + 1
+        h = cells%n_hex
+        cells%hex_of(c) = h
+        cells%hg_gamma(:, :, h) = 0.0_wp
+        cells%node_volume(:, h) = 0.0_wp
+      end if
+      do a = 1, 8                       ! the corners, a repeated one merged into its first
+        call add_gradient(cells, c, corners(a), grad(:, a))
+        if (h == 0) cycle
+        k = findloc(cells%nodes(1:cells%nnodes(c), c), corners(a), dim=1)
+        cells%hg_gamma(k, :, h) = cells%hg_gamma(k, :, h) + gamma(a, :)
+        cells%node_volume(k, h) = cells%node_volume(k, h) + node_volume(a)
+      end do
+      if (h == 0) cycle
+      nn = cells%nnodes(c)
+      ! K = s QM E V sum_I B_I (x) B_I / 24 (stiffness forms), c = QM rho c V^(2/3) / 4
+      ! (viscous forms): doc/theory.md 2.8
+      sum_bb = 0.0_wp
+      do a = 1, nn
+        associate (b => cells%grad(:, a, c))
+          sum_bb = sum_bb + [b(1)*b(1), b(2)*b(2), b(3)*b(3), b(1)*b(2), b(2)*b(3), b(1)*b(3)]
+        end associate
+      end do
+      cells%hg_stiffness(:, h) = 0.0_wp
+      cells%hg_viscosity(h) = 0.0_wp
+      if (HOURGLASS_FORM(ihq) == HOURGLASS_STIFFNESS) then
+        cells%hg_stiffness(:, h) = BENDING_SCALE(ihq)*qm*young*volume*sum_bb/24.0_wp
+      else
+        cells%hg_viscosity(h) = 0.25_wp*qm*rho*wave_speed*volume**(2.0_wp/3.0_wp)
+      end if
+      node_mass(1:nn) = rho*cells%node_volume(1:nn, h)
+      cells%hg_metric(h) = hourglass_mode_metric(nn, cells%hg_gamma(:, :, h), node_mass)
+    end do
+  end subroutine add_hexahedral_part_cells
+
+  !> Volume and gradients of the linear shape functions of a tetrahedron (corners N1-N4).
+  pure subroutine tetrahedron_gradients(x, volume, grad)
+    real(wp), intent(in) :: x(3, 4)            !< corner coordinates
+    real(wp), intent(out) :: volume            !< its volume
+    real(wp), intent(out) :: grad(3, 4)        !< grad N_I
+    real(wp) :: edges(3, 3), inv(3, 3), det
+    integer :: k
+    do k = 1, 3
+      edges(:, k) = x(:, k + 1) - x(:, 1)
+    end do
+    call inverse_3x3(edges, inv, det)           ! rows: the gradients of N2, N3, N4
+    volume = abs(det)/6.0_wp
+    grad(:, 2:4) = transpose(inv)
+    grad(:, 1) = -(grad(:, 2) + grad(:, 3) + grad(:, 4))
+  end subroutine tetrahedron_gradients
 
   !> Print the cell counts and, for ME-FEM, the enrichment constants (run log, rank 0).
   subroutine cells_summary(cells)

@@ -10,7 +10,8 @@
 !>   bubble carries no translation, so its inertia is free to choose: selective mass);
 !>   load (body loads of the static analyses): rho V psibar, the integral of rho Psi_e
 !>   (psibar = enrichment_t%mass_fraction), the consistent load on b_e.
-!> A standard linear element gives rho V/(dim+1) per corner. Nodes of rigid parts only get no
+!> A standard linear element gives rho V/(dim+1) per corner, a hexahedron rho int N_I dV per
+!> corner (rho V/8 when it is a parallelepiped). Nodes of rigid parts only get no
 !> mass here (rigid bodies carry their own). Every rank computes all masses from the global
 !> model, elements in ascending order, so the values are the same bits on every rank and for
 !> any number of ranks; a rank takes its share as mass(layout%node_global).
@@ -35,7 +36,7 @@ contains
     real(wp), allocatable, intent(out) :: mass(:)      !< (n_mesh_nodes + n_enriched) masses
     integer, allocatable :: standard_cell(:)
     real(wp) :: rho, volume, bubble, corner_share
-    integer :: nv, e, c, material
+    integer :: nv, e, c, material, h, nn
 
     nv = cells%dim + 1
     allocate(mass(cells%n_mesh_nodes + cells%n_enriched))
@@ -59,8 +60,15 @@ contains
       else if (standard_cell(e) > 0) then
         c = standard_cell(e)
         rho = model%materials(cells%material(c))%density
-        corner_share = rho*cells%weight(c)/real(nv, wp)
-        mass(cells%nodes(1:nv, c)) = mass(cells%nodes(1:nv, c)) + corner_share
+        h = cells%hex_of(c)
+        if (h > 0) then           ! hexahedron: rho int N_I dV (the consistent mass' row sums)
+          nn = cells%nnodes(c)
+          mass(cells%nodes(1:nn, c)) = mass(cells%nodes(1:nn, c)) + &
+                                       rho*cells%node_volume(1:nn, h)
+        else
+          corner_share = rho*cells%weight(c)/real(nv, wp)
+          mass(cells%nodes(1:nv, c)) = mass(cells%nodes(1:nv, c)) + corner_share
+        end if
       end if
     end do
   end subroutine lumped_mass

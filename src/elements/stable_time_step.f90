@@ -86,7 +86,11 @@ contains
       if (cells%enriched_of(cells%elements(1, c)) == 0) then
         ! standard element = its own cell: the element's nodal masses
         rho = model%materials(cells%material(c))%density
-        share(1:nv, k) = rho*cells%weight(c)/real(nv, wp)
+        if (cells%hex_of(c) > 0) then
+          share(1:cells%nnodes(c), k) = rho*cells%node_volume(1:cells%nnodes(c), cells%hex_of(c))
+        else
+          share(1:nv, k) = rho*cells%weight(c)/real(nv, wp)
+        end if
         cycle
       end if
       do slot = 1, 2

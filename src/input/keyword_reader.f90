@@ -15,11 +15,11 @@ module mefem_keyword_reader
   use mefem_cards, only: reader_t, card_t, next_card, keyword_error, keyword_where
   use mefem_model, only: model_t, ON_NODE, ON_NODE_SET, ON_PART
   use mefem_read_mesh, only: read_node, read_element_solid, read_element_shell, read_part, &
-                             read_section_solid, read_section_shell
+                             read_section_solid, read_section_shell, read_hourglass
   use mefem_read_controls, only: read_keyword_card, read_title, read_parameter, &
                                  read_parameter_expression, &
                                  read_control_termination, read_control_timestep, &
-                                 read_control_solution, &
+                                 read_control_solution, read_control_hourglass, &
                                  read_control_implicit_general, &
                                  read_control_implicit_solution, read_control_implicit_auto, &
                                  read_database_binary_d3plot, read_database_interval, &
@@ -59,7 +59,7 @@ module mefem_keyword_reader
                         H_MEFEM_ENRICHMENT = 44, H_PARAMETER_EXPRESSION = 45
   integer, parameter :: H_LOAD_BODY_X = 46, H_LOAD_BODY_Y = 47, H_LOAD_BODY_Z = 48, &
                         H_LOAD_BODY_PARTS = 49
-  integer, parameter :: H_CONTROL_SOLUTION = 50
+  integer, parameter :: H_CONTROL_SOLUTION = 50, H_HOURGLASS = 51, H_CONTROL_HOURGLASS = 52
 
   !> One registered keyword.
   type :: keyword_entry_t
@@ -68,7 +68,7 @@ module mefem_keyword_reader
     character(len=64) :: options = ''    !< options accepted, as ' OPT1 OPT2 '
   end type keyword_entry_t
 
-  integer, parameter :: N_ENTRIES = 58
+  integer, parameter :: N_ENTRIES = 60
   type(keyword_entry_t), parameter :: REGISTRY(N_ENTRIES) = [ &
     keyword_entry_t('NODE', H_NODE, ' '), &
     keyword_entry_t('ELEMENT_SOLID', H_ELEMENT_SOLID, ' '), &
@@ -76,6 +76,7 @@ module mefem_keyword_reader
     keyword_entry_t('PART', H_PART, ' '), &
     keyword_entry_t('SECTION_SOLID', H_SECTION_SOLID, ' TITLE '), &
     keyword_entry_t('SECTION_SHELL', H_SECTION_SHELL, ' TITLE '), &
+    keyword_entry_t('HOURGLASS', H_HOURGLASS, ' TITLE '), &
     keyword_entry_t('KEYWORD', H_KEYWORD, ' '), &
     keyword_entry_t('TITLE', H_TITLE, ' '), &
     keyword_entry_t('PARAMETER', H_PARAMETER, ' '), &
@@ -127,6 +128,7 @@ module mefem_keyword_reader
     ! controls and output requests (matched before the DATABASE_ skip rule)
     keyword_entry_t('CONTROL_TIMESTEP', H_CONTROL_TIMESTEP, ' '), &
     keyword_entry_t('CONTROL_SOLUTION', H_CONTROL_SOLUTION, ' '), &
+    keyword_entry_t('CONTROL_HOURGLASS', H_CONTROL_HOURGLASS, ' '), &
     keyword_entry_t('CONTROL_IMPLICIT_GENERAL', H_CONTROL_IMPLICIT_GENERAL, ' '), &
     keyword_entry_t('CONTROL_IMPLICIT_SOLUTION', H_CONTROL_IMPLICIT_SOLUTION, ' '), &
     keyword_entry_t('CONTROL_IMPLICIT_AUTO', H_CONTROL_IMPLICIT_AUTO, ' '), &
@@ -165,8 +167,6 @@ module mefem_keyword_reader
 
   !> Keywords skipped with one warning: output and cosmetic settings (they cannot change
   !> the answer), and settings that have no counterpart in mefem's formulation:
-  !> - hourglass control: linear tetrahedra and triangles have no hourglass (zero-energy)
-  !>   modes, so there is nothing to control;
   !> - *CONTROL_CONTACT: global contact defaults; mefem's mortar contact takes everything it
   !>   uses from each *CONTACT card;
   !> - *CONTROL_SOLID / *CONTROL_SHELL: element options of LS-DYNA's formulations; mefem's
@@ -175,7 +175,7 @@ module mefem_keyword_reader
   !>   own objective finite-strain update;
   !> - *CONTROL_BULK_VISCOSITY: mefem adds no bulk viscosity; only shock-dominated problems
   !>   (impact), not forming, would notice.
-  integer, parameter :: N_SKIPPED = 18
+  integer, parameter :: N_SKIPPED = 16
   type(skipped_entry_t), parameter :: SKIPPED(N_SKIPPED) = [ &
     skipped_entry_t('DATABASE_RWFORC', 'its interval is not used: rwforc is written at the '// &
                     '*DATABASE_GLSTAT interval'), &
@@ -193,10 +193,6 @@ module mefem_keyword_reader
     skipped_entry_t('INTERFACE_SPRINGBACK', OUTPUT_ONLY), &
     skipped_entry_t('COMMENT', OUTPUT_ONLY), &
     skipped_entry_t('KEYWORD_ID', OUTPUT_ONLY), &
-    skipped_entry_t('CONTROL_HOURGLASS', 'no effect: mefem''s tetrahedra and triangles '// &
-                    'have no hourglass modes'), &
-    skipped_entry_t('HOURGLASS', 'no effect: mefem''s tetrahedra and triangles have no '// &
-                    'hourglass modes'), &
     skipped_entry_t('CONTROL_CONTACT', 'global contact defaults are not used; each '// &
                     '*CONTACT card sets its own stiffness scale and friction'), &
     skipped_entry_t('CONTROL_SOLID', 'solid element options are not used; each part''s '// &
@@ -352,6 +348,8 @@ contains
       call read_section_solid(rd, options, model)
     case (H_SECTION_SHELL)
       call read_section_shell(rd, options, model)
+    case (H_HOURGLASS)
+      call read_hourglass(rd, options, model)
     case (H_KEYWORD)
       call read_keyword_card(rd, line)
     case (H_TITLE)
@@ -424,6 +422,8 @@ contains
       call read_control_timestep(rd, model)
     case (H_CONTROL_SOLUTION)
       call read_control_solution(rd)
+    case (H_CONTROL_HOURGLASS)
+      call read_control_hourglass(rd, model)
     case (H_CONTROL_IMPLICIT_GENERAL)
       call read_control_implicit_general(rd, model)
     case (H_CONTROL_IMPLICIT_SOLUTION)

@@ -19,7 +19,7 @@ module mefem_read_controls
   public :: read_control_timestep, read_control_solution, read_control_implicit_general, &
             read_control_implicit_solution, read_control_implicit_auto, &
             read_database_binary_d3plot, read_database_interval, read_database_history_node, &
-            read_mefem_enrichment
+            read_mefem_enrichment, read_control_hourglass
   public :: DATABASE_GLSTAT, DATABASE_RCFORC, DATABASE_NODOUT
 
   ! ASCII output files of read_database_interval
@@ -272,6 +272,29 @@ contains
     end if
     call skip_remaining(rd)
   end subroutine read_control_solution
+
+  !> *CONTROL_HOURGLASS: IHQ QH, the hourglass control of the one-point hexahedra of parts
+  !> without a *HOURGLASS of their own (and of those whose *HOURGLASS leaves IHQ 0).
+  subroutine read_control_hourglass(rd, model)
+    type(reader_t), intent(inout) :: rd      !< reading state
+    type(model_t), intent(inout) :: model    !< model receiving the controls
+    type(card_t) :: card
+    logical :: got
+    call next_card(rd, card, got, keep_blank=.true.)
+    if (got) then
+      call split_card(rd, card, W_10)
+      call get_int(card, 1, 'IHQ', model%controls%ihq)
+      call get_real(card, 2, 'QH', model%controls%qh)
+      model%controls%hourglass_src = source_t(card%file, card%line)
+      if (.not. card%bad) then
+        if (model%controls%ihq < 0 .or. model%controls%ihq > 10) call card_error(card, &
+            'field IHQ must be 0 to 10 (got '//itoa(model%controls%ihq)//')')
+        if (model%controls%qh < 0.0_wp) call card_error(card, 'field QH must not be '// &
+            'negative (got '//rtoa(model%controls%qh)//')')
+      end if
+    end if
+    call skip_remaining(rd)
+  end subroutine read_control_hourglass
 
   !> *CONTROL_TIMESTEP: DTINIT TSSFAC ISDO TSLIMT DT2MS LCTM ERODE MS1ST; the optional further
   !> cards (mass-scaling refinements) are accepted and not used. TSSFAC 0 means 0.9.

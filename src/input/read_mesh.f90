@@ -1,5 +1,5 @@
 !> Keyword handlers for the mesh: *NODE, *ELEMENT_SOLID, *ELEMENT_SHELL, *PART,
-!> *SECTION_SOLID, *SECTION_SHELL. Every handler reads all data cards of one keyword
+!> *SECTION_SOLID, *SECTION_SHELL, *HOURGLASS. Every handler reads all data cards of one keyword
 !> occurrence and appends to the model; ids are resolved later (model_resolve).
 module mefem_read_mesh
   use mefem_kinds, only: wp
@@ -7,12 +7,12 @@ module mefem_read_mesh
   use mefem_cards, only: LONG_WIDTH, reader_t, card_t, next_card, split_card, get_int, get_real, &
                          card_error, keyword_error
   use mefem_model, only: model_t, nodes_t, elements_t, part_t, section_t, source_t, &
-                         ELEM_SOLID, ELEM_SHELL, SECTION_SOLID, SECTION_SHELL
+                         hourglass_t, ELEM_SOLID, ELEM_SHELL, SECTION_SOLID, SECTION_SHELL
   implicit none
   private
 
   public :: read_node, read_element_solid, read_element_shell, read_part, read_section_solid, &
-            read_section_shell, has_option
+            read_section_shell, read_hourglass, has_option
 
   integer, parameter :: W_NODE(6) = [8, 16, 16, 16, 8, 8]    !< *NODE field widths
   integer, parameter :: W_I8(10) = 8                          !< element cards: I8 fields
@@ -275,6 +275,55 @@ contains
       if (.not. card%bad) call add_section(model, section)
     end do
   end subroutine read_section_solid
+
+  !> *HOURGLASS: HGID IHQ QM IBQ Q1 Q2 QB/VDC QW, one card per definition; IHQ and QM are
+  !> used (by the one-point hexahedra of the parts naming HGID), the bulk-viscosity fields
+  !> (IBQ Q1 Q2) and the shell fields (QB QW) are read and not used (mefem adds no bulk
+  !> viscosity; its shells are rigid tool surfaces or plane-strain triangles).
+  subroutine read_hourglass(rd, options, model)
+    type(reader_t), intent(inout) :: rd          !< reading state
+    character(len=*), intent(in) :: options      !< keyword options
+    type(model_t), intent(inout) :: model        !< model appended to
+    type(card_t) :: card
+    type(hourglass_t) :: hourglass
+    type(hourglass_t), allocatable :: grown(:)
+    logical :: got
+    integer :: ibq
+    real(wp) :: unused
+    call skip_title(rd, options)
+    do
+      call next_card(rd, card, got)
+      if (.not. got) exit
+      call split_card(rd, card, W_10)
+      hourglass = hourglass_t()
+      call get_int(card, 1, 'HGID', hourglass%id, required=.true.)
+      call get_int(card, 2, 'IHQ', hourglass%ihq)
+      call get_real(card, 3, 'QM', hourglass%qm)
+      call get_int(card, 4, 'IBQ', ibq)
+      call get_real(card, 5, 'Q1', unused)
+      call get_real(card, 6, 'Q2', unused)
+      call get_real(card, 7, 'QB', unused)
+      call get_real(card, 8, 'QW', unused)
+      hourglass%src = source_t(card%file, card%line)
+      if (card%bad) cycle
+      if (hourglass%ihq < 0 .or. hourglass%ihq > 10) then
+        call card_error(card, 'field IHQ must be 0 to 10 (got '//itoa(hourglass%ihq)//')')
+        cycle
+      end if
+      if (hourglass%qm < 0.0_wp) then
+        call card_error(card, 'field QM must not be negative (got '//rtoa(hourglass%qm)//')')
+        cycle
+      end if
+      if (.not. allocated(model%hourglasses)) allocate(model%hourglasses(0))
+      if (model%n_hourglasses == size(model%hourglasses)) then
+        allocate(grown(max(4, 2*model%n_hourglasses)))
+        grown(1:model%n_hourglasses) = model%hourglasses(1:model%n_hourglasses)
+        call move_alloc(grown, model%hourglasses)
+      end if
+      model%n_hourglasses = model%n_hourglasses + 1
+      model%hourglasses(model%n_hourglasses) = hourglass
+    end do
+  end subroutine read_hourglass
 
   !> *SECTION_SHELL: SECID ELFORM SHRF NIP PROPT QR ICOMP SETYP / T1 T2 T3 T4 NLOC.
   subroutine read_section_shell(rd, options, model)

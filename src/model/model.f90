@@ -61,8 +61,17 @@ module mefem_model
     character(len=80) :: title = ''
     integer :: section_id = 0, material_id = 0, eos_id = 0, hourglass_id = 0
     integer :: section = 0, material = 0    !< indices (after resolve)
+    integer :: hourglass = 0                !< index of its *HOURGLASS (after resolve; 0: none)
     type(source_t) :: src
   end type part_t
+
+  !> *HOURGLASS: the hourglass control of the parts that name its HGID.
+  type, public :: hourglass_t
+    integer :: id = 0                       !< HGID
+    integer :: ihq = 0                      !< IHQ (0: *CONTROL_HOURGLASS's)
+    real(wp) :: qm = 0.0_wp                 !< QM (0: the default, 0.1)
+    type(source_t) :: src
+  end type hourglass_t
 
   !> *SECTION_SOLID / *SECTION_SHELL.
   type, public :: section_t
@@ -255,6 +264,10 @@ module mefem_model
     integer :: n_history_sets = 0
     integer, allocatable :: history_set_ids(:), history_sets(:)   !< node-set ids, indices
     type(source_t), allocatable :: history_node_src(:), history_set_src(:)  !< where given
+    ! *CONTROL_HOURGLASS
+    integer :: ihq = 0                        !< IHQ (0: the default, 1)
+    real(wp) :: qh = 0.0_wp                   !< QH (0: the default, 0.1)
+    type(source_t) :: hourglass_src           !< where *CONTROL_HOURGLASS was given
     ! *MEFEM_ENRICHMENT
     real(wp) :: support_radius = 1.5_wp       !< a/L of the GMF approximation
     integer :: gmf_basis = 1                  !< 1 atan, 2 exp
@@ -272,6 +285,8 @@ module mefem_model
     type(material_t), allocatable :: materials(:)
     type(set_t), allocatable :: sets(:)
     type(curve_t), allocatable :: curves(:)
+    integer :: n_hourglasses = 0
+    type(hourglass_t), allocatable :: hourglasses(:)
     integer :: n_spcs = 0, n_motions = 0, n_nodal_loads = 0, n_pressure_loads = 0
     integer :: n_initial_velocities = 0, n_contacts = 0, n_rigid_walls = 0
     integer :: n_body_loads = 0

@@ -7,7 +7,7 @@
 module mefem_model_resolve
   use mefem_kinds, only: wp
   use mefem_vector_math, only: cross
-  use mefem_errors, only: input_error, input_error_count, say
+  use mefem_errors, only: input_error, input_error_count, say, warn
   use mefem_strings, only: itoa, rtoa
   use mefem_deck_source, only: location
   use mefem_id_map, only: id_map_t, id_map_build, id_map_find
@@ -19,7 +19,8 @@ module mefem_model_resolve
   implicit none
   private
 
-  public :: model_resolve, element_measure, formulation_name
+  public :: model_resolve, element_measure, formulation_name, part_hourglass, &
+            hexahedral_formulation
 
   ! element formulations mefem computes (ELFORM of *SECTION_SOLID / *SECTION_SHELL)
   integer, parameter, public :: ELFORM_TET_STANDARD = 10       !< linear tetrahedron
@@ -28,25 +29,32 @@ module mefem_model_resolve
   integer, parameter, public :: ELFORM_TET_NODAL_PRESSURE = 13 !< linear tetrahedron with the
                                                                !< volume averaged at the nodes
 
+  integer, parameter, public :: ELFORM_HEX_ONE_POINT = 1      !< one-point hexahedron with
+                                                               !< hourglass control
+  ! the fully integrated hexahedra computed as ELFORM 1 with the physical stiffness hourglass
+  ! control (IHQ 6, QM 1), with a warning naming the part
+  integer, parameter :: ELFORM_HEX_FULLY_INTEGRATED(3) = [2, -1, -2]
+
   ! LS-DYNA's solid formulations that mefem does not compute for deformable parts: ELFORM
   ! ranges, what they are, what to do instead (unsupported_solid_text)
-  integer, parameter :: N_SOLID_ELFORM_ROWS = 10
+  integer, parameter :: N_SOLID_ELFORM_ROWS = 11
   integer, parameter :: SOLID_ELFORM_FIRST(N_SOLID_ELFORM_ROWS) = &
-      [-2, 9, 4, 15, 16, 18, 19, 23, 41, 101]
+      [0, 3, 9, 4, 15, 16, 18, 19, 23, 41, 101]
   integer, parameter :: SOLID_ELFORM_LAST(N_SOLID_ELFORM_ROWS) = &
-      [3, 9, 4, 15, 17, 18, 22, 23, 47, 105]
-  character(len=*), parameter :: SPLIT_HEXES = 'mefem has no deformable hexahedra yet; '// &
-      'split them into tetrahedra (input/hex_to_tet.py) and use 43 or 13'
+      [0, 3, 9, 4, 15, 17, 18, 22, 23, 47, 105]
+  character(len=*), parameter :: USE_ONE_POINT = 'use 1 (one-point hexahedron with '// &
+      'hourglass control)'
   character(len=48), parameter :: SOLID_ELFORM_NAME(N_SOLID_ELFORM_ROWS) = [character(len=48) :: &
-      'a hexahedron', 'a hexahedron', 'a quadratic tetrahedron', 'a pentahedron', &
+      'a co-rotational hexahedron', 'a hexahedron with nodal rotations', &
+      'a co-rotational hexahedron', 'a quadratic tetrahedron', 'a pentahedron', &
       'a 10-node tetrahedron', 'an enhanced-strain hexahedron', 'a cohesive element', &
       'a 20-node hexahedron', 'a meshfree solid (EFG, SPG)', 'a user element']
   character(len=112), parameter :: SOLID_ELFORM_ADVICE(N_SOLID_ELFORM_ROWS) = &
-      [character(len=112) :: SPLIT_HEXES, SPLIT_HEXES, &
+      [character(len=112) :: USE_ONE_POINT, USE_ONE_POINT, USE_ONE_POINT, &
       'give the 4 corner nodes of each tetrahedron and use 43 or 13', &
-      'split each into 3 tetrahedra and use 43 or 13', &
-      'give the 4 corner nodes of each tetrahedron and use 43 or 13', SPLIT_HEXES, &
-      'cohesive elements are not computed', SPLIT_HEXES, &
+      'give the pentahedra as LS-DYNA''s degenerate hexahedra and use 1', &
+      'give the 4 corner nodes of each tetrahedron and use 43 or 13', USE_ONE_POINT, &
+      'cohesive elements are not computed', USE_ONE_POINT, &
       'ME-FEM (43) is the meshfree-enriched tetrahedron mefem computes', &
       'user elements are not computed']
 
@@ -107,6 +115,7 @@ contains
     integer, intent(in) :: k                       !< part index
     type(id_map_t), intent(in) :: section_map, material_map  !< id maps
     character(len=:), allocatable :: where
+    integer :: h
     associate (part => model%parts(k))
       where = location(part%src%file, part%src%line)//': *PART'
       part%section = id_map_find(section_map, part%section_id)
@@ -115,6 +124,15 @@ contains
           itoa(part%section_id)//' (SECID) is not defined')
       if (part%material == 0) call input_error(where, 'part '//itoa(part%id)//': material '// &
           itoa(part%material_id)//' (MID) is not defined')
+      part%hourglass = 0
+      if (part%hourglass_id /= 0) then
+        do h = 1, model%n_hourglasses
+          if (model%hourglasses(h)%id == part%hourglass_id) part%hourglass = h
+        end do
+        if (part%hourglass == 0) call input_error(where, 'part '//itoa(part%id)// &
+            ': hourglass control '//itoa(part%hourglass_id)//' (HGID) is not defined '// &
+            '(*HOURGLASS)')
+      end if
     end associate
   end subroutine resolve_part
 
@@ -239,6 +257,7 @@ contains
     integer, intent(inout) :: n_solid_deformable, n_shell_deformable  !< counters
     logical, intent(inout) :: part_reported(:)  !< an unsupported ELFORM was reported per part
     integer :: p, s, m, elform, topo
+    logical :: hexahedral
     p = model%elements%part(e)
     s = model%parts(p)%section
     m = model%parts(p)%material
@@ -262,29 +281,38 @@ contains
     if (model%materials(m)%kind == MAT_RIGID) return      ! rigid parts: any topology
     if (model%elements%keyword(e) == ELEM_SOLID) then
       n_solid_deformable = n_solid_deformable + 1
-      if (elform /= ELFORM_TET_STANDARD .and. elform /= ELFORM_MEFEM .and. &
-          elform /= ELFORM_TET_NODAL_PRESSURE) then
+      hexahedral = hexahedral_formulation(elform)
+      if (.not. (hexahedral .or. elform == ELFORM_TET_STANDARD .or. elform == ELFORM_MEFEM &
+                 .or. elform == ELFORM_TET_NODAL_PRESSURE)) then
         ! once per part, where it is to be mended: the section, not each element
         if (.not. part_reported(p)) call input_error(section_where(model, s), &
             'section '//itoa(model%sections(s)%id)//': solid ELFORM '//itoa(elform)// &
-            unsupported_solid_text(elform)//'; mefem computes 43 ME-FEM tetrahedron, 13 '// &
-            'nodal-pressure tetrahedron, 10 standard linear tetrahedron; part '// &
-            itoa(model%parts(p)%id)//', first element '// &
+            unsupported_solid_text(elform)//'; mefem computes 1 one-point hexahedron, 43 '// &
+            'ME-FEM tetrahedron, 13 nodal-pressure tetrahedron, 10 standard linear '// &
+            'tetrahedron; part '//itoa(model%parts(p)%id)//', first element '// &
             itoa(model%elements%id(e))//' at '//element_where(model, e))
         part_reported(p) = .true.
-      else if (elform == ELFORM_TET_NODAL_PRESSURE .and. .not. (model%controls%imflag /= 1 &
-               .and. model%controls%have_termination)) then
+      else if (elform == ELFORM_TET_NODAL_PRESSURE .and. &
+               .not. (model%controls%imflag /= 1 .and. model%controls%have_termination)) then
         if (.not. part_reported(p)) call input_error(section_where(model, s), &
             'section '//itoa(model%sections(s)%id)//': solid ELFORM 13 (nodal-pressure '// &
             'tetrahedron) runs in the explicit analysis only; the implicit and linear '// &
             'analyses need 43 (ME-FEM tetrahedron, also locking-free) or 10; part '// &
             itoa(model%parts(p)%id))
         part_reported(p) = .true.
-      else if (topo /= TOPO_TET4) then
+      else if (.not. hexahedral .and. topo /= TOPO_TET4) then
         call input_error(element_where(model, e), &
             'element '//itoa(model%elements%id(e))//': part '// &
             itoa(model%parts(p)%id)//': ELFORM '//itoa(elform)// &
             ' needs tetrahedra; this element is not one')
+      else if (elform /= ELFORM_HEX_ONE_POINT .and. hexahedral .and. .not. part_reported(p)) &
+        then
+        call warn(section_where(model, s)//': section '//itoa(model%sections(s)%id)// &
+            ': solid ELFORM '//itoa(elform)//' (fully integrated hexahedron) is computed as '// &
+            'ELFORM 1, the one-point hexahedron, with the physical stiffness hourglass '// &
+            'control (IHQ 6, QM 1: the elastic bending stiffness without shear locking); '// &
+            'part '//itoa(model%parts(p)%id))
+        part_reported(p) = .true.
       end if
     else
       n_shell_deformable = n_shell_deformable + 1
@@ -419,7 +447,8 @@ contains
     type(model_t), intent(in) :: model   !< the model
     integer, intent(in) :: p             !< part index
     character(len=:), allocatable :: s
-    integer :: sec, mat
+    integer :: sec, mat, ihq
+    real(wp) :: qm
     sec = model%parts(p)%section
     mat = model%parts(p)%material
     s = 'unknown'
@@ -434,6 +463,14 @@ contains
         s = 'standard linear tetrahedron (ELFORM 10)'
       case (ELFORM_TET_NODAL_PRESSURE)
         s = 'nodal-pressure tetrahedron (ELFORM 13)'
+      case default
+        if (hexahedral_formulation(model%sections(sec)%elform)) then
+          call part_hourglass(model, p, ihq, qm)
+          s = 'one-point hexahedron (ELFORM 1'
+          if (model%sections(sec)%elform /= ELFORM_HEX_ONE_POINT) s = s//' in place of '// &
+              itoa(model%sections(sec)%elform)
+          s = s//'), hourglass IHQ '//itoa(ihq)//' QM '//rtoa(qm)
+        end if
       end select
     else
       select case (model%sections(sec)%elform)
@@ -444,5 +481,45 @@ contains
       end select
     end if
   end function formulation_name
+
+  !> True for the solid ELFORMs computed as the one-point hexahedron (1, and the fully
+  !> integrated 2, -1, -2 in its place).
+  elemental logical function hexahedral_formulation(elform)
+    integer, intent(in) :: elform        !< *SECTION_SOLID ELFORM
+    hexahedral_formulation = elform == ELFORM_HEX_ONE_POINT .or. &
+                             any(ELFORM_HEX_FULLY_INTEGRATED == elform)
+  end function hexahedral_formulation
+
+  !> The hourglass control of part p's one-point hexahedra: IHQ and QM of its *HOURGLASS
+  !> (HGID), where that leaves IHQ 0 the default type; without one, *CONTROL_HOURGLASS's IHQ
+  !> and QH; LS-DYNA's defaults where these are 0: IHQ 1 (viscous), QM 0.1. A fully
+  !> integrated ELFORM (2, -1, -2) runs with IHQ 6, QM 1 (the elastic bending stiffness).
+  subroutine part_hourglass(model, p, ihq, qm)
+    type(model_t), intent(in) :: model   !< resolved model
+    integer, intent(in) :: p             !< part index
+    integer, intent(out) :: ihq          !< hourglass type, 1 to 10
+    real(wp), intent(out) :: qm          !< hourglass coefficient
+    integer, parameter :: DEFAULT_IHQ = 1
+    real(wp), parameter :: DEFAULT_QM = 0.1_wp
+    integer :: h
+    h = model%parts(p)%hourglass
+    if (model%parts(p)%section > 0) then
+      if (any(ELFORM_HEX_FULLY_INTEGRATED == model%sections(model%parts(p)%section)%elform)) &
+        then
+        ihq = 6
+        qm = 1.0_wp
+        return
+      end if
+    end if
+    if (h > 0) then
+      ihq = model%hourglasses(h)%ihq
+      qm = model%hourglasses(h)%qm
+    else
+      ihq = model%controls%ihq
+      qm = model%controls%qh
+    end if
+    if (ihq == 0) ihq = DEFAULT_IHQ
+    if (qm == 0.0_wp) qm = DEFAULT_QM
+  end subroutine part_hourglass
 
 end module mefem_model_resolve

@@ -18,7 +18,8 @@ module mefem_explicit_cell_forces
   use mefem_model, only: model_t
   use mefem_halo, only: halo_t, halo_assemble, halo_assemble_start, halo_assembly_push_nodes, &
                         halo_assemble_summed
-  use mefem_cells, only: cells_t, CELL_MAX_NODES
+  use mefem_cells, only: cells_t, CELL_MAX_NODES, MEFEM_FACE_NODES
+  use mefem_hexahedron, only: HOURGLASS_MODES, block_hourglass_forces
   use mefem_cell_finite_strain, only: cell_deformation_gradient, cell_internal_force, &
                                       block_deformation_gradient, block_adjugate, &
                                       block_internal_force, adjugate_3x3
@@ -49,6 +50,7 @@ contains
     type(halo_t), intent(inout) :: halo               !< force exchange
     integer, intent(in) :: starts(:), nodes_of(:), order(:)  !< explicit_blocks_group's
     call build_blocks(s, cells, w0, starts, nodes_of, order)
+    call hourglass_set_up(s, cells)
     call nodal_pressure_set_up(s, cells, halo)
     call plan_pushed_assembly(s, halo)
   end subroutine explicit_cells_set_up
@@ -71,6 +73,8 @@ contains
     s%dt_stable = huge(1.0_wp)
     s%dt_element = 0
     s%failed = .false.
+    s%hourglass_stored = 0.0_wp
+    s%hourglass_power = 0.0_wp
     if (s%nblock > 0 .or. s%ncell == 0) then
       if (allocated(s%push_node)) call set_to_zero(size(s%f_int_new), s%f_int_new)
       if (s%nodal_pressure) call nodal_volumes(s, halo)
@@ -196,8 +200,9 @@ contains
     call comm_arena_sync(s%arena)
     allocate(views(comm_size()), ranks(comm_size()))
     n = 0
-    ! (ELFORM 13 cells need the nodal sums between the blocks and their forces: no stealing)
-    if (s%dim == 3 .and. .not. s%nodal_pressure) then
+    ! (ELFORM 13 cells need the nodal sums between the blocks and their forces, hexahedra
+    ! their hourglass data and the velocities, which the views do not hold: no stealing)
+    if (s%dim == 3 .and. .not. s%nodal_pressure .and. .not. s%hourglass) then
       do r = 0, comm_size() - 1
         if (r == comm_rank()) cycle
         call state_peer_view(s, r, views(n + 1), ok)
@@ -372,16 +377,19 @@ contains
   end subroutine keep_smallest_step
 
   !> Group the local cells into blocks for block_forces (3D; before the arena, which they
-  !> size): cells of equal (material, node count, nodal pressure) together in ascending cell
+  !> size): cells of equal (material, node count, nodal pressure, hexahedron) together in
+  !> ascending cell
   !> order, cut into blocks of at most BLOCK_CELLS. Block b holds cells
   !> order(starts(b):starts(b+1)-1),
   !> computed with nodes_of(b) nodes (size(nodes_of) blocks). The order of computation does
   !> not change any result: every cell writes its own contributions and the assembly order
   !> is fixed by the layout's plan.
-  subroutine explicit_blocks_group(material, nnodes, nodal_pressure, starts, nodes_of, order)
+  subroutine explicit_blocks_group(material, nnodes, nodal_pressure, hexahedral, starts, &
+                                   nodes_of, order)
     integer, intent(in) :: material(:)                !< (ncell) material of each cell
     integer, intent(in) :: nnodes(:)                  !< (ncell) nodes of each cell
     logical, intent(in) :: nodal_pressure(:)          !< (ncell) an ELFORM 13 cell
+    logical, intent(in) :: hexahedral(:)              !< (ncell) a hexahedral cell (ELFORM 1)
     integer, allocatable, intent(out) :: starts(:)    !< (nblock+1) offsets into order
     integer, allocatable, intent(out) :: nodes_of(:)  !< (nblock) node count of each block
     integer, allocatable, intent(out) :: order(:)     !< (ncell) cells, block by block
@@ -397,12 +405,13 @@ contains
     do k = 1, n
       if (placed(k)) cycle
       key_material = material(k)
-      key_nodes = block_node_count(nnodes(k))
+      key_nodes = block_node_count(nnodes(k), hexahedral(k))
       key_pressure = nodal_pressure(k)
       in_block = 0
       do m = k, n
         if (placed(m)) cycle
-        if (material(m) /= key_material .or. block_node_count(nnodes(m)) /= key_nodes .or. &
+        if (material(m) /= key_material .or. &
+            block_node_count(nnodes(m), hexahedral(m)) /= key_nodes .or. &
             (nodal_pressure(m) .neqv. key_pressure)) cycle
         if (in_block == BLOCK_CELLS) then
           nblock = nblock + 1
@@ -454,14 +463,18 @@ contains
   end subroutine build_blocks
 
   !> Number of nodes a 3D cell is computed with in the blocks: an ME-FEM face cell (more than
-  !> the 4 corners of a tet: 5 on the boundary, 7 inside) as a CELL_MAX_NODES-node cell, its
-  !> missing nodes with zero gradients (they add exact zeros to F and get no force), so that
-  !> the cells of a part form one sequence of blocks in ascending cell order and the pushed
-  !> assembly reaches the nodes of the boundary too; a standard tet cell with its 4 nodes.
-  pure integer function block_node_count(nnodes)
+  !> the 4 corners of a tet: 5 on the boundary, 7 inside) as a MEFEM_FACE_NODES-node cell, a
+  !> hexahedral cell (a pentahedron's 6 nodes too) as an 8-node cell, their missing nodes with
+  !> zero gradients (they add exact zeros to F and get no force), so that the cells of a part
+  !> form one sequence of blocks in ascending cell order and the pushed assembly reaches the
+  !> nodes of the boundary too; a standard tet cell with its 4 nodes.
+  pure integer function block_node_count(nnodes, hexahedral)
     integer, intent(in) :: nnodes                     !< the cell's nodes
-    if (nnodes > 4) then
+    logical, intent(in) :: hexahedral                 !< a hexahedral cell
+    if (hexahedral) then
       block_node_count = CELL_MAX_NODES
+    else if (nnodes > 4) then
+      block_node_count = MEFEM_FACE_NODES
     else
       block_node_count = nnodes
     end if
@@ -485,8 +498,10 @@ contains
     real(wp) :: u(LD, 3, CELL_MAX_NODES), force(LD, 3, CELL_MAX_NODES)
     real(wp) :: f(LD, 9), adj(LD, 9), det(LD), tau(LD, 6), omega2(LD), dt_block(LD)
     real(wp) :: fbar(LD, 9), jbar(LD), scale(LD)
-    logical :: ok(LD), finite(LD), steps_at_once, averaged
-    integer :: n, nn, i, a, l, node, first
+    real(wp) :: v(LD, 3, CELL_MAX_NODES), gamma(LD, CELL_MAX_NODES, HOURGLASS_MODES)
+    real(wp) :: stiffness(LD, 6), viscosity(LD), energy(LD), power(LD), c_inverse(6)
+    logical :: ok(LD), finite(LD), steps_at_once, averaged, hexahedral
+    integer :: n, nn, i, a, l, node, first, h, k
     first = s%block_start(b)
     n = s%block_start(b + 1) - first
     if (n == 0) return
@@ -553,6 +568,41 @@ contains
                                                   s%block_weight(:, b), adj, det, tau, force)
     call block_critical_omega_squared(n, s%block_weight(:, b), s%block_w0(:, :, b), adj, det, &
                                       s%lame(1, l), s%lame(2, l), omega2)
+    hexahedral = s%hourglass
+    if (hexahedral) hexahedral = s%hg_slot(s%block_cell(first)) > 0
+    if (hexahedral) then
+      ! one-point hexahedra: the hourglass forces (velocities of the padded slots: the first
+      ! node's, their gamma is zero) and their stable-step bound (K : C^-1) lambda_max(G),
+      ! C^-1 = adj adj^T / J^2, added to the cell's (doc/theory.md 2.8)
+      do i = 1, n
+        l = s%block_cell(first + i - 1)
+        h = s%hg_slot(l)
+        do a = 1, nn
+          node = s%nodes(a, l)
+          if (node == 0) node = s%nodes(1, l)
+          v(i, :, a) = s%v(:, node)
+          gamma(i, a, :) = s%hg_gamma(a, :, h)
+        end do
+        stiffness(i, :) = s%hg_stiffness(:, h)
+        viscosity(i) = s%hg_viscosity(h)
+      end do
+      call block_hourglass_forces(n, nn, u, v, s%block_grad(:, :, :, b), gamma, stiffness, &
+                                  viscosity, adj, det, force, energy, power)
+      do i = 1, n
+        s%hourglass_stored = s%hourglass_stored + energy(i)
+        s%hourglass_power = s%hourglass_power + power(i)
+        if (.not. det(i) > 0.0_wp) cycle
+        do k = 1, 3               ! (adj adj^T), upper triangle, then divided by J^2
+          c_inverse(k) = adj(i, k)**2 + adj(i, k + 3)**2 + adj(i, k + 6)**2
+        end do
+        c_inverse(4) = adj(i, 1)*adj(i, 2) + adj(i, 4)*adj(i, 5) + adj(i, 7)*adj(i, 8)
+        c_inverse(5) = adj(i, 2)*adj(i, 3) + adj(i, 5)*adj(i, 6) + adj(i, 8)*adj(i, 9)
+        c_inverse(6) = adj(i, 1)*adj(i, 3) + adj(i, 4)*adj(i, 6) + adj(i, 7)*adj(i, 9)
+        omega2(i) = omega2(i) + s%hg_metric(s%hg_slot(s%block_cell(first + i - 1)))* &
+            (sum(stiffness(i, 1:3)*c_inverse(1:3)) + &
+             2.0_wp*sum(stiffness(i, 4:6)*c_inverse(4:6)))/det(i)**2
+      end do
+    end if
     ! the cells' steps as take_cell_step computes them, for the whole block at once when no
     ! mass is added and every bound is a finite number (else cell by cell, which reports)
     steps_at_once = .not. s%mass_scaling
@@ -761,6 +811,32 @@ contains
       s%np_area(3, a, l) = s%weight(l)*(adj(7)*grad(1, a) + adj(8)*grad(2, a) + adj(9)*grad(3, a))
     end do
   end subroutine keep_area_vectors
+
+  !> One-point hexahedra: the local copies of their hourglass data (cells' hexahedron
+  !> arrays; every rank learns whether the model has any, which turns off work stealing).
+  subroutine hourglass_set_up(s, cells)
+    type(explicit_state_t), intent(inout) :: s        !< local state (blocks built)
+    type(cells_t), intent(in) :: cells                !< all cells
+    integer :: l, h, nh
+    s%hourglass = cells%n_hex > 0
+    if (.not. s%hourglass) return
+    allocate(s%hg_slot(s%ncell))
+    nh = count(cells%hex_of(s%cell_global) > 0)
+    allocate(s%hg_gamma(CELL_MAX_NODES, HOURGLASS_MODES, nh), s%hg_stiffness(6, nh), &
+             s%hg_viscosity(nh), s%hg_metric(nh))
+    nh = 0
+    do l = 1, s%ncell
+      h = cells%hex_of(s%cell_global(l))
+      s%hg_slot(l) = 0
+      if (h == 0) cycle
+      nh = nh + 1
+      s%hg_slot(l) = nh
+      s%hg_gamma(:, :, nh) = cells%hg_gamma(:, :, h)
+      s%hg_stiffness(:, nh) = cells%hg_stiffness(:, h)
+      s%hg_viscosity(nh) = cells%hg_viscosity(h)
+      s%hg_metric(nh) = cells%hg_metric(h)
+    end do
+  end subroutine hourglass_set_up
 
   !> Set-up of the nodal-pressure tetrahedra (3D, after the blocks; collective when the model
   !> has ELFORM 13 cells): which local cells are, the nodes' reference volumes and where ELFORM

@@ -353,7 +353,8 @@ contains
     nblock = 0
     if (dim == 3) then
       call explicit_blocks_group(cells%material(s%cell_global), cells%nnodes(s%cell_global), &
-                                 cells%nodal_pressure(s%cell_global), block_starts, &
+                                 cells%nodal_pressure(s%cell_global), &
+                                 cells%hex_of(s%cell_global) > 0, block_starts, &
                                  block_nodes_of, block_order)
       nblock = size(block_nodes_of)
     end if
@@ -836,6 +837,7 @@ contains
                        s%active, s%fixed, s%driven, s%mass, s%v, s%f_int, s%f_int_new, s%f_ext, &
                        s%f_ext_new, s%f_con, s%f_con_new, s%a, internal, external, sliding)
     s%internal_energy = s%internal_energy + internal
+    s%hourglass_dissipated = s%hourglass_dissipated + s%hourglass_power*dt
     s%external_work = s%external_work + external
     s%contact_energy = s%contact_energy + sliding
     call move_alloc(s%f_con, scratch)
@@ -1141,7 +1143,7 @@ contains
     integer, intent(in) :: cycle                      !< cycle just completed
     real(wp), intent(in) :: t, dt                     !< time, the step that reached it
     type(glstat_record_t) :: rec
-    real(wp) :: sums(11), v_full(3)
+    real(wp) :: sums(12), v_full(3)
     integer :: n, b
     sums = 0.0_wp
     do n = 1, s%nnode
@@ -1160,6 +1162,7 @@ contains
     sums(3) = s%external_work + pending_reaction_work(s, dt)
     sums(10) = 0.0_wp - s%wall_work                ! (+0, not -0, without walls)
     sums(11) = s%contact_energy
+    sums(12) = s%hourglass_stored + s%hourglass_dissipated
     call comm_sum(sums)
     do b = 1, s%bodies%n                    ! replicated: added once, after the sum
       associate (body => s%bodies%body(b))
@@ -1178,7 +1181,9 @@ contains
     rec%time = t
     rec%time_step = dt
     rec%kinetic_energy = sums(1)
-    rec%internal_energy = sums(2)
+    ! the work of the internal forces holds the hourglass forces': their energy apart
+    rec%internal_energy = sums(2) - sums(12)
+    rec%hourglass_energy = sums(12)
     rec%external_work = sums(3)
     rec%rigidwall_energy = sums(10)
     rec%contact_energy = sums(11)

@@ -163,6 +163,17 @@ module mefem_explicit_state
     integer, allocatable :: np_column(:,:)     !< (4, size(np_cells)) the assembly column of
                                                !< each corner (halo source_target)
     real(wp), allocatable :: np_sums(:,:)      !< (1, ntarget) the nodal sums
+    ! one-point hexahedra (ELFORM 1; doc/theory.md 2.8): their hourglass data, local copies
+    logical :: hourglass = .false.             !< the model has hexahedral cells (any rank)
+    integer, allocatable :: hg_slot(:)         !< (ncell) index in the arrays below, 0 if none
+    real(wp), allocatable :: hg_gamma(:,:,:)   !< (CELL_MAX_NODES, 4, local hexahedra) gamma
+    real(wp), allocatable :: hg_stiffness(:,:) !< (6, local hexahedra) K
+    real(wp), allocatable :: hg_viscosity(:)   !< (local hexahedra) c
+    real(wp), allocatable :: hg_metric(:)      !< (local hexahedra) bound of lambda_max(G)
+    real(wp) :: hourglass_stored = 0.0_wp      !< energy of the stiffness forms, this rank's
+                                               !< cells at the last force evaluation
+    real(wp) :: hourglass_power = 0.0_wp       !< power of the viscous forms, likewise
+    real(wp) :: hourglass_dissipated = 0.0_wp  !< work of the viscous forms so far (this rank)
     ! time step of the last force evaluation
     real(wp) :: dt_stable = huge(1.0_wp)       !< TSSFAC min 2/omega over the cells computed
     integer :: dt_element = 0                  !< model element (first of its cell) that set it

@@ -25,6 +25,7 @@ module mefem_implicit_static
   use mefem_cells, only: cells_t, cells_build, cells_summary, CELL_MAX_NODES
   use mefem_cell_finite_strain, only: cell_deformation_gradient, cell_internal_force, &
                                       cell_tangent, inverse_3x3
+  use mefem_hexahedron, only: hourglass_stiffness_cell
   use mefem_material_state, only: NHIST, HIST_ALPHA, material_state_init
   use mefem_material_update, only: material_update
   use mefem_boundary_conditions, only: fixed_dofs, prescribed_displacements, external_forces
@@ -114,7 +115,7 @@ contains
     logical :: converged, written
 
     t0 = comm_wtime()
-    call cells_build(model, cells, status)
+    call cells_build(model, cells, status, static=.true.)
     if (.not. status%ok) call fatal('element set-up: '//status%message)
     call check_supported(model)
     call cells_summary(cells)
@@ -669,6 +670,7 @@ contains
     real(wp), intent(in) :: t                          !< time of u (tool positions)
     real(wp) :: f(3, 3), finv(3, 3), tau(3, 3), c(3, 3, 3, 3), fc(3, CELL_MAX_NODES), det, sound
     real(wp) :: ke(3*CELL_MAX_NODES, 3*CELL_MAX_NODES), ue(3, CELL_MAX_NODES)
+    real(wp) :: kh(3*CELL_MAX_NODES, 3*CELL_MAX_NODES), fh(3, CELL_MAX_NODES), energy
     integer :: dofs(3*CELL_MAX_NODES), cell, nn, nd, dim, a, i, n
     type(status_t) :: status
     logical :: failed
@@ -704,6 +706,13 @@ contains
                                fc(1:dim, 1:nn))
       call cell_tangent(dim, nn, cells%grad(:, :, cell), cells%weight(cell), f, tau, c, &
                         ke(1:nd, 1:nd))
+      if (cells%hex_of(cell) > 0) then          ! one-point hexahedron: its hourglass forces
+        call hourglass_stiffness_cell(nn, cells%grad(:, :, cell), &
+            cells%hg_gamma(:, :, cells%hex_of(cell)), cells%hg_stiffness(:, cells%hex_of(cell)), &
+            ue, f, fh(:, 1:nn), kh(1:nd, 1:nd), energy)
+        fc(:, 1:nn) = fc(:, 1:nn) + fh(:, 1:nn)
+        ke(1:nd, 1:nd) = ke(1:nd, 1:nd) + kh(1:nd, 1:nd)
+      end if
       do a = 1, nn
         do i = 1, dim
           dofs(dim*(a-1) + i) = equation(i, cells%nodes(a, cell))
@@ -781,7 +790,8 @@ contains
     real(wp), allocatable, intent(out) :: internal(:,:) !< (dim, nodes) internal forces
     real(wp) :: f(3, 3), finv(3, 3), tau(3, 3), c(3, 3, 3, 3), sound, det
     real(wp) :: ue(3, CELL_MAX_NODES)
-    real(wp) :: scratch(NHIST), fc(3, CELL_MAX_NODES)
+    real(wp) :: scratch(NHIST), fc(3, CELL_MAX_NODES), fh(3, CELL_MAX_NODES), energy
+    real(wp) :: kh(3*CELL_MAX_NODES, 3*CELL_MAX_NODES)
     type(status_t) :: status
     integer :: cell, nn, a
     allocate(stress(6, cells%n), internal(cells%dim, size(u, 2)))
@@ -799,6 +809,12 @@ contains
       stress(:, cell) = [tau(1, 1), tau(2, 2), tau(3, 3), tau(1, 2), tau(2, 3), tau(3, 1)]/det
       call cell_internal_force(cells%dim, nn, cells%grad(:, :, cell), cells%weight(cell), f, &
                                tau, fc(1:cells%dim, 1:nn))
+      if (cells%hex_of(cell) > 0) then          ! one-point hexahedron: its hourglass forces
+        call hourglass_stiffness_cell(nn, cells%grad(:, :, cell), &
+            cells%hg_gamma(:, :, cells%hex_of(cell)), cells%hg_stiffness(:, cells%hex_of(cell)), &
+            ue, f, fh(:, 1:nn), kh(1:3*nn, 1:3*nn), energy)
+        fc(:, 1:nn) = fc(:, 1:nn) + fh(:, 1:nn)
+      end if
       do a = 1, nn
         internal(:, cells%nodes(a, cell)) = internal(:, cells%nodes(a, cell)) + fc(1:cells%dim, a)
       end do

@@ -16,6 +16,7 @@ module mefem_linear_static
   use mefem_decomposition, only: decomposition_t
   use mefem_cells, only: cells_t, cells_build, cells_summary, CELL_MAX_NODES
   use mefem_cell_linear, only: lame_parameters, cell_strain, isotropic_stress, cell_stiffness
+  use mefem_hexahedron, only: hourglass_stiffness_cell
   use mefem_boundary_conditions, only: fixed_dofs, prescribed_displacements, external_forces
   use mefem_sparse_assembly, only: coo_matrix_t, coo_init, coo_add_block, coo_free
   use mefem_mumps, only: mumps_solver_t, mumps_init, mumps_analyse, mumps_factorise, &
@@ -48,7 +49,7 @@ contains
     integer :: dim, n_all, n_equations, i, n
 
     t0 = comm_wtime()
-    call cells_build(model, cells, status)
+    call cells_build(model, cells, status, static=.true.)
     if (.not. status%ok) call fatal('element set-up: '//status%message)
     call check_supported(model, cells)
     dim = cells%dim
@@ -156,6 +157,10 @@ contains
     type(coo_matrix_t), intent(out) :: stiffness      !< this rank's entries (lower triangle)
     real(wp), intent(inout) :: rhs(:)                 !< -K_fp u_p added
     real(wp) :: ke(3*CELL_MAX_NODES, 3*CELL_MAX_NODES), up(3*CELL_MAX_NODES), lambda, mu
+    real(wp) :: kh(3*CELL_MAX_NODES, 3*CELL_MAX_NODES), fh(3, CELL_MAX_NODES), energy
+    real(wp), parameter :: zero(3, CELL_MAX_NODES) = 0.0_wp
+    real(wp), parameter :: identity(3, 3) = reshape([1.0_wp, 0.0_wp, 0.0_wp, 0.0_wp, 1.0_wp, &
+                                                     0.0_wp, 0.0_wp, 0.0_wp, 1.0_wp], [3, 3])
     integer :: dofs(3*CELL_MAX_NODES), c, nn, nd, dim, a, i, k
     integer :: n_owned
     dim = cells%dim
@@ -169,6 +174,12 @@ contains
                            model%materials(cells%material(c))%poisson, lambda, mu)
       call cell_stiffness(dim, nn, cells%grad(:, :, c), cells%weight(c), lambda, mu, &
                           ke(1:nd, 1:nd))
+      if (cells%hex_of(c) > 0) then       ! one-point hexahedron: hourglass stiffness at u = 0
+        call hourglass_stiffness_cell(nn, cells%grad(:, :, c), &
+            cells%hg_gamma(:, :, cells%hex_of(c)), cells%hg_stiffness(:, cells%hex_of(c)), &
+            zero, identity, fh(:, 1:nn), kh(1:nd, 1:nd), energy)
+        ke(1:nd, 1:nd) = ke(1:nd, 1:nd) + kh(1:nd, 1:nd)
+      end if
       do a = 1, nn
         do i = 1, dim
           dofs(dim*(a-1) + i) = equation(i, cells%nodes(a, c))

@@ -1,9 +1,11 @@
 #!/usr/bin/python3
-"""Write an LS-DYNA keyword deck of a structured block of linear tetrahedra (reader benchmark).
+"""Write an LS-DYNA keyword deck of a structured block of linear tetrahedra or hexahedra
+(reader and explicit benchmarks).
 
 The block [0, nx*h] x [0, ny*h] x [0, nz*h] is divided into nx*ny*nz hexahedral cells, each
 split into 5 tetrahedra (alternating by cell parity so that the face diagonals of neighbouring
-cells match) or 6 (Kuhn split along the cell diagonal, the same in every cell). Every tet is
+cells match) or 6 (Kuhn split along the cell diagonal, the same in every cell), or kept as one
+hexahedron (--tets 1, LS-DYNA's node order). Every tet is
 positively oriented: N1-N2-N3 counter-clockwise seen from N4 (det[N2-N1, N3-N1, N4-N1] > 0).
 
 The deck has *KEYWORD, *TITLE, *PART, *SECTION_SOLID (ELFORM=43), *MAT_ELASTIC (aluminium,
@@ -13,7 +15,7 @@ two-line layout (EID PID / N1..N8) or the legacy one-line layout (EID PID N1..N8
 Formatting is vectorised (integers are turned into digit bytes with numpy; coordinates are
 formatted in large chunks), so a deck of 6 million lines is written in a few seconds.
 
-usage: generate_block_deck.py NX NY NZ OUTPUT.k [--tets 5|6] [--layout current|legacy]
+usage: generate_block_deck.py NX NY NZ OUTPUT.k [--tets 5|6|1] [--layout current|legacy]
                               [--size H] [--id-offset K]
 """
 import argparse
@@ -88,6 +90,8 @@ def block_mesh(nx, ny, nz, n_tets, h, id_offset):
     base = ci + (nx + 1) * (cj + (ny + 1) * ck)                   # node index of corner 000
     offsets = CORNERS[:, 0] + (nx + 1) * (CORNERS[:, 1] + (ny + 1) * CORNERS[:, 2])
     cell_nodes = base[:, None] + offsets[None, :]                # (cells, 8) node indices
+    if n_tets == 1:                    # hexahedra: LS-DYNA's order (bottom 00 10 11 01, top)
+        return node_ids, coords, node_ids[cell_nodes[:, [0, 1, 3, 2, 4, 5, 7, 6]]]
     even, odd = templates(n_tets)
     parity = (ci + cj + ck) % 2
     conn = np.where(parity[:, None, None] == 0,
@@ -133,7 +137,8 @@ def write_nodes(f, node_ids, coords, chunk=200000):
 
 
 def write_elements(f, conn, pid, layout, first_id, chunk=500000):
-    """*ELEMENT_SOLID cards of tets, N5..N8 = N4, in the current or legacy layout."""
+    """*ELEMENT_SOLID cards of tets (N5..N8 = N4) or hexahedra, in the current or legacy
+    layout."""
     f.write(b'*ELEMENT_SOLID\n')
     if layout == 'current':
         f.write(b'$#   eid     pid\n$#    n1      n2      n3      n4      n5      n6      n7'
@@ -146,7 +151,8 @@ def write_elements(f, conn, pid, layout, first_id, chunk=500000):
         m = c.shape[0]
         eids = np.arange(s, s + m, dtype=np.int64)[:, None] + first_id
         head = int_columns(np.hstack([eids, np.full((m, 1), pid, dtype=np.int64)]), 8)
-        nodes = int_columns(np.hstack([c, np.repeat(c[:, 3:4], 4, axis=1)]), 8)
+        nodes = int_columns(c if c.shape[1] == 8 else
+                            np.hstack([c, np.repeat(c[:, 3:4], 4, axis=1)]), 8)
         if layout == 'current':
             nl = np.full((m, 1), ord('\n'), dtype=np.uint8)
             f.write(lines_bytes([head, nl, nodes]))
@@ -192,7 +198,8 @@ def main(argv):
     ap.add_argument('ny', type=int)
     ap.add_argument('nz', type=int)
     ap.add_argument('output')
-    ap.add_argument('--tets', type=int, default=5, choices=(5, 6), help='tets per cell')
+    ap.add_argument('--tets', type=int, default=5, choices=(5, 6, 1),
+                    help='tets per cell (1: the cells as hexahedra)')
     ap.add_argument('--layout', default='current', choices=('current', 'legacy'),
                     help='*ELEMENT_SOLID layout: two lines (current) or one line (legacy)')
     ap.add_argument('--size', type=float, default=1.0, help='cell edge length (mm)')

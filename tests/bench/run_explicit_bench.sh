@@ -1,10 +1,11 @@
 #!/usr/bin/env bash
 # Explicit-dynamics benchmark (make bench; doc/performance.md "Explicit dynamics"): a block of
-# NX x NY x NZ cubes x 5 tets of elasto-plastic aluminium (*MAT_PIECEWISE_LINEAR_PLASTICITY with
+# NX x NY x NZ cubes (x 5 tets, or as hexahedra) of elasto-plastic aluminium (*MAT_PIECEWISE_LINEAR_PLASTICITY with
 # an EPS/ES table), bottom face fixed, top face driven down at a constant speed (plastic wave
 # from the first cycles), ENDCYC cycles, one result state (at the end). The same deck is run
-# with ME-FEM tets (ELFORM 43), nodal-pressure tets (13) and standard tets (10) on 1 and 2
-# ranks; the table gives ns per element-cycle and per cell-cycle (core time = loop wall time x ranks, as the
+# with ME-FEM tets (ELFORM 43), nodal-pressure tets (13), standard tets (10) and, with the cubes
+# as hexahedra (the same nodes), one-point hexahedra (1, hourglass control IHQ 6, QM 1) on
+# 1 and 2 ranks; the table gives ns per element-cycle and per cell-cycle (core time = loop wall time x ranks, as the
 # driver's summary line "explicit: ... ns per element-cycle" says), the driver's phase shares of
 # rank 0, peak memory, the speed-up from 1 to 2 ranks and the spread of the force time over
 # the ranks (driver's line "explicit: min / max over ranks: ...").
@@ -19,7 +20,8 @@
 #   default: 34 x 34 x 35 cubes = 202 300 tets, 300 cycles (about 4 minutes on 2 cores)
 #   --small: 12 x 12 x 12 cubes = 8 640 tets, 100 cycles (a few seconds)
 # Environment: BENCH_EX_CELLS="NX NY NZ", BENCH_EX_CYCLES, BENCH_EX_RANKS (default "1 2"),
-# BENCH_EX_ELFORMS (default "43 13 10"), BENCH_EX_SPEED (top speed, mm/s; default 20000),
+# BENCH_EX_ELFORMS (default "43 13 10 1"), BENCH_EX_IHQ and BENCH_EX_QH (the hexahedra's
+# *CONTROL_HOURGLASS, default 6 and 1.0: the stiffness form, the dearer one), BENCH_EX_SPEED (top speed, mm/s; default 20000),
 # BENCH_EX_REPEAT (default 3), BENCH_EX_PAIR (default 1: after each 2-rank run, two independent
 # 1-rank runs at the same time, see below; 0: not), MEFEM (binary, default bin/mefem).
 #
@@ -45,7 +47,9 @@ fi
 cells=${BENCH_EX_CELLS:-$cells}
 cycles=${BENCH_EX_CYCLES:-$cycles}
 ranks=${BENCH_EX_RANKS:-1 2}
-elforms=${BENCH_EX_ELFORMS:-43 13 10}
+elforms=${BENCH_EX_ELFORMS:-43 13 10 1}
+ihq=${BENCH_EX_IHQ:-6}
+qh=${BENCH_EX_QH:-1.0}
 speed=${BENCH_EX_SPEED:-20000.0}
 repeat=${BENCH_EX_REPEAT:-3}
 pair=${BENCH_EX_PAIR:-1}
@@ -58,6 +62,11 @@ tag=${nx}x${ny}x${nz}
 mesh=$out/block_$tag.mesh.k
 [ -f "$mesh" ] || /usr/bin/python3 tests/bench/generate_block_deck.py $nx $ny $nz "$mesh" \
   --tets 5 >/dev/null
+hex_mesh=$out/block_${tag}_hex.mesh.k
+case " $elforms " in
+  *" 1 "*) [ -f "$hex_mesh" ] || /usr/bin/python3 tests/bench/generate_block_deck.py \
+             $nx $ny $nz "$hex_mesh" --tets 1 >/dev/null ;;
+esac
 per_layer=$(( (nx + 1) * (ny + 1) ))
 top_first=$(( nz * per_layer + 1 ))
 top_last=$(( (nz + 1) * per_layer ))
@@ -65,10 +74,11 @@ top_last=$(( (nz + 1) * per_layer ))
 # deck of one element formulation: mesh without its *MAT_ELASTIC, then the plastic material,
 # the sets, conditions and controls (mm, tonne, s, N, MPa)
 write_deck() {
-  local elform=$1 deck=$2
+  local elform=$1 deck=$2 source=$mesh
+  [ "$elform" = 1 ] && source=$hex_mesh
   {
     sed -e '/^\*END/d' -e '/^\*MAT_ELASTIC/,/^\*/{/^\*MAT_ELASTIC/d;/^[^*]/d}' \
-        -e "s/^         1        43\$/$(printf '%10d%10d' 1 "$elform")/" "$mesh"
+        -e "s/^         1        43\$/$(printf '%10d%10d' 1 "$elform")/" "$source"
     cat <<K
 *MAT_PIECEWISE_LINEAR_PLASTICITY
 \$#     mid        ro         e        pr      sigy      etan
@@ -93,6 +103,7 @@ $(printf '%10d%10d' $top_first $top_last)
          1
                  0.0                 1.0
                  1.0                 1.0
+$( [ "$elform" = 1 ] && printf '*CONTROL_HOURGLASS\n%10d%10.1f\n' "$ihq" "$qh" )
 *CONTROL_TERMINATION
        1.0$(printf '%10d' $cycles)
 *CONTROL_TIMESTEP
@@ -153,7 +164,7 @@ print(' '.join(f'{k}={v}' for k, v in g.items()))
 PY
 }
 
-printf '== explicit dynamics benchmark: block %s cubes x 5 tets, %s cycles, top speed %s mm/s\n' \
+printf '== explicit dynamics benchmark: block %s cubes x 5 tets (or as hexahedra), %s cycles, top speed %s mm/s\n' \
   "$tag" "$cycles" "$speed"
 results=$out/results_$tag.txt
 : > "$results"
@@ -193,7 +204,8 @@ for line in open(sys.argv[1]):
     runs.append(dict(w.split('=', 1) for w in line.split()))
 def f(d, k):
     return float(d[k])
-name = {'43': 'ME-FEM tet (43)', '13': 'nodal-pressure tet (13)', '10': 'standard tet (10)'}
+name = {'43': 'ME-FEM tet (43)', '13': 'nodal-pressure tet (13)', '10': 'standard tet (10)',
+        '1': 'one-point hexahedron (1)'}
 pairs = [d for d in runs if d['np'] == 'pair']
 runs = [d for d in runs if d['np'] != 'pair']
 cases = []                                   # (elform, np) in the order first run
@@ -285,6 +297,10 @@ if '43' in ns and '10' in ns:
 if '13' in ns and '10' in ns:
     print(f'nodal-pressure / standard cost per element-cycle on 1 rank (medians): '
           f'{ns["13"] / ns["10"]:.2f}')
+if '1' in ns and '10' in ns:
+    print(f'hexahedron / standard tet cost per element-cycle on 1 rank (medians): '
+          f'{ns["1"] / ns["10"]:.2f} (a hexahedron covers the volume of 5 tets: per unit '
+          f'volume {ns["1"] / (5 * ns["10"]):.2f})')
 print('(rows: the run with the median ns per element-cycle of its case, runs listed in the '
       'order made; ns per element-cycle: wall time of the cycle loop x ranks / (elements x '
       'cycles); shares: rank 0; memory: peak resident (VmHWM), max over ranks; per element: '

@@ -7,7 +7,8 @@ verification suites: an OFHC copper cylinder, L0 = 32.4 mm, D0 = 6.4 mm, strikes
 frictionless wall at 227 m/s; bilinear J2 plasticity, E = 117 GPa, nu = 0.35,
 rho = 8930 kg/m^3, sigma_y = 400 MPa, E_t = 100 MPa; 80 us. Published final length
 21.42-21.66 mm, footprint radius 7.0-7.2 mm. Quarter model (symmetry planes x = 0, y = 0),
-the O-grid billet of input/generate_main_example.py scaled to the bar, 5 tets per hex.
+the O-grid billet of input/generate_main_example.py scaled to the bar, 5 tets per hex (ELFORM 1:
+the hexahedra themselves, the same nodes).
 Units: mm, s, tonne, N, MPa.
 
 For each element form and mesh the script writes the deck, runs mefem, and prints the wall
@@ -15,7 +16,7 @@ time, the number of cycles, the first and last stable steps, the final length an
 radius (from the last state of the HDF5 file), the energy ratio and the largest jump of the
 cell plastic strain between face neighbours near the impact face.
 
-usage: /usr/bin/python3 tests/bench/taylor_copper.py [--elforms 43 13 10] [--meshes coarse]
+usage: /usr/bin/python3 tests/bench/taylor_copper.py [--elforms 43 13 10 1] [--meshes coarse]
        [--ranks 1] [--workdir /tmp/taylor_copper] [--mefem bin/mefem]
 """
 import argparse
@@ -49,19 +50,23 @@ PUBLISHED_RADIUS = (7.0, 7.2)
 MESHES = {'coarse': (3, 3, 36), 'medium': (4, 4, 48), 'fine': (6, 6, 72)}
 
 
-def bar_mesh(core, radial, layers):
-    """Nodes and tets of the quarter bar: the main example's billet mesh, scaled."""
-    x, tets = gme.billet_mesh(core, radial, layers)
+def bar_mesh(core, radial, layers, hexahedra=False):
+    """Nodes and tets (or the hexahedra they are cut from: the same nodes) of the quarter
+    bar: the main example's billet mesh, scaled."""
+    if hexahedra:
+        x, tets = gme.billet_hex_mesh(core, radial, layers)
+    else:
+        x, tets = gme.billet_mesh(core, radial, layers)
     x = x * np.array([RADIUS / gme.RADIUS, RADIUS / gme.RADIUS, LENGTH / gme.HEIGHT])
     return x, tets
 
 
 def write_deck(path, elform, mesh, plots=8):
-    x, tets = bar_mesh(*MESHES[mesh])
+    x, tets = bar_mesh(*MESHES[mesh], hexahedra=elform == 1)
     card, heading = gme.card, gme.heading
     L = ['*KEYWORD',
-         '$ Copper Taylor bar (Wilkins & Guinan), quarter model, %d tets, ELFORM %d.'
-         % (len(tets), elform),
+         '$ Copper Taylor bar (Wilkins & Guinan), quarter model, %d %s, ELFORM %d.'
+         % (len(tets), 'hexahedra' if elform == 1 else 'tets', elform),
          '$ Written by tests/bench/taylor_copper.py. Units: mm, s, tonne, N, MPa.',
          '*PART', 'bar', heading('pid', 'secid', 'mid'), card(1, 1, 1),
          '*SECTION_SOLID', heading('secid', 'elform'), card(1, elform),
@@ -105,11 +110,14 @@ def plastic_strain_jump(h5_path):
         eps = f['states/%06d/cell/plastic_strain' % step][()].ravel()
     cells = [conn[offsets[c]:offsets[c + 1]] for c in range(len(offsets) - 1)]
     near = [c for c in range(len(cells)) if x[cells[c], 2].mean() < LENGTH / 8]
+    hex_faces = ((0, 1, 2, 3), (4, 5, 6, 7), (0, 1, 5, 4), (1, 2, 6, 5), (2, 3, 7, 6),
+                 (3, 0, 4, 7))
     faces = {}
     for c in near:
         t = cells[c]
-        for k in range(4):
-            key = tuple(sorted(np.delete(t, k)))
+        local = hex_faces if len(t) == 8 else [np.delete(np.arange(4), k) for k in range(4)]
+        for f in local:
+            key = tuple(sorted(t[list(f)]))
             faces.setdefault(key, []).append(c)
     jumps = np.array([abs(eps[p[0]] - eps[p[1]]) for p in faces.values() if len(p) == 2])
     scale = eps[near].mean()
@@ -150,7 +158,7 @@ def run(elform, mesh, ranks, workdir, mefem):
 
 def main(argv):
     ap = argparse.ArgumentParser(description=__doc__.split('\n')[0])
-    ap.add_argument('--elforms', type=int, nargs='+', default=[43, 13, 10])
+    ap.add_argument('--elforms', type=int, nargs='+', default=[43, 13, 10, 1])
     ap.add_argument('--meshes', nargs='+', default=['coarse'], choices=sorted(MESHES))
     ap.add_argument('--ranks', type=int, default=1)
     ap.add_argument('--workdir', default='/tmp/taylor_copper')

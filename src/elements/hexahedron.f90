@@ -1,0 +1,225 @@
+!> The one-point hexahedron (solid ELFORM 1, Flanagan-Belytschko uniform gradient) and its
+!> hourglass control (doc/theory.md 2.8).
+!>
+!> Reference geometry (hexahedron_reference), exact for any trilinear hexahedron, degenerate
+!> ones included (2 x 2 x 2 Gauss points integrate every term below exactly):
+!>   V = int dV,   B_I = (1/V) int grad_X N_I dV   (the uniform gradient: F = I + sum u_I (x) B_I
+!>   is the volume mean of the deformation gradient),   V_I = int N_I dV   (lumped mass rho V_I),
+!>   gamma_aI = h_aI - (sum_J h_aJ X_J) . B_I   (Flanagan-Belytschko hourglass shape vectors:
+!>   orthogonal to the linear fields, sum_I gamma_aI X_I = 0 and sum_I gamma_aI = 0),
+!> with h_a the base vectors xi eta, eta zeta, zeta xi, xi eta zeta at the nodes.
+!>
+!> Hourglass control, per cell, with q_a = sum_I gamma_aI u_I the hourglass displacements:
+!> - stiffness: the energy W = 1/2 sum_a Q_a . K Q_a of the pulled-back hourglass vectors
+!>   Q_a = F^-1 q_a (objective: a rigid rotation leaves it unchanged) with the reference tensor
+!>   K; the forces are its exact derivative, f_I = sum_a F^-T K Q_a (gamma_aI - B_I . Q_a);
+!> - viscous: f_I = c sum_a gamma_aI qdot_a, qdot_a = sum_I gamma_aI v_I, dissipating
+!>   c sum_a |qdot_a|^2.
+!> Node order is LS-DYNA's: N1-N4 the bottom face, N5-N8 the top, N1-N2-N3 counter-clockwise
+!> seen from N5.
+module mefem_hexahedron
+  use mefem_kinds, only: wp
+  use mefem_material_state, only: BLOCK_POINTS
+  use mefem_cell_finite_strain, only: adjugate_3x3
+  implicit none
+  private
+
+  public :: hexahedron_reference, hourglass_mode_metric, block_hourglass_forces, &
+            hourglass_stiffness_cell
+
+  integer, parameter, public :: HOURGLASS_MODES = 4      !< hourglass base vectors per direction
+
+  !> Natural coordinates of the nodes (xi, eta, zeta), node by node.
+  real(wp), parameter :: NODE_XI(3, 8) = reshape([ &
+      -1.0_wp, -1.0_wp, -1.0_wp,   1.0_wp, -1.0_wp, -1.0_wp,   1.0_wp, 1.0_wp, -1.0_wp, &
+      -1.0_wp, 1.0_wp, -1.0_wp,   -1.0_wp, -1.0_wp, 1.0_wp,    1.0_wp, -1.0_wp, 1.0_wp, &
+       1.0_wp, 1.0_wp, 1.0_wp,    -1.0_wp, 1.0_wp, 1.0_wp], [3, 8])
+
+contains
+
+  !> Reference geometry of a (possibly degenerate) hexahedron from its 8 corners in LS-DYNA
+  !> order: volume, uniform gradients, nodal volumes and hourglass shape vectors (module
+  !> header). A corner given twice (a collapsed hexahedron) gets one entry per occurrence;
+  !> the caller adds those of one node together.
+  pure subroutine hexahedron_reference(x, volume, grad, node_volume, gamma)
+    real(wp), intent(in) :: x(3, 8)             !< corner coordinates
+    real(wp), intent(out) :: volume             !< V
+    real(wp), intent(out) :: grad(3, 8)         !< B_I
+    real(wp), intent(out) :: node_volume(8)     !< V_I = int N_I dV
+    real(wp), intent(out) :: gamma(8, HOURGLASS_MODES)  !< gamma_aI, node by node
+    real(wp), parameter :: G = 0.577350269189625764509148780502_wp   ! 1/sqrt(3)
+    real(wp) :: dn(3, 8), n(8), jac(3, 3), adj(3, 3), det, xi(3), h(8, HOURGLASS_MODES), hx(3)
+    integer :: p, a, k, m
+    volume = 0.0_wp
+    grad = 0.0_wp
+    node_volume = 0.0_wp
+    do p = 1, 8                                  ! the Gauss points: the corners scaled by G
+      xi = G*NODE_XI(:, p)
+      do a = 1, 8
+        n(a) = 0.125_wp*(1.0_wp + NODE_XI(1, a)*xi(1))*(1.0_wp + NODE_XI(2, a)*xi(2))* &
+               (1.0_wp + NODE_XI(3, a)*xi(3))
+        dn(1, a) = 0.125_wp*NODE_XI(1, a)*(1.0_wp + NODE_XI(2, a)*xi(2))* &
+                   (1.0_wp + NODE_XI(3, a)*xi(3))
+        dn(2, a) = 0.125_wp*NODE_XI(2, a)*(1.0_wp + NODE_XI(1, a)*xi(1))* &
+                   (1.0_wp + NODE_XI(3, a)*xi(3))
+        dn(3, a) = 0.125_wp*NODE_XI(3, a)*(1.0_wp + NODE_XI(1, a)*xi(1))* &
+                   (1.0_wp + NODE_XI(2, a)*xi(2))
+      end do
+      ! jac(i, k) = dx_i/dxi_k; det grad_X N = adj(jac)^T grad_xi N (valid where det = 0 too)
+      do k = 1, 3
+        do m = 1, 3
+          jac(m, k) = sum(x(m, :)*dn(k, :))
+        end do
+      end do
+      call adjugate_3x3(jac, adj, det)
+      volume = volume + det
+      do a = 1, 8
+        node_volume(a) = node_volume(a) + n(a)*det
+        do m = 1, 3
+          grad(m, a) = grad(m, a) + adj(1, m)*dn(1, a) + adj(2, m)*dn(2, a) + adj(3, m)*dn(3, a)
+        end do
+      end do
+    end do
+    if (volume > 0.0_wp) grad = grad/volume
+    h(:, 1) = NODE_XI(1, :)*NODE_XI(2, :)
+    h(:, 2) = NODE_XI(2, :)*NODE_XI(3, :)
+    h(:, 3) = NODE_XI(3, :)*NODE_XI(1, :)
+    h(:, 4) = NODE_XI(1, :)*NODE_XI(2, :)*NODE_XI(3, :)
+    do k = 1, HOURGLASS_MODES
+      do m = 1, 3
+        hx(m) = sum(h(:, k)*x(m, :))
+      end do
+      do a = 1, 8
+        gamma(a, k) = h(a, k) - (hx(1)*grad(1, a) + hx(2)*grad(2, a) + hx(3)*grad(3, a))
+      end do
+    end do
+  end subroutine hexahedron_reference
+
+  !> Bound of the largest eigenvalue of the hourglass modes' inverse-mass metric G_ab =
+  !> sum_I gamma_aI gamma_bI / m_I (4 x 4, symmetric): its largest absolute row sum
+  !> (Gershgorin; exact for a parallelepiped, whose G is diagonal with equal entries). The
+  !> hourglass stiffness K then gives omega^2 <= (K : C^-1) lambda_max(G) (doc/theory.md 2.8).
+  pure real(wp) function hourglass_mode_metric(nn, gamma, mass) result(bound)
+    integer, intent(in) :: nn                              !< nodes of the cell
+    real(wp), intent(in) :: gamma(:, :)                    !< (>= nn, HOURGLASS_MODES)
+    real(wp), intent(in) :: mass(:)                        !< (>= nn) nodal masses (> 0)
+    real(wp) :: row
+    integer :: a, b
+    bound = 0.0_wp
+    do a = 1, HOURGLASS_MODES
+      row = 0.0_wp
+      do b = 1, HOURGLASS_MODES
+        row = row + abs(sum(gamma(1:nn, a)*gamma(1:nn, b)/mass(1:nn)))
+      end do
+      bound = max(bound, row)
+    end do
+  end function hourglass_mode_metric
+
+  !> Hourglass forces of n hexahedral cells (structure of arrays, entry i cell i): the
+  !> stiffness and viscous forces of the module header added to force; per cell the stored
+  !> energy W and the dissipated power c sum |qdot|^2. Cells with J <= 0 get none (their
+  !> step bound stops the run).
+  pure subroutine block_hourglass_forces(n, nn, u, v, grad, gamma, stiffness, viscosity, adj, &
+                                         det, force, energy, power)
+    integer, intent(in) :: n, nn                  !< cells (<= BLOCK_POINTS), nodes per cell
+    integer, parameter :: ld = BLOCK_POINTS       !< leading dimension
+    real(wp), intent(in) :: u(ld, 3, nn)          !< displacements of the cells' nodes
+    real(wp), intent(in) :: v(ld, 3, nn)          !< their velocities
+    real(wp), intent(in) :: grad(ld, 3, nn)       !< uniform gradients B_I
+    real(wp), intent(in) :: gamma(ld, nn, HOURGLASS_MODES)  !< hourglass shape vectors
+    real(wp), intent(in) :: stiffness(ld, 6)      !< K (XX YY ZZ XY YZ ZX)
+    real(wp), intent(in) :: viscosity(ld)         !< c
+    real(wp), intent(in) :: adj(ld, 9)            !< adj(F), column by column
+    real(wp), intent(in) :: det(ld)               !< J = det F
+    real(wp), intent(inout) :: force(ld, 3, nn)   !< nodal forces, hourglass forces added
+    real(wp), intent(out) :: energy(ld)           !< W of each cell
+    real(wp), intent(out) :: power(ld)            !< c sum |qdot|^2 of each cell
+    real(wp) :: q(3), qdot(3), big_q(3), s(3), t(3), finv(9), bq, r
+    integer :: i, a, k
+    do i = 1, n
+      energy(i) = 0.0_wp
+      power(i) = 0.0_wp
+      if (.not. det(i) > 0.0_wp) cycle
+      finv = adj(i, :)/det(i)
+      do k = 1, HOURGLASS_MODES
+        q = 0.0_wp
+        qdot = 0.0_wp
+        do a = 1, nn
+          q = q + gamma(i, a, k)*u(i, :, a)
+          qdot = qdot + gamma(i, a, k)*v(i, :, a)
+        end do
+        ! Q = F^-1 q, s = K Q, t = F^-T s
+        big_q(1) = finv(1)*q(1) + finv(4)*q(2) + finv(7)*q(3)
+        big_q(2) = finv(2)*q(1) + finv(5)*q(2) + finv(8)*q(3)
+        big_q(3) = finv(3)*q(1) + finv(6)*q(2) + finv(9)*q(3)
+        s(1) = stiffness(i, 1)*big_q(1) + stiffness(i, 4)*big_q(2) + stiffness(i, 6)*big_q(3)
+        s(2) = stiffness(i, 4)*big_q(1) + stiffness(i, 2)*big_q(2) + stiffness(i, 5)*big_q(3)
+        s(3) = stiffness(i, 6)*big_q(1) + stiffness(i, 5)*big_q(2) + stiffness(i, 3)*big_q(3)
+        t(1) = finv(1)*s(1) + finv(2)*s(2) + finv(3)*s(3)
+        t(2) = finv(4)*s(1) + finv(5)*s(2) + finv(6)*s(3)
+        t(3) = finv(7)*s(1) + finv(8)*s(2) + finv(9)*s(3)
+        energy(i) = energy(i) + 0.5_wp*(big_q(1)*s(1) + big_q(2)*s(2) + big_q(3)*s(3))
+        power(i) = power(i) + viscosity(i)*(qdot(1)**2 + qdot(2)**2 + qdot(3)**2)
+        do a = 1, nn
+          bq = grad(i, 1, a)*big_q(1) + grad(i, 2, a)*big_q(2) + grad(i, 3, a)*big_q(3)
+          r = gamma(i, a, k) - bq
+          force(i, :, a) = force(i, :, a) + r*t + viscosity(i)*gamma(i, a, k)*qdot
+        end do
+      end do
+    end do
+  end subroutine block_hourglass_forces
+
+  !> One cell's stiffness-form hourglass forces (as block_hourglass_forces, K given) and
+  !> their exact tangent, for the implicit analyses: with t_a = F^-T K Q_a, r_aI = gamma_aI -
+  !> B_I . Q_a, b_I = F^-T B_I and A = F^-T K F^-1,
+  !>   f_I = sum_a r_aI t_a,
+  !>   df_I/dx_J = sum_a [ r_aI r_aJ A - r_aI b_J (x) t_a - r_aJ t_a (x) b_I ]
+  !> (symmetric: the Hessian of W). A cell with J <= 0 gets zeros.
+  pure subroutine hourglass_stiffness_cell(nn, grad, gamma, stiffness, u, f, force, ke, energy)
+    integer, intent(in) :: nn                                 !< nodes of the cell
+    real(wp), intent(in) :: grad(:, :)                        !< (3, >= nn) B_I
+    real(wp), intent(in) :: gamma(:, :)                       !< (>= nn, HOURGLASS_MODES)
+    real(wp), intent(in) :: stiffness(6)                      !< K (XX YY ZZ XY YZ ZX)
+    real(wp), intent(in) :: u(:, :)                           !< (3, >= nn) displacements
+    real(wp), intent(in) :: f(3, 3)                           !< F of the cell
+    real(wp), intent(out) :: force(3, nn)                     !< f_I
+    real(wp), intent(out) :: ke(3*nn, 3*nn)                   !< df/dx
+    real(wp), intent(out) :: energy                           !< W
+    real(wp) :: adj(3, 3), det, finv(3, 3), k(3, 3), a(3, 3), q(3), big_q(3), t(3)
+    real(wp) :: r(nn), b(3, nn), block(3, 3)
+    integer :: m, i, j, c, d
+    force = 0.0_wp
+    ke = 0.0_wp
+    energy = 0.0_wp
+    call adjugate_3x3(f, adj, det)
+    if (.not. det > 0.0_wp) return
+    finv = adj/det
+    k = reshape([stiffness(1), stiffness(4), stiffness(6), stiffness(4), stiffness(2), &
+                 stiffness(5), stiffness(6), stiffness(5), stiffness(3)], [3, 3])
+    a = matmul(transpose(finv), matmul(k, finv))
+    do i = 1, nn
+      b(:, i) = matmul(transpose(finv), grad(:, i))
+    end do
+    do m = 1, HOURGLASS_MODES
+      q = matmul(u(:, 1:nn), gamma(1:nn, m))
+      big_q = matmul(finv, q)
+      t = matmul(transpose(finv), matmul(k, big_q))
+      energy = energy + 0.5_wp*dot_product(big_q, matmul(k, big_q))
+      do i = 1, nn
+        r(i) = gamma(i, m) - dot_product(grad(:, i), big_q)
+        force(:, i) = force(:, i) + r(i)*t
+      end do
+      do j = 1, nn
+        do i = 1, nn
+          do d = 1, 3
+            do c = 1, 3
+              block(c, d) = r(i)*r(j)*a(c, d) - r(i)*b(c, j)*t(d) - r(j)*t(c)*b(d, i)
+            end do
+          end do
+          ke(3*i-2:3*i, 3*j-2:3*j) = ke(3*i-2:3*i, 3*j-2:3*j) + block
+        end do
+      end do
+    end do
+  end subroutine hourglass_stiffness_cell
+
+end module mefem_hexahedron
