@@ -27,7 +27,8 @@ module mefem_contact_surfaces
   implicit none
   private
 
-  public :: contact_surface_build, contact_surface_pair_build, contact_facet_area_vector
+  public :: contact_surface_build, contact_surface_pair_build, contact_facet_area_vector, &
+            contact_surface_triangulate
   public :: contact_search_build
 
   !> Surface kinds: the SURFATYP/SURFBTYP codes stored in contact_t.
@@ -65,6 +66,10 @@ module mefem_contact_surfaces
     integer :: nnode = 0                    !< distinct surface nodes
     integer, allocatable :: nodes(:)        !< (nnode) their global indices, ascending
     integer, allocatable :: local(:,:)      !< (4, nfacet) positions in nodes, 0 = unused
+    integer, allocatable :: pieces(:)       !< (nfacet) its share of its face's area: 1 whole,
+                                            !< 2 half (contact_surface_triangulate)
+    real(wp), allocatable :: weight(:)      !< (nfacet) its weight in the surface integrals
+                                            !< (1; 1/2 for the triangles of a quadrilateral)
   end type contact_surface_t
 
   !> The bucket grid of the candidate search, kept between calls.
@@ -171,6 +176,67 @@ contains
                                  who//' SURFB')
     end associate
   end subroutine contact_surface_pair_build
+
+  !> Replace every quadrilateral facet of a 3D surface by the four triangles of its two
+  !> triangulations, (N1 N2 N3) (N1 N3 N4) and (N1 N2 N4) (N2 N3 N4), each of weight 1/2: the
+  !> mortar slave side integrates over triangles, and the mean of the two triangulations
+  !> gives every corner of a flat quadrilateral a quarter of its area (one triangulation alone
+  !> gives a third and a sixth at alternate corners: a uniform pressure would push the
+  !> hourglass mode of a one-point hexahedron). The triangles keep the facet's element,
+  !> orientation and vertex order, in the facet's place; pieces = 2 (each is half the face),
+  !> weight 1/2. Other facets: pieces 1, weight 1.
+  subroutine contact_surface_triangulate(surface)
+    type(contact_surface_t), intent(inout) :: surface   !< the surface
+    integer, parameter :: TRIANGLES(3, 4) = reshape([1, 2, 3,  1, 3, 4,  1, 2, 4,  2, 3, 4], &
+                                                    [3, 4])
+    integer, allocatable :: facets(:,:), nvertex(:), element(:), local(:,:), pieces(:)
+    logical, allocatable :: outward(:)
+    real(wp), allocatable :: weight(:)
+    integer :: f, n, k
+    if (.not. allocated(surface%pieces)) then
+      allocate(surface%pieces(surface%nfacet), surface%weight(surface%nfacet))
+      surface%pieces = 1
+      surface%weight = 1.0_wp
+    end if
+    if (surface%dim /= 3 .or. all(surface%nvertex /= 4)) return
+    n = surface%nfacet + 3*count(surface%nvertex == 4)
+    allocate(facets(MAX_VERTICES, n), nvertex(n), element(n), local(MAX_VERTICES, n), &
+             pieces(n), outward(n), weight(n))
+    n = 0
+    do f = 1, surface%nfacet
+      if (surface%nvertex(f) /= 4) then
+        n = n + 1
+        facets(:, n) = surface%facets(:, f)
+        nvertex(n) = surface%nvertex(f)
+        local(:, n) = surface%local(:, f)
+        element(n) = surface%element(f)
+        outward(n) = surface%outward(f)
+        pieces(n) = surface%pieces(f)
+        weight(n) = surface%weight(f)
+        cycle
+      end if
+      do k = 1, size(TRIANGLES, 2)
+        n = n + 1
+        facets(:, n) = 0
+        local(:, n) = 0
+        facets(1:3, n) = surface%facets(TRIANGLES(:, k), f)
+        local(1:3, n) = surface%local(TRIANGLES(:, k), f)
+        nvertex(n) = 3
+        element(n) = surface%element(f)
+        outward(n) = surface%outward(f)
+        pieces(n) = 2
+        weight(n) = 0.5_wp
+      end do
+    end do
+    surface%nfacet = n
+    call move_alloc(facets, surface%facets)
+    call move_alloc(nvertex, surface%nvertex)
+    call move_alloc(element, surface%element)
+    call move_alloc(local, surface%local)
+    call move_alloc(pieces, surface%pieces)
+    call move_alloc(outward, surface%outward)
+    call move_alloc(weight, surface%weight)
+  end subroutine contact_surface_triangulate
 
   !> Area vector of facet f at coordinates x (rows 1:dim used): |a| = area (3D) or length
   !> (2D), direction = the facet normal (outward for outward facets); a(3) = 0 in 2D.

@@ -54,6 +54,7 @@ module mefem_mortar_contact
   use mefem_strings, only: itoa
   use mefem_model, only: model_t, contact_t
   use mefem_contact_surfaces, only: contact_surface_t, contact_search_t, &
+                                    contact_surface_triangulate, &
                                     contact_surface_pair_build, contact_facet_area_vector, &
                                     contact_search_build
   use mefem_mortar_segmentation, only: mortar_segment_pair_2d, mortar_triangle_pair_3d
@@ -204,9 +205,9 @@ contains
         it%id = merge(c%id, k, c%id > 0)
         call contact_surface_pair_build(model, k, it%slave, it%master, status)
         if (.not. status%ok) call fatal(status%message)
-        if (model%dimension == 3 .and. any(it%slave%nvertex /= 3)) call fatal('contact '// &
-            itoa(it%id)//': SURFA has quadrilateral facets; the mortar slave side takes '// &
-            'triangles (ME-FEM or standard tetrahedra) in 3D')
+        ! the slave side integrates over triangles: quadrilateral faces (hexahedra,
+        ! quadrilateral segments) are cut in two
+        call contact_surface_triangulate(it%slave)
         used(it%slave%nodes) = .true.
         used(it%master%nodes) = .true.
         it%fs = c%fs
@@ -302,7 +303,7 @@ contains
       a = contact_facet_area_vector(it%slave, f, model%nodes%x)
       do i = 1, it%slave%nvertex(f)
         node_area(it%slave%local(i, f)) = node_area(it%slave%local(i, f)) + &
-            norm2(a)/real(it%slave%nvertex(f), wp)
+            it%slave%weight(f)*norm2(a)/real(it%slave%nvertex(f), wp)
       end do
     end do
     it%slave_area = node_area
@@ -321,9 +322,9 @@ contains
       measure = abs(element_measure(model%elements%topology(e), corners(:, 1:nv)))
       a = contact_facet_area_vector(it%slave, f, model%nodes%x)
       if (norm2(a) <= 0.0_wp) cycle
-      size_normal = measure/norm2(a)
-      total_area = total_area + norm2(a)
-      weighted = weighted + norm2(a)*bulk/size_normal
+      size_normal = measure/(norm2(a)*it%slave%pieces(f))   ! (the whole face's area)
+      total_area = total_area + it%slave%weight(f)*norm2(a)
+      weighted = weighted + it%slave%weight(f)*norm2(a)*bulk/size_normal
     end do
     it%eps_material = 0.0_wp
     if (total_area > 0.0_wp) it%eps_material = SLSFAC*c%sfsa*c%sfsb*weighted/total_area
@@ -728,7 +729,7 @@ contains
       a = contact_facet_area_vector(it%slave, f, contact%x)
       length = norm2(a)
       if (length <= 0.0_wp) cycle
-      a = a*min(1.0_wp, covered(f)/length)
+      a = a*it%slave%weight(f)*min(1.0_wp, covered(f)/(it%slave%weight(f)*length))
       do i = 1, it%slave%nvertex(f)
         slot = it%slave%local(i, f)
         if (slot >= first .and. slot <= last) it%normal(:, slot) = it%normal(:, slot) + a
@@ -852,6 +853,11 @@ contains
             xm(:, i) = contact%x(:, it%master%facets(i, m))
           end do
           call mortar_triangle_pair_3d(xs, xm, nm, p%n_ab, p%n_ac, overlap)
+          if (it%slave%weight(s) /= 1.0_wp) then   ! a triangle of a quadrilateral
+            p%n_ab = it%slave%weight(s)*p%n_ab
+            p%n_ac = it%slave%weight(s)*p%n_ac
+            overlap = it%slave%weight(s)*overlap
+          end if
         end if
         if (overlap <= 0.0_wp) cycle
         p%master_normal = n_m/max(norm2(n_m), tiny(1.0_wp))

@@ -1,7 +1,8 @@
 !> Contact surfaces and candidate search (mefem_contact_surfaces): exterior faces of a cube of
 !> tetrahedra (count, area, outward normals), of two parts and of boxes of hexahedra and
 !> wedges; segment sets given with flipped segments come out oriented outward; 2D boundary
-!> edges of triangle and quadrilateral meshes (perimeter, outward); 3D shells as facets; the
+!> edges of triangle and quadrilateral meshes (perimeter, outward); the hex box's quadrilaterals
+!> as the weighted triangles of their two triangulations; 3D shells as facets; the
 !> failures with their messages. Search: the pairs of a brute-force O(n m) reference on
 !> irregular 3D and 2D surfaces (same set, same order), no pair missing whose vertices come
 !> within the margin, reuse of the grid arrays, and timings for 50 000 slave facets.
@@ -14,6 +15,7 @@ program test_contact_surfaces
   use mefem_contact_surfaces, only: contact_surface_t, contact_search_t, &
                                     contact_surface_build, contact_surface_pair_build, &
                                     contact_facet_area_vector, contact_search_build, &
+                                    contact_surface_triangulate, &
                                     SURFACE_SEGMENT_SET, SURFACE_PART_SET, SURFACE_PART
   use mefem_testing, only: test_start, test_finish, check, check_close, check_equal
   implicit none
@@ -327,6 +329,7 @@ contains
     call check(status%ok .and. all(surface%nvertex == 4), 'hex box: built, quadrilaterals')
     call check_closed_box(model, surface, [0.5_wp, 0.5_wp, 0.5_wp], [0.5_wp, 0.5_wp, 0.5_wp], &
                           6.0_wp, 6*N*N, 'hex box')
+    call check_triangulated_hex_box(model, surface, N)
     allocate(wedges(6, 2*N**3))
     do e = 1, N**3
       wedges(:, 2*e-1) = hexes(HEX_WEDGES(:, 1), e)
@@ -340,6 +343,38 @@ contains
     call check_closed_box(model, surface, [0.5_wp, 0.5_wp, 0.5_wp], [0.5_wp, 0.5_wp, 0.5_wp], &
                           6.0_wp, 2*N*N*2 + 4*N*N, 'wedge box')
   end subroutine test_hex_and_wedge_boxes
+
+  !> The quadrilaterals of the hex box as the triangles of their two triangulations: 4 per
+  !> quadrilateral, weight 1/2, half the face each (pieces 2), outward, the weighted area the
+  !> box's, and every corner of a face a quarter of its area (a uniform nodal share).
+  subroutine check_triangulated_hex_box(model, surface, n)
+    type(model_t), intent(in) :: model               !< the hex box's model
+    type(contact_surface_t), intent(inout) :: surface !< its surface (quadrilaterals)
+    integer, intent(in) :: n                         !< elements per edge
+    real(wp) :: a(3), area, centre(3), share(surface%nnode), face
+    integer :: f, i
+    call contact_surface_triangulate(surface)
+    call check_equal(surface%nfacet, 4*6*n*n, 'triangulated hex box: 4 triangles per face')
+    call check(all(surface%nvertex == 3) .and. all(surface%pieces == 2) .and. &
+               all(surface%weight == 0.5_wp), 'triangulated hex box: weights 1/2, half faces')
+    area = 0.0_wp
+    share = 0.0_wp
+    do f = 1, surface%nfacet
+      a = contact_facet_area_vector(surface, f, model%nodes%x)
+      centre = sum(model%nodes%x(:, surface%facets(1:3, f)), dim=2)/3.0_wp
+      if (dot_product(a, centre - 0.5_wp) <= 0.0_wp) area = -huge(1.0_wp)   ! inward: fail
+      area = area + surface%weight(f)*norm2(a)
+      do i = 1, 3
+        share(surface%local(i, f)) = share(surface%local(i, f)) + &
+                                     surface%weight(f)*norm2(a)/3.0_wp
+      end do
+    end do
+    call check_close(area, 6.0_wp, TIGHT, 'triangulated hex box: weighted area, outward')
+    face = 1.0_wp/real(n*n, wp)
+    ! a corner of the box is on 3 faces, an edge node on 2 x 2, a face node on 4
+    call check(all(abs(share/(0.25_wp*face) - nint(share/(0.25_wp*face))) < 1e-12_wp), &
+               'triangulated hex box: every corner of a face a quarter of its area')
+  end subroutine check_triangulated_hex_box
 
   !> Segment sets listing the exterior of the tet cube and of the hex box with every other
   !> segment reversed (triangles stored N4 = N3, some with N4 = 0): the built facets equal

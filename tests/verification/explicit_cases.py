@@ -29,6 +29,26 @@ def box_tets(lx, ly, lz, nx, ny, nz):
     return extrude_to_tets(x2, nx, ny, nz, lz)
 
 
+def box_hexes(lx, ly, lz, nx, ny, nz, distortion=0.0, seed=1):
+    """Nodes and hexahedra (0-based, LS-DYNA's order: N1-N4 the bottom face counter-clockwise
+    seen from the top, N5-N8 above them) of the box [0,lx]x[0,ly]x[0,lz]; interior nodes moved
+    at random by up to `distortion` times the element size."""
+    cube = [[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0], [0, 0, 1], [1, 0, 1], [1, 1, 1], [0, 1, 1]]
+    g = np.array([[i * lx / nx, j * ly / ny, k * lz / nz] for k in range(nz + 1)
+                  for j in range(ny + 1) for i in range(nx + 1)])
+
+    def index(i, j, k):
+        return i + (nx + 1) * (j + (ny + 1) * k)
+    conn = np.array([[index(i + a, j + b, k + c) for a, b, c in cube]
+                     for k in range(nz) for j in range(ny) for i in range(nx)])
+    if distortion > 0.0:
+        rng = np.random.default_rng(seed)
+        h = np.array([lx / nx, ly / ny, lz / nz])
+        inner = np.all((g > 1e-9) & (g < np.array([lx, ly, lz]) - 1e-9), axis=1)
+        g[inner] += distortion * h * rng.uniform(-1.0, 1.0, (inner.sum(), 3))
+    return g, conn
+
+
 def part_cards(elform, material):
     """*PART 1 with *SECTION_SOLID ELFORM and the given material card lines."""
     return ['*PART', 'body', f10(1, 1, 1), '*SECTION_SOLID', f10(1, elform)] + material

@@ -3,7 +3,8 @@ bar 2 at rest, both elastic with nu = 0 (so the 1D theory holds: c0 = c_d), same
 material, different meshes (bar 1 is SURFA, bar 2 SURFB). Expected: contact for 2L/c0, then
 the bars exchange their velocities (bar 1 stops, bar 2 leaves at v0); momentum conserved to
 round-off (the slave and master contact forces are equal and opposite); total energy
-(kinetic + internal + sliding interface) conserved within 1 %. ME-FEM tets, mm, t, s, MPa.
+(kinetic + internal + sliding interface) conserved within 1 %. ME-FEM tets, and again with
+one-point hexahedra (quadrilateral contact faces on both sides); mm, t, s, MPa.
 """
 import os
 import sys
@@ -14,7 +15,7 @@ import h5py
 sys.path.insert(0, os.path.dirname(__file__))
 sys.path.insert(0, os.path.join(os.path.dirname(__file__), '..', '..', 'post'))
 from deck_writer import Checks, f10, free, nodes_card, elements_card
-from explicit_cases import DENSITY, YOUNG, box_tets, node_set, run_case
+from explicit_cases import DENSITY, YOUNG, box_tets, box_hexes, node_set, run_case
 from lsdyna_ascii import read_glstat, read_rcforc
 
 checks = Checks('contact_impact')
@@ -24,24 +25,37 @@ L, W, GAP, V0 = 40.0, 5.0, 0.01, 5000.0
 # and lowers the force by 4 % (energy and momentum as well kept)
 SFS = 10.0
 c0 = np.sqrt(YOUNG / DENSITY)
-x1, c1 = box_tets(L, W, W, 16, 2, 2)
-x2, c2 = box_tets(L, W, W, 20, 3, 3)
-x2 = x2 + [L + GAP, 0.0, 0.0]
-n1 = len(x1)
-x = np.vstack([x1, x2])
-end_time = GAP / V0 + 2.5 * L / c0
-blocks = [nodes_card(x), elements_card('ELEMENT_SOLID', c1, pid=1),
-          elements_card('ELEMENT_SOLID', c2 + n1, pid=2, first_id=len(c1) + 1),
-          ['*PART', 'bar 1', f10(1, 1, 1), '*PART', 'bar 2', f10(2, 1, 1),
-           '*SECTION_SOLID', f10(1, 43), '*MAT_ELASTIC', free(1, DENSITY, YOUNG, 0.0)],
-          node_set(1, range(n1)), ['*INITIAL_VELOCITY', f10(1), f10(V0, 0.0, 0.0)],
-          ['*CONTACT_AUTOMATIC_SURFACE_TO_SURFACE_MORTAR', f10(1, 2, 3, 3), f10(0.0),
-           f10(SFS, SFS)],
-          ['*CONTROL_TERMINATION', f10(end_time), '*DATABASE_BINARY_D3PLOT', f10(end_time),
-           '*DATABASE_GLSTAT', f10(end_time / 200), '*DATABASE_RCFORC', f10(end_time / 400)]]
-rc, text, out = run_case('bar_impact', blocks)
-checks.check(rc == 0, 'bar impact: run succeeds', text[-600:])
-if rc == 0:
+
+
+def impact(kind):
+    """The two bars of ME-FEM tets (kind 'tets') or of one-point hexahedra ('hexes': the
+    contact surfaces are the hexahedra's quadrilateral faces)."""
+    if kind == 'tets':
+        x1, c1 = box_tets(L, W, W, 16, 2, 2)
+        x2, c2 = box_tets(L, W, W, 20, 3, 3)
+        elform = 43
+    else:
+        x1, c1 = box_hexes(L, W, W, 32, 4, 4)
+        x2, c2 = box_hexes(L, W, W, 40, 6, 6)
+        elform = 1
+    x2 = x2 + [L + GAP, 0.0, 0.0]
+    n1 = len(x1)
+    x = np.vstack([x1, x2])
+    end_time = GAP / V0 + 2.5 * L / c0
+    name = 'bar_impact' if kind == 'tets' else 'bar_impact_hexes'
+    blocks = [nodes_card(x), elements_card('ELEMENT_SOLID', c1, pid=1),
+              elements_card('ELEMENT_SOLID', c2 + n1, pid=2, first_id=len(c1) + 1),
+              ['*PART', 'bar 1', f10(1, 1, 1), '*PART', 'bar 2', f10(2, 1, 1),
+               '*SECTION_SOLID', f10(1, elform), '*MAT_ELASTIC', free(1, DENSITY, YOUNG, 0.0)],
+              node_set(1, range(n1)), ['*INITIAL_VELOCITY', f10(1), f10(V0, 0.0, 0.0)],
+              ['*CONTACT_AUTOMATIC_SURFACE_TO_SURFACE_MORTAR', f10(1, 2, 3, 3), f10(0.0),
+               f10(SFS, SFS)],
+              ['*CONTROL_TERMINATION', f10(end_time), '*DATABASE_BINARY_D3PLOT', f10(end_time),
+               '*DATABASE_GLSTAT', f10(end_time / 200), '*DATABASE_RCFORC', f10(end_time / 400)]]
+    rc, text, out = run_case(name, blocks)
+    checks.check(rc == 0, '%s: run succeeds' % name, text[-600:])
+    if rc != 0:
+        return
     g = read_glstat(os.path.join(out, 'glstat'))
     r = read_rcforc(os.path.join(out, 'rcforc'))[1]['slave']
     mass = 2 * DENSITY * L * W * W
@@ -53,28 +67,32 @@ if rc == 0:
     t_on = r['time'][pressing]
     duration = t_on[-1] - t_on[0] + (r['time'][1] - r['time'][0])
     force = np.median(r['normal'][pressing])
-    with h5py.File(os.path.join(out, 'bar_impact.h5')) as f:
+    with h5py.File(os.path.join(out, '%s.h5' % name)) as f:
         last = sorted(f['states'].keys())[-1]
         ids = f['mesh/node_ids'][()]
         vel = f['states/%s/point/velocity' % last][()][np.argsort(ids)]
     v1, v2 = vel[:n1, 0].mean(), vel[n1:, 0].mean()
-    print('    momentum drift %.1e; energy ratio %.5f .. %.5f; contact %.4e s (2L/c0 %.4e, '
+    print('    %s: momentum drift %.1e; energy ratio %.5f .. %.5f; contact %.4e s (2L/c0 %.4e, '
           '%+.1f %%); force %.4e N (rho c0 A v0/2 = %.4e, %+.1f %%); after: bar 1 %.1f, bar 2 '
           '%.1f mm/s (v0 %.0f); kinetic energy %.4f of the initial' % (
-              drift, ratio.min(), ratio.max(), duration, 2 * L / c0,
+              kind, drift, ratio.min(), ratio.max(), duration, 2 * L / c0,
               100 * (duration * c0 / (2 * L) - 1), force, DENSITY * c0 * W * W * V0 / 2,
               100 * (force / (DENSITY * c0 * W * W * V0 / 2) - 1), v1, v2, V0,
               g['kinetic energy'][-1] / g['kinetic energy'][0]))
     # equal and opposite contact forces: momentum to round-off (measured 1e-15)
-    checks.check(drift < 1e-10, 'momentum conserved (1e-10)', '%.3e' % drift)
+    checks.check(drift < 1e-10, '%s: momentum conserved (1e-10)' % kind, '%.3e' % drift)
     # measured 1.00000 .. 1.00011 (the sliding interface energy returns to 0 after the impact)
-    checks.check(np.all(abs(ratio - 1) < 0.01), 'total energy conserved within 1 %',
+    checks.check(np.all(abs(ratio - 1) < 0.01), '%s: total energy conserved within 1 %%' % kind,
                  '%.5f .. %.5f' % (ratio.min(), ratio.max()))
     # equal bars: contact lasts 2L/c0 and presses with rho c0 A v0 / 2 (measured +1 %, -1 %)
-    checks.check(abs(duration * c0 / (2 * L) - 1) < 0.05, 'contact lasts 2L/c0 within 5 %',
-                 '%.4e' % duration)
-    checks.check(abs(force / (DENSITY * c0 * W * W * V0 / 2) - 1) < 0.05, 'contact force rho '
-                 'c0 A v0 / 2 within 5 %', '%.4e' % force)
-    checks.check(abs(v1) < 0.05 * V0 and abs(v2 / V0 - 1) < 0.05, 'the bars exchange their '
-                 'velocities (within 5 % of v0)', '%.1f, %.1f' % (v1, v2))
+    checks.check(abs(duration * c0 / (2 * L) - 1) < 0.05, '%s: contact lasts 2L/c0 within '
+                 '5 %%' % kind, '%.4e' % duration)
+    checks.check(abs(force / (DENSITY * c0 * W * W * V0 / 2) - 1) < 0.05, '%s: contact force '
+                 'rho c0 A v0 / 2 within 5 %%' % kind, '%.4e' % force)
+    checks.check(abs(v1) < 0.05 * V0 and abs(v2 / V0 - 1) < 0.05, '%s: the bars exchange their '
+                 'velocities (within 5 %% of v0)' % kind, '%.1f, %.1f' % (v1, v2))
+
+
+impact('tets')
+impact('hexes')
 checks.exit()

@@ -30,7 +30,7 @@ import numpy as np
 
 sys.path.insert(0, os.path.dirname(__file__))
 from deck_writer import Checks, ROOT, f10, free, nodes_card, elements_card
-from explicit_cases import OUT, box_tets, elastic, node_set, history_nodes, curve, \
+from explicit_cases import OUT, box_tets, box_hexes, elastic, node_set, history_nodes, curve, \
     run_case, glstat, nodout, smooth_ramp, wave_speeds, YOUNG, POISSON, DENSITY
 
 sys.path.insert(0, os.path.join(ROOT, 'tests', 'bench'))
@@ -38,27 +38,8 @@ import taylor_copper as tc  # noqa: E402
 
 checks = Checks('hexahedron')
 
-# hexahedron node order (LS-DYNA): bottom N1-N4 counter-clockwise seen from the top, top N5-N8
-CUBE = np.array([[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0],
-                 [0, 0, 1], [1, 0, 1], [1, 1, 1], [0, 1, 1]])
 HOURGLASS_BASE = np.array([[-1, 1, 1, -1, -1, 1, 1, -1], [-1, -1, 1, 1, -1, -1, 1, 1],
                            [-1, -1, -1, -1, 1, 1, 1, 1]]).T        # xi eta zeta per node
-
-
-def box_hexes(lx, ly, lz, nx, ny, nz, distortion=0.0, seed=1):
-    """Nodes and hexahedra (0-based, LS-DYNA order) of the box [0,lx]x[0,ly]x[0,lz]; interior
-    nodes moved at random by up to `distortion` times the element size."""
-    g = np.array([[i * lx / nx, j * ly / ny, k * lz / nz] for k in range(nz + 1)
-                  for j in range(ny + 1) for i in range(nx + 1)])
-    idx = lambda i, j, k: i + (nx + 1) * (j + (ny + 1) * k)  # noqa: E731
-    conn = np.array([[idx(i + a, j + b, k + c) for a, b, c in CUBE]
-                     for k in range(nz) for j in range(ny) for i in range(nx)])
-    if distortion > 0.0:
-        rng = np.random.default_rng(seed)
-        h = np.array([lx / nx, ly / ny, lz / nz])
-        inner = np.all((g > 1e-9) & (g < np.array([lx, ly, lz]) - 1e-9), axis=1)
-        g[inner] += distortion * h * rng.uniform(-1.0, 1.0, (inner.sum(), 3))
-    return g, conn
 
 
 def hourglass_amplitude(x0, conn, u):
