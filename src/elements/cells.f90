@@ -79,6 +79,8 @@ module mefem_cells
     real(wp), allocatable :: hg_metric(:)     !< (n_hex) bound of lambda_max(G), G the modes'
                                               !< inverse-mass metric (hourglass_mode_metric)
     real(wp), allocatable :: node_volume(:,:) !< (CELL_MAX_NODES, n_hex) int N_I dV
+    integer, allocatable :: hg_corner(:,:)    !< (8, n_hex) the node slot of each corner (a
+                                              !< pentahedron's repeated corners share one)
   end type cells_t
 
 contains
@@ -125,7 +127,8 @@ contains
     call count_hexahedra(model, cells%n_hex)
     allocate(cells%hg_gamma(CELL_MAX_NODES, HOURGLASS_MODES, cells%n_hex), &
              cells%hg_stiffness(6, cells%n_hex), cells%hg_viscosity(cells%n_hex), &
-             cells%hg_metric(cells%n_hex), cells%node_volume(CELL_MAX_NODES, cells%n_hex))
+             cells%hg_metric(cells%n_hex), cells%node_volume(CELL_MAX_NODES, cells%n_hex), &
+             cells%hg_corner(8, cells%n_hex))
     cells%n_hex = 0                 ! counted again as they are added
     allocate(cells%enriched_element(count_enriched))
     do e = 1, model%elements%n
@@ -235,6 +238,7 @@ contains
         call add_gradient(cells, c, corners(a), grad(:, a))
         if (h == 0) cycle
         k = findloc(cells%nodes(1:cells%nnodes(c), c), corners(a), dim=1)
+        cells%hg_corner(a, h) = k
         cells%hg_gamma(k, :, h) = cells%hg_gamma(k, :, h) + gamma(a, :)
         cells%node_volume(k, h) = cells%node_volume(k, h) + node_volume(a)
       end do

@@ -25,9 +25,12 @@ module mefem_hexahedron
   private
 
   public :: hexahedron_reference, hourglass_mode_metric, block_hourglass_forces, &
-            hourglass_stiffness_cell
+            hourglass_stiffness_cell, block_hexahedron_frequency
 
   integer, parameter, public :: HOURGLASS_MODES = 4      !< hourglass base vectors per direction
+  !> Faces of the hexahedron (corners, each a cycle around the face).
+  integer, parameter :: HEX_FACES(4, 6) = reshape([1, 2, 3, 4,  5, 6, 7, 8,  1, 2, 6, 5, &
+                                                   2, 3, 7, 6,  3, 4, 8, 7,  4, 1, 5, 8], [4, 6])
 
   !> Natural coordinates of the nodes (xi, eta, zeta), node by node.
   real(wp), parameter :: NODE_XI(3, 8) = reshape([ &
@@ -168,6 +171,45 @@ contains
       end do
     end do
   end subroutine block_hourglass_forces
+
+  !> The stable-step frequency of n hexahedral cells by LS-DYNA's rule for solids: the
+  !> characteristic length L = V / (largest face area) in the current configuration and the
+  !> elastic wave speed c = sqrt((lambda + 2 mu)/rho) at the current density rho = rho0/J give
+  !> omega^2 = (2 c / L)^2, so that the step 2/omega is L/c (doc/theory.md 2.8). V = J V0 with
+  !> J = det F of the cell; face areas from the corners' current positions (a quadrilateral's
+  !> area vector is half the cross product of its diagonals; a collapsed face has zero area).
+  !> Cells with J <= 0 get huge.
+  pure subroutine block_hexahedron_frequency(n, x, corner, weight, det, modulus, density, &
+                                             omega_squared)
+    integer, intent(in) :: n                      !< cells (<= BLOCK_POINTS)
+    integer, parameter :: ld = BLOCK_POINTS       !< leading dimension
+    real(wp), intent(in) :: x(ld, 3, 8)           !< current positions of the cells' nodes
+    integer, intent(in) :: corner(8, ld)          !< node slot of each corner (a collapsed
+                                                  !< hexahedron repeats slots)
+    real(wp), intent(in) :: weight(ld)            !< reference volumes V0
+    real(wp), intent(in) :: det(ld)               !< J = det F
+    real(wp), intent(in) :: modulus               !< lambda + 2 mu (elastic)
+    real(wp), intent(in) :: density               !< rho0
+    real(wp), intent(out) :: omega_squared(ld)    !< (2 c / L)^2
+    real(wp) :: d1(3), d2(3), a(3), area, largest, volume
+    integer :: i, f, c(4)
+    do i = 1, n
+      omega_squared(i) = huge(1.0_wp)
+      if (.not. det(i) > 0.0_wp) cycle
+      largest = 0.0_wp
+      do f = 1, 6
+        c = corner(HEX_FACES(:, f), i)
+        d1 = x(i, :, c(3)) - x(i, :, c(1))
+        d2 = x(i, :, c(4)) - x(i, :, c(2))
+        a = [d1(2)*d2(3) - d1(3)*d2(2), d1(3)*d2(1) - d1(1)*d2(3), d1(1)*d2(2) - d1(2)*d2(1)]
+        area = 0.5_wp*norm2(a)
+        largest = max(largest, area)
+      end do
+      volume = det(i)*weight(i)
+      ! (2 c / L)^2 = 4 (lambda + 2 mu) J / rho0 * (A / V)^2
+      omega_squared(i) = 4.0_wp*modulus*det(i)/density*(largest/volume)**2
+    end do
+  end subroutine block_hexahedron_frequency
 
   !> One cell's stiffness-form hourglass forces (as block_hourglass_forces, K given) and
   !> their exact tangent, for the implicit analyses: with t_a = F^-T K Q_a, r_aI = gamma_aI -

@@ -19,7 +19,8 @@ module mefem_explicit_cell_forces
   use mefem_halo, only: halo_t, halo_assemble, halo_assemble_start, halo_assembly_push_nodes, &
                         halo_assemble_summed
   use mefem_cells, only: cells_t, CELL_MAX_NODES, MEFEM_FACE_NODES
-  use mefem_hexahedron, only: HOURGLASS_MODES, block_hourglass_forces
+  use mefem_hexahedron, only: HOURGLASS_MODES, block_hourglass_forces, &
+                              block_hexahedron_frequency
   use mefem_cell_finite_strain, only: cell_deformation_gradient, cell_internal_force, &
                                       block_deformation_gradient, block_adjugate, &
                                       block_internal_force, adjugate_3x3
@@ -500,6 +501,8 @@ contains
     real(wp) :: fbar(LD, 9), jbar(LD), scale(LD)
     real(wp) :: v(LD, 3, CELL_MAX_NODES), gamma(LD, CELL_MAX_NODES, HOURGLASS_MODES)
     real(wp) :: stiffness(LD, 6), viscosity(LD), energy(LD), power(LD), c_inverse(6)
+    real(wp) :: position(LD, 3, CELL_MAX_NODES), rule(LD)
+    integer :: corner(8, LD)
     logical :: ok(LD), finite(LD), steps_at_once, averaged, hexahedral
     integer :: n, nn, i, a, l, node, first, h, k
     first = s%block_start(b)
@@ -572,8 +575,10 @@ contains
     if (hexahedral) hexahedral = s%hg_slot(s%block_cell(first)) > 0
     if (hexahedral) then
       ! one-point hexahedra: the hourglass forces (velocities of the padded slots: the first
-      ! node's, their gamma is zero) and their stable-step bound (K : C^-1) lambda_max(G),
-      ! C^-1 = adj adj^T / J^2, added to the cell's (doc/theory.md 2.8)
+      ! node's, their gamma is zero) and the step: the larger of the element bound's and
+      ! LS-DYNA's characteristic length rule's, plus the hourglass stiffness' bound over the 8
+      ! elements that share a node of a regular mesh, (K : C^-1) lambda_max(G)/8, C^-1 =
+      ! adj adj^T / J^2 (doc/theory.md 2.8)
       do i = 1, n
         l = s%block_cell(first + i - 1)
         h = s%hg_slot(l)
@@ -581,13 +586,21 @@ contains
           node = s%nodes(a, l)
           if (node == 0) node = s%nodes(1, l)
           v(i, :, a) = s%v(:, node)
+          position(i, :, a) = s%x0(:, node) + u(i, :, a)
           gamma(i, a, :) = s%hg_gamma(a, :, h)
         end do
+        corner(:, i) = s%hg_corner(:, h)
         stiffness(i, :) = s%hg_stiffness(:, h)
         viscosity(i) = s%hg_viscosity(h)
       end do
       call block_hourglass_forces(n, nn, u, v, s%block_grad(:, :, :, b), gamma, stiffness, &
                                   viscosity, adj, det, force, energy, power)
+      l = s%block_cell(first)
+      call block_hexahedron_frequency(n, position, corner, s%block_weight(:, b), det, &
+          s%lame(1, l) + 2.0_wp*s%lame(2, l), model%materials(s%material(l))%density, rule)
+      do i = 1, n
+        omega2(i) = min(omega2(i), rule(i))
+      end do
       do i = 1, n
         s%hourglass_stored = s%hourglass_stored + energy(i)
         s%hourglass_power = s%hourglass_power + power(i)
@@ -600,7 +613,7 @@ contains
         c_inverse(6) = adj(i, 1)*adj(i, 3) + adj(i, 4)*adj(i, 6) + adj(i, 7)*adj(i, 9)
         omega2(i) = omega2(i) + s%hg_metric(s%hg_slot(s%block_cell(first + i - 1)))* &
             (sum(stiffness(i, 1:3)*c_inverse(1:3)) + &
-             2.0_wp*sum(stiffness(i, 4:6)*c_inverse(4:6)))/det(i)**2
+             2.0_wp*sum(stiffness(i, 4:6)*c_inverse(4:6)))/(8.0_wp*det(i)**2)
       end do
     end if
     ! the cells' steps as take_cell_step computes them, for the whole block at once when no
@@ -823,7 +836,7 @@ contains
     allocate(s%hg_slot(s%ncell))
     nh = count(cells%hex_of(s%cell_global) > 0)
     allocate(s%hg_gamma(CELL_MAX_NODES, HOURGLASS_MODES, nh), s%hg_stiffness(6, nh), &
-             s%hg_viscosity(nh), s%hg_metric(nh))
+             s%hg_viscosity(nh), s%hg_metric(nh), s%hg_corner(8, nh))
     nh = 0
     do l = 1, s%ncell
       h = cells%hex_of(s%cell_global(l))
@@ -835,6 +848,7 @@ contains
       s%hg_stiffness(:, nh) = cells%hg_stiffness(:, h)
       s%hg_viscosity(nh) = cells%hg_viscosity(h)
       s%hg_metric(nh) = cells%hg_metric(h)
+      s%hg_corner(:, nh) = cells%hg_corner(:, h)
     end do
   end subroutine hourglass_set_up
 

@@ -170,6 +170,7 @@ module mefem_explicit_state
     real(wp), allocatable :: hg_stiffness(:,:) !< (6, local hexahedra) K
     real(wp), allocatable :: hg_viscosity(:)   !< (local hexahedra) c
     real(wp), allocatable :: hg_metric(:)      !< (local hexahedra) bound of lambda_max(G)
+    integer, allocatable :: hg_corner(:,:)     !< (8, local hexahedra) node slot per corner
     real(wp) :: hourglass_stored = 0.0_wp      !< energy of the stiffness forms, this rank's
                                                !< cells at the last force evaluation
     real(wp) :: hourglass_power = 0.0_wp       !< power of the viscous forms, likewise

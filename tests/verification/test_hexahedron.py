@@ -229,6 +229,13 @@ for ihq, qm, transits in ((1, 0.1, 2.0), (6, 1.0, 2.0), (6, 1.0, 20.0), (4, 1e-6
           'top displacement %.4g mm, largest hourglass displacement %.3g mm'
           % (ihq, qm, transits, ratio, point['displacement'][top_centre, 2],
              amplitude[ihq, qm, transits]))
+    if ihq == 1:
+        # the step: LS-DYNA's rule for solids, TSSFAC L/c with L = V / largest face area (the
+        # 0.5 mm edge of these cubes) and c the elastic wave speed
+        expected = 0.9 * 0.5 / wave_speeds()[1]
+        print('    first step %.8e s, TSSFAC L/c = %.8e s' % (g['time step'][0], expected))
+        checks.check(abs(g['time step'][0] / expected - 1) < 1e-7, 'the hexahedra\'s step is '
+                     'LS-DYNA\'s TSSFAC V/(A_max c)', '%.8e' % g['time step'][0])
     if qm >= 0.1:
         checks.check(ratio < 0.10, 'load on 2 x 2 mm, IHQ %d QM %g, %g transits: hourglass '
                      'energy < 10 %% of internal' % (ihq, qm, transits), '%.3f' % ratio)
