@@ -137,36 +137,73 @@ contains
     real(wp), intent(inout) :: force(ld, 3, nn)   !< nodal forces, hourglass forces added
     real(wp), intent(out) :: energy(ld)           !< W of each cell
     real(wp), intent(out) :: power(ld)            !< c sum |qdot|^2 of each cell
-    real(wp) :: q(3), qdot(3), big_q(3), s(3), t(3), finv(9), bq, r
+    real(wp), dimension(ld) :: q1, q2, q3, d1, d2, d3, big1, big2, big3, s1, s2, s3, t1, t2, &
+                               t3, inverse_det, r
+    real(wp) :: finv(ld, 9)
     integer :: i, a, k
+    ! F^-1 = adj/J (cells with J <= 0: zero, so they get no forces); the loops run over the
+    ! cells innermost (vectorised), selects and divisions in loops of their own
+    do i = 1, n
+      inverse_det(i) = merge(det(i), 1.0_wp, det(i) > 0.0_wp)
+    end do
+    do i = 1, n
+      inverse_det(i) = 1.0_wp/inverse_det(i)
+    end do
+    do i = 1, n
+      inverse_det(i) = merge(inverse_det(i), 0.0_wp, det(i) > 0.0_wp)
+    end do
+    do k = 1, 9
+      do i = 1, n
+        finv(i, k) = adj(i, k)*inverse_det(i)
+      end do
+    end do
     do i = 1, n
       energy(i) = 0.0_wp
       power(i) = 0.0_wp
-      if (.not. det(i) > 0.0_wp) cycle
-      finv = adj(i, :)/det(i)
-      do k = 1, HOURGLASS_MODES
-        q = 0.0_wp
-        qdot = 0.0_wp
-        do a = 1, nn
-          q = q + gamma(i, a, k)*u(i, :, a)
-          qdot = qdot + gamma(i, a, k)*v(i, :, a)
+    end do
+    do k = 1, HOURGLASS_MODES
+      do i = 1, n
+        q1(i) = 0.0_wp
+        q2(i) = 0.0_wp
+        q3(i) = 0.0_wp
+        d1(i) = 0.0_wp
+        d2(i) = 0.0_wp
+        d3(i) = 0.0_wp
+      end do
+      do a = 1, nn
+        do i = 1, n
+          q1(i) = q1(i) + gamma(i, a, k)*u(i, 1, a)
+          q2(i) = q2(i) + gamma(i, a, k)*u(i, 2, a)
+          q3(i) = q3(i) + gamma(i, a, k)*u(i, 3, a)
+          d1(i) = d1(i) + gamma(i, a, k)*v(i, 1, a)
+          d2(i) = d2(i) + gamma(i, a, k)*v(i, 2, a)
+          d3(i) = d3(i) + gamma(i, a, k)*v(i, 3, a)
         end do
+      end do
+      do i = 1, n
         ! Q = F^-1 q, s = K Q, t = F^-T s
-        big_q(1) = finv(1)*q(1) + finv(4)*q(2) + finv(7)*q(3)
-        big_q(2) = finv(2)*q(1) + finv(5)*q(2) + finv(8)*q(3)
-        big_q(3) = finv(3)*q(1) + finv(6)*q(2) + finv(9)*q(3)
-        s(1) = stiffness(i, 1)*big_q(1) + stiffness(i, 4)*big_q(2) + stiffness(i, 6)*big_q(3)
-        s(2) = stiffness(i, 4)*big_q(1) + stiffness(i, 2)*big_q(2) + stiffness(i, 5)*big_q(3)
-        s(3) = stiffness(i, 6)*big_q(1) + stiffness(i, 5)*big_q(2) + stiffness(i, 3)*big_q(3)
-        t(1) = finv(1)*s(1) + finv(2)*s(2) + finv(3)*s(3)
-        t(2) = finv(4)*s(1) + finv(5)*s(2) + finv(6)*s(3)
-        t(3) = finv(7)*s(1) + finv(8)*s(2) + finv(9)*s(3)
-        energy(i) = energy(i) + 0.5_wp*(big_q(1)*s(1) + big_q(2)*s(2) + big_q(3)*s(3))
-        power(i) = power(i) + viscosity(i)*(qdot(1)**2 + qdot(2)**2 + qdot(3)**2)
-        do a = 1, nn
-          bq = grad(i, 1, a)*big_q(1) + grad(i, 2, a)*big_q(2) + grad(i, 3, a)*big_q(3)
-          r = gamma(i, a, k) - bq
-          force(i, :, a) = force(i, :, a) + r*t + viscosity(i)*gamma(i, a, k)*qdot
+        big1(i) = finv(i, 1)*q1(i) + finv(i, 4)*q2(i) + finv(i, 7)*q3(i)
+        big2(i) = finv(i, 2)*q1(i) + finv(i, 5)*q2(i) + finv(i, 8)*q3(i)
+        big3(i) = finv(i, 3)*q1(i) + finv(i, 6)*q2(i) + finv(i, 9)*q3(i)
+        s1(i) = stiffness(i, 1)*big1(i) + stiffness(i, 4)*big2(i) + stiffness(i, 6)*big3(i)
+        s2(i) = stiffness(i, 4)*big1(i) + stiffness(i, 2)*big2(i) + stiffness(i, 5)*big3(i)
+        s3(i) = stiffness(i, 6)*big1(i) + stiffness(i, 5)*big2(i) + stiffness(i, 3)*big3(i)
+        t1(i) = finv(i, 1)*s1(i) + finv(i, 2)*s2(i) + finv(i, 3)*s3(i)
+        t2(i) = finv(i, 4)*s1(i) + finv(i, 5)*s2(i) + finv(i, 6)*s3(i)
+        t3(i) = finv(i, 7)*s1(i) + finv(i, 8)*s2(i) + finv(i, 9)*s3(i)
+        energy(i) = energy(i) + 0.5_wp*(big1(i)*s1(i) + big2(i)*s2(i) + big3(i)*s3(i))
+        power(i) = power(i) + viscosity(i)*(d1(i)*d1(i) + d2(i)*d2(i) + d3(i)*d3(i))
+        d1(i) = viscosity(i)*d1(i)
+        d2(i) = viscosity(i)*d2(i)
+        d3(i) = viscosity(i)*d3(i)
+      end do
+      do a = 1, nn
+        do i = 1, n
+          r(i) = gamma(i, a, k) - (grad(i, 1, a)*big1(i) + grad(i, 2, a)*big2(i) + &
+                                   grad(i, 3, a)*big3(i))
+          force(i, 1, a) = force(i, 1, a) + r(i)*t1(i) + gamma(i, a, k)*d1(i)
+          force(i, 2, a) = force(i, 2, a) + r(i)*t2(i) + gamma(i, a, k)*d2(i)
+          force(i, 3, a) = force(i, 3, a) + r(i)*t3(i) + gamma(i, a, k)*d3(i)
         end do
       end do
     end do
@@ -178,36 +215,42 @@ contains
   !> omega^2 = (2 c / L)^2, so that the step 2/omega is L/c (doc/theory.md 2.8). V = J V0 with
   !> J = det F of the cell; face areas from the corners' current positions (a quadrilateral's
   !> area vector is half the cross product of its diagonals; a collapsed face has zero area).
-  !> Cells with J <= 0 get huge.
-  pure subroutine block_hexahedron_frequency(n, x, corner, weight, det, modulus, density, &
+  !> Cells with J <= 0 get huge. The loops run over the cells innermost (vectorised).
+  pure subroutine block_hexahedron_frequency(n, x, weight, det, modulus, density, &
                                              omega_squared)
     integer, intent(in) :: n                      !< cells (<= BLOCK_POINTS)
     integer, parameter :: ld = BLOCK_POINTS       !< leading dimension
-    real(wp), intent(in) :: x(ld, 3, 8)           !< current positions of the cells' nodes
-    integer, intent(in) :: corner(8, ld)          !< node slot of each corner (a collapsed
-                                                  !< hexahedron repeats slots)
+    real(wp), intent(in) :: x(ld, 3, 8)           !< current positions of the 8 corners
     real(wp), intent(in) :: weight(ld)            !< reference volumes V0
     real(wp), intent(in) :: det(ld)               !< J = det F
     real(wp), intent(in) :: modulus               !< lambda + 2 mu (elastic)
     real(wp), intent(in) :: density               !< rho0
     real(wp), intent(out) :: omega_squared(ld)    !< (2 c / L)^2
-    real(wp) :: d1(3), d2(3), a(3), area, largest, volume
-    integer :: i, f, c(4)
+    real(wp), dimension(ld) :: largest, volume
+    real(wp) :: d1(3), d2(3), a(3)
+    integer :: i, f
     do i = 1, n
-      omega_squared(i) = huge(1.0_wp)
-      if (.not. det(i) > 0.0_wp) cycle
-      largest = 0.0_wp
-      do f = 1, 6
-        c = corner(HEX_FACES(:, f), i)
-        d1 = x(i, :, c(3)) - x(i, :, c(1))
-        d2 = x(i, :, c(4)) - x(i, :, c(2))
-        a = [d1(2)*d2(3) - d1(3)*d2(2), d1(3)*d2(1) - d1(1)*d2(3), d1(1)*d2(2) - d1(2)*d2(1)]
-        area = 0.5_wp*norm2(a)
-        largest = max(largest, area)
+      largest(i) = 0.0_wp
+    end do
+    do f = 1, 6
+      do i = 1, n
+        d1 = x(i, :, HEX_FACES(3, f)) - x(i, :, HEX_FACES(1, f))
+        d2 = x(i, :, HEX_FACES(4, f)) - x(i, :, HEX_FACES(2, f))
+        a(1) = d1(2)*d2(3) - d1(3)*d2(2)
+        a(2) = d1(3)*d2(1) - d1(1)*d2(3)
+        a(3) = d1(1)*d2(2) - d1(2)*d2(1)
+        largest(i) = max(largest(i), a(1)*a(1) + a(2)*a(2) + a(3)*a(3))     ! (2 A)^2
       end do
-      volume = det(i)*weight(i)
-      ! (2 c / L)^2 = 4 (lambda + 2 mu) J / rho0 * (A / V)^2
-      omega_squared(i) = 4.0_wp*modulus*det(i)/density*(largest/volume)**2
+    end do
+    ! (2 c / L)^2 = 4 (lambda + 2 mu) J / rho0 * (A / V)^2, A^2 = largest/4
+    do i = 1, n
+      volume(i) = merge(det(i)*weight(i), 1.0_wp, det(i) > 0.0_wp)
+    end do
+    do i = 1, n
+      omega_squared(i) = modulus*det(i)/density*largest(i)/(volume(i)*volume(i))
+    end do
+    do i = 1, n
+      omega_squared(i) = merge(omega_squared(i), huge(1.0_wp), det(i) > 0.0_wp)
     end do
   end subroutine block_hexahedron_frequency
 

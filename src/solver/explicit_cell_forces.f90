@@ -501,8 +501,7 @@ contains
     real(wp) :: fbar(LD, 9), jbar(LD), scale(LD)
     real(wp) :: v(LD, 3, CELL_MAX_NODES), gamma(LD, CELL_MAX_NODES, HOURGLASS_MODES)
     real(wp) :: stiffness(LD, 6), viscosity(LD), energy(LD), power(LD), c_inverse(6)
-    real(wp) :: position(LD, 3, CELL_MAX_NODES), rule(LD)
-    integer :: corner(8, LD)
+    real(wp) :: position(LD, 3, 8), rule(LD)
     logical :: ok(LD), finite(LD), steps_at_once, averaged, hexahedral
     integer :: n, nn, i, a, l, node, first, h, k
     first = s%block_start(b)
@@ -586,17 +585,19 @@ contains
           node = s%nodes(a, l)
           if (node == 0) node = s%nodes(1, l)
           v(i, :, a) = s%v(:, node)
-          position(i, :, a) = s%x0(:, node) + u(i, :, a)
           gamma(i, a, :) = s%hg_gamma(a, :, h)
         end do
-        corner(:, i) = s%hg_corner(:, h)
+        do a = 1, 8                             ! the corners' current positions
+          node = s%nodes(s%hg_corner(a, h), l)
+          position(i, :, a) = s%x0(:, node) + u(i, :, s%hg_corner(a, h))
+        end do
         stiffness(i, :) = s%hg_stiffness(:, h)
         viscosity(i) = s%hg_viscosity(h)
       end do
       call block_hourglass_forces(n, nn, u, v, s%block_grad(:, :, :, b), gamma, stiffness, &
                                   viscosity, adj, det, force, energy, power)
       l = s%block_cell(first)
-      call block_hexahedron_frequency(n, position, corner, s%block_weight(:, b), det, &
+      call block_hexahedron_frequency(n, position, s%block_weight(:, b), det, &
           s%lame(1, l) + 2.0_wp*s%lame(2, l), model%materials(s%material(l))%density, rule)
       do i = 1, n
         omega2(i) = min(omega2(i), rule(i))
