@@ -26,7 +26,8 @@ module mefem_keyword_reader
                                  read_database_history_node, read_mefem_enrichment, &
                                  DATABASE_GLSTAT, DATABASE_RCFORC, DATABASE_NODOUT
   use mefem_read_materials, only: read_mat_elastic, read_mat_piecewise_linear, &
-                                  read_mat_power_law, read_mat_mooney_rivlin, read_mat_rigid
+                                  read_mat_power_law, read_mat_mooney_rivlin, read_mat_rigid, &
+                                  read_mat_plastic_kinematic
   use mefem_read_sets, only: read_set_node, read_set_part, read_set_segment
   use mefem_read_conditions, only: read_boundary_spc, read_prescribed_motion, &
                                    read_define_curve, read_load_node, read_load_segment, &
@@ -59,7 +60,8 @@ module mefem_keyword_reader
                         H_MEFEM_ENRICHMENT = 44, H_PARAMETER_EXPRESSION = 45
   integer, parameter :: H_LOAD_BODY_X = 46, H_LOAD_BODY_Y = 47, H_LOAD_BODY_Z = 48, &
                         H_LOAD_BODY_PARTS = 49
-  integer, parameter :: H_CONTROL_SOLUTION = 50, H_HOURGLASS = 51, H_CONTROL_HOURGLASS = 52
+  integer, parameter :: H_CONTROL_SOLUTION = 50, H_HOURGLASS = 51, H_CONTROL_HOURGLASS = 52, &
+                        H_MAT_PLASTIC_KINEMATIC = 53
 
   !> One registered keyword.
   type :: keyword_entry_t
@@ -68,7 +70,7 @@ module mefem_keyword_reader
     character(len=64) :: options = ''    !< options accepted, as ' OPT1 OPT2 '
   end type keyword_entry_t
 
-  integer, parameter :: N_ENTRIES = 60
+  integer, parameter :: N_ENTRIES = 62
   type(keyword_entry_t), parameter :: REGISTRY(N_ENTRIES) = [ &
     keyword_entry_t('NODE', H_NODE, ' '), &
     keyword_entry_t('ELEMENT_SOLID', H_ELEMENT_SOLID, ' '), &
@@ -89,6 +91,8 @@ module mefem_keyword_reader
     keyword_entry_t('MAT_024', H_MAT_PIECEWISE_LINEAR, ' TITLE '), &
     keyword_entry_t('MAT_POWER_LAW_PLASTICITY', H_MAT_POWER_LAW, ' TITLE '), &
     keyword_entry_t('MAT_018', H_MAT_POWER_LAW, ' TITLE '), &
+    keyword_entry_t('MAT_PLASTIC_KINEMATIC', H_MAT_PLASTIC_KINEMATIC, ' TITLE '), &
+    keyword_entry_t('MAT_003', H_MAT_PLASTIC_KINEMATIC, ' TITLE '), &
     keyword_entry_t('MAT_MOONEY-RIVLIN_RUBBER', H_MAT_MOONEY_RIVLIN, ' TITLE '), &
     keyword_entry_t('MAT_MOONEY_RIVLIN_RUBBER', H_MAT_MOONEY_RIVLIN, ' TITLE '), &
     keyword_entry_t('MAT_027', H_MAT_MOONEY_RIVLIN, ' TITLE '), &
@@ -364,6 +368,8 @@ contains
       call read_mat_elastic(rd, options, model)
     case (H_MAT_PIECEWISE_LINEAR)
       call read_mat_piecewise_linear(rd, options, model)
+    case (H_MAT_PLASTIC_KINEMATIC)
+      call read_mat_plastic_kinematic(rd, options, model)
     case (H_MAT_POWER_LAW)
       call read_mat_power_law(rd, options, model)
     case (H_MAT_MOONEY_RIVLIN)

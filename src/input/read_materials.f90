@@ -12,11 +12,13 @@ module mefem_read_materials
                          card_error, card_warning, keyword_error
   use mefem_card_helpers, only: read_title_card, reject_extra_cards, quoted_real
   use mefem_model, only: model_t, material_t, source_t, MAT_ELASTIC, MAT_PIECEWISE_LINEAR, &
+                         MAT_PLASTIC_KINEMATIC, &
                          MAT_POWER_LAW, MAT_RIGID, MAT_MOONEY_RIVLIN
   implicit none
   private
 
   public :: read_mat_elastic, read_mat_piecewise_linear, read_mat_power_law, &
+            read_mat_plastic_kinematic, &
             read_mat_mooney_rivlin, read_mat_rigid, material_keyword
 
   integer, parameter :: W_10(8) = 10   !< standard 8 x 10 card
@@ -268,6 +270,80 @@ contains
       bad = .true.
     end subroutine fail
   end subroutine read_mat_power_law
+
+  !> *MAT_PLASTIC_KINEMATIC (*MAT_003): MID RO E PR SIGY ETAN BETA / SRC SRP FS VP. Bilinear
+  !> J2 plasticity with mixed hardening (BETA 0 kinematic, 1 isotropic); the rate and failure
+  !> fields are read and, when set, a warning says they are not modelled.
+  subroutine read_mat_plastic_kinematic(rd, options, model)
+    type(reader_t), intent(inout) :: rd          !< reading state
+    character(len=*), intent(in) :: options      !< keyword options
+    type(model_t), intent(inout) :: model        !< model appended to
+    type(material_t) :: mat
+    type(card_t) :: card, card2
+    logical :: got, bad
+    character(len=:), allocatable :: who
+    mat%kind = MAT_PLASTIC_KINEMATIC
+    call read_title_card(rd, options, mat%title)
+    call first_card(rd, card, got, 'MID RO E PR SIGY ETAN BETA')
+    if (.not. got) return
+    call read_mid_ro(card, mat)
+    call get_real(card, 3, 'E', mat%young, required=.true.)
+    call get_real(card, 4, 'PR', mat%poisson)
+    call get_real(card, 5, 'SIGY', mat%yield_stress, required=.true.)
+    call get_real(card, 6, 'ETAN', mat%tangent_modulus)
+    call get_real(card, 7, 'BETA', mat%beta)
+    bad = card%bad
+    if (.not. bad) call check_elastic(card, mat, .true.)
+    bad = bad .or. card%bad
+    who = 'material '//itoa(mat%id)//': '
+    ! card 2: SRC SRP FS VP (optional: blank or missing = 0)
+    call next_card(rd, card2, got, keep_blank=.true.)
+    if (got) then
+      call split_card(rd, card2, W_10)
+      call get_real(card2, 1, 'SRC', mat%cowper_c)
+      call get_real(card2, 2, 'SRP', mat%cowper_p)
+      call get_real(card2, 3, 'FS', mat%failure_strain)
+      call get_real(card2, 4, 'VP', mat%vp)
+      bad = bad .or. card2%bad
+    else
+      card2 = card
+    end if
+    if (.not. bad) then
+      if (.not. (mat%yield_stress > 0.0_wp)) call fail(card, who//'field SIGY must be > 0 '// &
+          quoted_real(mat%yield_stress))
+      if (mat%tangent_modulus < 0.0_wp .or. mat%tangent_modulus >= mat%young) &
+        call fail(card, who//'field ETAN must be >= 0 and < E = '//rtoa(mat%young)//' '// &
+                  quoted_real(mat%tangent_modulus))
+      if (mat%beta < 0.0_wp .or. mat%beta > 1.0_wp) call fail(card, who//'field BETA must '// &
+          'be 0 (kinematic) to 1 (isotropic hardening) '//quoted_real(mat%beta))
+      if (mat%cowper_c < 0.0_wp) call fail(card2, who//'field SRC must not be negative '// &
+          quoted_real(mat%cowper_c))
+      if (mat%cowper_p < 0.0_wp .or. (mat%cowper_c > 0.0_wp .and. mat%cowper_p == 0.0_wp)) &
+        call fail(card2, who//'field SRP must be > 0 when SRC is given '// &
+                  quoted_real(mat%cowper_p))
+      if (mat%failure_strain < 0.0_wp) call fail(card2, who//'field FS must not be '// &
+          'negative '//quoted_real(mat%failure_strain))
+      if (mat%vp /= 0.0_wp .and. mat%vp /= 1.0_wp) call fail(card2, who// &
+          'field VP must be 0 or 1 '//quoted_real(mat%vp))
+    end if
+    if (.not. bad) then
+      if (mat%cowper_c > 0.0_wp) call card_warning(card2, who//'strain-rate effects (SRC, '// &
+          'SRP) are not modelled; the yield stress is the quasi-static law (doc/theory.md '// &
+          'section 4)')
+      if (mat%failure_strain > 0.0_wp) call card_warning(card2, who//'FS = '// &
+          rtoa(mat%failure_strain)//' ignored: mefem deletes no elements')
+    end if
+    if (.not. bad) call add_material(model, mat)
+    call reject_extra_cards(rd, 'material '//itoa(mat%id))
+  contains
+    !> Report and remember an error.
+    subroutine fail(where_card, message)
+      type(card_t), intent(in) :: where_card     !< the card with the field
+      character(len=*), intent(in) :: message    !< what is wrong
+      call card_error(where_card, message)
+      bad = .true.
+    end subroutine fail
+  end subroutine read_mat_plastic_kinematic
 
   !> *MAT_MOONEY-RIVLIN_RUBBER: MID RO PR A B REF / SGL SW ST LCID. PR is Poisson's ratio
   !> (near 0.5 for rubber); E is not an input: the small-strain equivalent

@@ -1,7 +1,9 @@
 !> Finite-strain J2 plasticity with isotropic hardening: Simo's multiplicative, hyperelastic-
 !> based return map (Simo 1992; Simo & Hughes 1998, Boxes 9.1 and 9.2; formulation.md 6.1-6.2),
 !> used for *MAT_PIECEWISE_LINEAR_PLASTICITY (*MAT_024) and *MAT_POWER_LAW_PLASTICITY
-!> (*MAT_018); the hardening law K(alpha) comes from mefem_hardening.
+!> (*MAT_018); the hardening law K(alpha) comes from mefem_hardening. The same update with a
+!> back stress (mixed isotropic-kinematic hardening) for *MAT_PLASTIC_KINEMATIC (*MAT_003):
+!> mat_j2_kinematic_update.
 !>
 !> Free energy: W = U(J) + mu/2 (tr be_bar - 3), U(J) = kappa/2 (1/2 (J^2 - 1) - ln J),
 !> mu = E/(2(1+nu)), kappa = E/(3(1-2nu)). Yield function |s| - sqrt(2/3) K(alpha) on the
@@ -42,12 +44,12 @@ module mefem_mat_j2_plasticity
   use mefem_tensor_algebra, only: IDENTITY, inverse_cube_root, CUBE_ROOT_SERIES_RANGE, &
                                   C1 => CUBE_ROOT_C1, C2 => CUBE_ROOT_C2, C3 => CUBE_ROOT_C3, &
                                   deviator, add_outer_product, add_symmetric_identity
-  use mefem_material_state, only: NHIST, HIST_CP, HIST_ALPHA, BLOCK_POINTS
+  use mefem_material_state, only: NHIST, HIST_CP, HIST_ALPHA, HIST_BACK, BLOCK_POINTS
   use mefem_hardening, only: hardening_yield, hardening_yield_block
   implicit none
   private
 
-  public :: mat_j2_update, mat_j2_update_block
+  public :: mat_j2_update, mat_j2_update_block, mat_j2_kinematic_update
 
   real(wp), parameter :: SQRT_TWO_THIRDS = sqrt(2.0_wp/3.0_wp)
   real(wp), parameter :: ONE_THIRD = 1.0_wp/3.0_wp       !< (products instead of divisions)
@@ -429,6 +431,137 @@ contains
       dgamma = next
     end do
   end subroutine return_map
+
+  !> *MAT_PLASTIC_KINEMATIC (MAT_003): bilinear J2 plasticity with mixed hardening, the steps
+  !> of mat_j2_update with a back stress (doc/theory.md 4.4). Plastic modulus E_p = E ETAN /
+  !> (E - ETAN), split by BETA into isotropic beta E_p and kinematic (1 - beta) E_p (Prager):
+  !>   yield radius sqrt(2/3) (SIGY + beta E_p alpha) about the back stress b (a Kirchhoff
+  !>   deviator); shifted trial xi_tr = s_tr - b_tr, n = xi_tr/|xi_tr|;
+  !>   dgamma = (|xi_tr| - sqrt(2/3) (SIGY + beta E_p alpha_n)) / (2 mu_bar + 2/3 E_p) (linear
+  !>   hardening: closed form); s = s_tr - 2 mu_bar dgamma n,
+  !>   b = b_tr + 2/3 (1 - beta) E_p dgamma n, alpha += sqrt(2/3) dgamma.
+  !> The back stress is kept in the frame that rotates with the material, b_hat = R^T b R with
+  !> R the rotation of the polar decomposition F = R U (the Green-Naghdi rate: objective, and a
+  !> stretch does not stretch the back stress, as a push-forward with F would), and brought to
+  !> the current configuration as b_tr = R b_hat R^T. The tangent (implicit analyses) is the
+  !> central difference of this update along the six symmetric directions h of dF = h F
+  !> (c : h = D tau[h F] - h tau - tau h^T; step 1e-6): consistent to about 1e-9.
+  pure subroutine mat_j2_kinematic_update(mat, f_new, hist_old, hist_new, tau, sound_speed, &
+                                          status, c_tau)
+    type(material_t), intent(in) :: mat                !< *MAT_003 parameters
+    real(wp), intent(in) :: f_new(3,3)                  !< deformation gradient F_{n+1}
+    real(wp), intent(in) :: hist_old(NHIST)             !< history at t_n
+    real(wp), intent(out) :: hist_new(NHIST)            !< history at t_{n+1}
+    real(wp), intent(out) :: tau(3,3)                   !< Kirchhoff stress
+    real(wp), intent(out) :: sound_speed                !< dilatational wave speed
+    type(status_t), intent(out) :: status               !< det F <= 0
+    real(wp), intent(out), optional :: c_tau(3,3,3,3)   !< spatial tangent of tau
+    real(wp), parameter :: STEP = 1.0e-6_wp
+    real(wp) :: h(3,3), tau_plus(3,3), tau_minus(3,3), scratch(NHIST), d_tau(3,3), dummy
+    integer :: k, l
+    type(status_t) :: probe
+    call kinematic_stress(mat, f_new, hist_old, hist_new, tau, sound_speed, status)
+    if (.not. present(c_tau)) return
+    c_tau = 0.0_wp
+    if (.not. status%ok) return
+    do l = 1, 3
+      do k = 1, l
+        h = 0.0_wp
+        h(k, l) = 0.5_wp
+        h(l, k) = h(l, k) + 0.5_wp
+        call kinematic_stress(mat, f_new + STEP*matmul(h, f_new), hist_old, scratch, tau_plus, &
+                              dummy, probe)
+        call kinematic_stress(mat, f_new - STEP*matmul(h, f_new), hist_old, scratch, &
+                              tau_minus, dummy, probe)
+        d_tau = (tau_plus - tau_minus)/(2.0_wp*STEP) - matmul(h, tau) - matmul(tau, transpose(h))
+        c_tau(:, :, k, l) = d_tau
+        c_tau(:, :, l, k) = d_tau
+      end do
+    end do
+  end subroutine mat_j2_kinematic_update
+
+  !> The stress, history and wave speed of mat_j2_kinematic_update (no tangent).
+  pure subroutine kinematic_stress(mat, f_new, hist_old, hist_new, tau, sound_speed, status)
+    type(material_t), intent(in) :: mat                !< *MAT_003 parameters
+    real(wp), intent(in) :: f_new(3,3)                  !< deformation gradient F_{n+1}
+    real(wp), intent(in) :: hist_old(NHIST)             !< history at t_n
+    real(wp), intent(out) :: hist_new(NHIST)            !< history at t_{n+1}
+    real(wp), intent(out) :: tau(3,3)                   !< Kirchhoff stress
+    real(wp), intent(out) :: sound_speed                !< dilatational wave speed
+    type(status_t), intent(out) :: status               !< det F <= 0
+    real(wp) :: mu, kappa, j, scale, i_bar, mu_bar, norm_xi, plastic_modulus, yield_old, dgamma
+    real(wp) :: jp, cp_old(SYM), be_trial(SYM), s_trial(SYM), back_trial(SYM), xi(SYM)
+    real(wp) :: normal(SYM), s(SYM), back_new(SYM), be_new(SYM), adj(3,3), r(3,3)
+    integer :: k
+    hist_new = hist_old
+    tau = 0.0_wp
+    sound_speed = 0.0_wp
+    j = det3(f_new)
+    if (.not. (j > 0.0_wp)) then
+      call fail(status, mat, 'det F = '//rtoa(j)//' <= 0 (inverted or degenerate element)')
+      return
+    end if
+    mu = mat%young/(2.0_wp*(1.0_wp + mat%poisson))
+    kappa = mat%young/(3.0_wp*(1.0_wp - 2.0_wp*mat%poisson))
+    plastic_modulus = mat%young*mat%tangent_modulus/(mat%young - mat%tangent_modulus)
+    ! elastic trial state (as mat_j2_update) and the back stress in the current frame
+    scale = inverse_cube_root(j)
+    scale = scale*scale
+    cp_old = hist_old(HIST_CP:HIST_CP + 5)
+    call symmetric_sandwich(f_new, cp_old, scale, be_trial)
+    i_bar = (be_trial(XX) + be_trial(YY) + be_trial(ZZ))*ONE_THIRD
+    mu_bar = mu*i_bar
+    s_trial(XX:ZZ) = mu*(be_trial(XX:ZZ) - i_bar)
+    s_trial(XY:ZX) = mu*be_trial(XY:ZX)
+    call polar_rotation(f_new, r)
+    call symmetric_sandwich(r, hist_old(HIST_BACK:HIST_BACK + 5), 1.0_wp, back_trial)
+    xi = s_trial - back_trial
+    norm_xi = sym_norm(xi)
+    ! yield check and the closed-form return (linear hardening)
+    yield_old = mat%yield_stress + mat%beta*plastic_modulus*hist_old(HIST_ALPHA)
+    s = s_trial
+    back_new = back_trial
+    if (norm_xi - SQRT_TWO_THIRDS*yield_old > 0.0_wp) then
+      dgamma = (norm_xi - SQRT_TWO_THIRDS*yield_old)/ &
+               (2.0_wp*mu_bar + 2.0_wp/3.0_wp*plastic_modulus)
+      normal = xi/norm_xi
+      s = s_trial - 2.0_wp*mu_bar*dgamma*normal
+      back_new = back_trial + 2.0_wp/3.0_wp*(1.0_wp - mat%beta)*plastic_modulus*dgamma*normal
+      hist_new(HIST_ALPHA) = hist_old(HIST_ALPHA) + SQRT_TWO_THIRDS*dgamma
+    end if
+    ! elastic strain with det = 1, Kirchhoff stress, history (as mat_j2_update)
+    be_new = s*(1.0_wp/mu)
+    call unimodular_shift(be_new, i_bar)
+    jp = 0.5_wp*kappa*(j*j - 1.0_wp)
+    call sym_to_full(s, tau)
+    do k = 1, 3
+      tau(k, k) = tau(k, k) + jp
+    end do
+    call adjugate(f_new, adj)
+    call symmetric_sandwich(adj, be_new, scale*scale, hist_new(HIST_CP:HIST_CP + 5))
+    call symmetric_sandwich(transpose(r), back_new, 1.0_wp, hist_new(HIST_BACK:HIST_BACK + 5))
+    sound_speed = sqrt((kappa + 4.0_wp/3.0_wp*mu_bar)/mat%density)
+  end subroutine kinematic_stress
+
+  !> The rotation R of the polar decomposition F = R U (det F > 0): Higham's scaled Newton
+  !> iteration X <- (g X + X^-T / g)/2, g = (|X^-1| / |X|)^(1/2) (Frobenius norms), from X = F,
+  !> until X changes by less than 1e-14 of its norm (quadratic convergence: a few steps).
+  pure subroutine polar_rotation(f, r)
+    real(wp), intent(in) :: f(3,3)      !< deformation gradient (det > 0)
+    real(wp), intent(out) :: r(3,3)     !< its rotation
+    real(wp) :: x(3,3), adj(3,3), inverse_transpose(3,3), g, change
+    integer :: iteration
+    x = f
+    do iteration = 1, 50
+      call adjugate(x, adj)
+      inverse_transpose = transpose(adj)/det3(x)
+      g = sqrt(sqrt(sum(inverse_transpose**2))/sqrt(sum(x**2)))
+      r = 0.5_wp*(g*x + inverse_transpose/g)
+      change = sqrt(sum((r - x)**2))
+      x = r
+      if (change <= 1.0e-14_wp*sqrt(sum(r**2))) exit
+    end do
+  end subroutine polar_rotation
 
   !> Replace a by a + (x - tr(a)/3) 1 with x the root near x0 of det(dev(a) + x 1) = 1
   !> (Newton on the cubic x^3 + i2 x + i3 - 1, i2, i3 invariants of dev(a), until the cubic

@@ -8,7 +8,10 @@
 !>   state at F is be_bar = J^(-2/3) F Cbar_p^-1 F^T (Simo 1992, the Lagrangian form of the
 !>   same update: 6 entries instead of F_n and be_bar_n); the hyperelastic laws keep no
 !>   history and leave it as it is;
-!> - HIST_ALPHA: alpha_n, the equivalent plastic strain (0 for elastic laws).
+!> - HIST_ALPHA: alpha_n, the equivalent plastic strain (0 for elastic laws);
+!> - HIST_BACK .. HIST_BACK+5: the back stress of kinematic hardening (*MAT_003) in the frame
+!>   that rotates with the material, R^T b R (F = R U), Voigt order; initially 0 (other laws
+!>   leave it as it is).
 !> The laws read hist_old and write hist_new; the driver keeps hist_old until the step is
 !> accepted (Newton converged), so a cut step simply discards hist_new.
 module mefem_material_state
@@ -19,7 +22,8 @@ module mefem_material_state
 
   integer, parameter, public :: HIST_CP = 1       !< first of 6 entries: Cbar_p^-1 (Voigt)
   integer, parameter, public :: HIST_ALPHA = 7    !< equivalent plastic strain alpha_n
-  integer, parameter, public :: NHIST = 7         !< length of a point's history
+  integer, parameter, public :: HIST_BACK = 8     !< first of 6 entries: rotated back stress
+  integer, parameter, public :: NHIST = 13        !< length of a point's history
   !> Points (cells) per block of the block kernels of the explicit cell loop: the leading
   !> dimension of their structure-of-arrays arguments (entry i of every array is point i);
   !> long enough for the vectorised stages, short enough for a block's temporaries (about
@@ -30,7 +34,7 @@ module mefem_material_state
 
 contains
 
-  !> The undeformed, virgin state: Cbar_p^-1 = I, alpha = 0.
+  !> The undeformed, virgin state: Cbar_p^-1 = I, alpha = 0, no back stress.
   pure subroutine material_state_init(hist)
     real(wp), intent(out) :: hist(NHIST)   !< history of one point
     hist = 0.0_wp

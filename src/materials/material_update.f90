@@ -20,19 +20,20 @@
 !> and zero stress; the driver adds the element and decides (cut the step or stop).
 !>
 !> Laws: *MAT_ELASTIC -> mefem_mat_elastic (compressible neo-Hookean); *MAT_024 and *MAT_018
-!> -> mefem_mat_j2_plasticity with the hardening law of mefem_hardening; *MAT_027 ->
+!> -> mefem_mat_j2_plasticity with the hardening law of mefem_hardening; *MAT_003 -> its
+!> mixed-hardening update (mat_j2_kinematic_update; explicit: point by point); *MAT_027 ->
 !> mefem_mat_mooney_rivlin. *MAT_RIGID has no stress update (rigid bodies are moved as a
 !> whole); asking for one is reported as a failure.
 module mefem_material_update
   use mefem_kinds, only: wp
   use mefem_model, only: material_t, curve_t, MAT_ELASTIC, MAT_PIECEWISE_LINEAR, MAT_POWER_LAW, &
-                         MAT_RIGID, MAT_MOONEY_RIVLIN
+                         MAT_PLASTIC_KINEMATIC, MAT_RIGID, MAT_MOONEY_RIVLIN
   use mefem_errors, only: status_t
   use mefem_strings, only: itoa
   use mefem_material_state, only: NHIST, BLOCK_POINTS
   use mefem_hardening, only: HARDENING_POWER_LAW, piecewise_linear_law
   use mefem_mat_elastic, only: mat_elastic_update, lame_constants
-  use mefem_mat_j2_plasticity, only: mat_j2_update, mat_j2_update_block
+  use mefem_mat_j2_plasticity, only: mat_j2_update, mat_j2_update_block, mat_j2_kinematic_update
   use mefem_mat_mooney_rivlin, only: mat_mooney_rivlin_update
   implicit none
   private
@@ -66,6 +67,9 @@ contains
     case (MAT_MOONEY_RIVLIN)
       call mat_mooney_rivlin_update(mat, f_new, hist_old, hist_new, tau, sound_speed, status, &
                                     c_tau)
+    case (MAT_PLASTIC_KINEMATIC)
+      call mat_j2_kinematic_update(mat, f_new, hist_old, hist_new, tau, sound_speed, status, &
+                                   c_tau)
     case default
       hist_new = hist_old
       tau = 0.0_wp
@@ -125,7 +129,7 @@ contains
     real(wp), intent(out) :: lambda         !< Lame's first constant
     real(wp), intent(out) :: mu             !< shear modulus
     select case (mat%kind)
-    case (MAT_ELASTIC, MAT_PIECEWISE_LINEAR, MAT_POWER_LAW)
+    case (MAT_ELASTIC, MAT_PIECEWISE_LINEAR, MAT_POWER_LAW, MAT_PLASTIC_KINEMATIC)
       call lame_constants(mat%young, mat%poisson, lambda, mu)
     case (MAT_MOONEY_RIVLIN)
       call lame_constants(4.0_wp*(mat%mr_a + mat%mr_b)*(1.0_wp + mat%poisson), mat%poisson, &

@@ -20,7 +20,7 @@ module mefem_model
   integer, parameter, public :: SECTION_SOLID = 1, SECTION_SHELL = 2
   ! material kinds
   integer, parameter, public :: MAT_ELASTIC = 1, MAT_PIECEWISE_LINEAR = 24, MAT_POWER_LAW = 18, &
-                                MAT_RIGID = 20, MAT_MOONEY_RIVLIN = 27
+                                MAT_RIGID = 20, MAT_MOONEY_RIVLIN = 27, MAT_PLASTIC_KINEMATIC = 3
   ! targets of boundary conditions and loads
   integer, parameter, public :: ON_NODE = 1, ON_NODE_SET = 2, ON_PART = 3, ON_ALL_NODES = 4, &
                                 ON_PART_SET = 5, ON_SEGMENT_SET = 6
@@ -93,9 +93,10 @@ module mefem_model
     real(wp) :: density = 0.0_wp            !< RO
     real(wp) :: young = 0.0_wp              !< E
     real(wp) :: poisson = 0.0_wp            !< PR
-    ! plasticity (MAT_024, MAT_018)
+    ! plasticity (MAT_024, MAT_018, MAT_003)
     real(wp) :: yield_stress = 0.0_wp       !< SIGY
     real(wp) :: tangent_modulus = 0.0_wp    !< ETAN
+    real(wp) :: beta = 0.0_wp               !< BETA (MAT_003): 0 kinematic, 1 isotropic hardening
     real(wp) :: failure_strain = 0.0_wp     !< FAIL (MAT_024) / EPSF (MAT_018)
     real(wp) :: cowper_c = 0.0_wp, cowper_p = 0.0_wp   !< C, P (MAT_024) / SRC, SRP (MAT_018)
     integer :: lcss = 0                     !< curve id of stress vs plastic strain (MAT_024)

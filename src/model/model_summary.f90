@@ -5,6 +5,7 @@ module mefem_model_summary
   use mefem_errors, only: say, warn
   use mefem_strings, only: itoa, rtoa
   use mefem_model, only: model_t, MAT_ELASTIC, MAT_PIECEWISE_LINEAR, MAT_POWER_LAW, MAT_RIGID, &
+                         MAT_PLASTIC_KINEMATIC, &
                          MAT_MOONEY_RIVLIN
   use mefem_model_resolve, only: formulation_name
   implicit none
@@ -53,6 +54,8 @@ contains
       s = '*MAT_PIECEWISE_LINEAR_PLASTICITY'
     case (MAT_POWER_LAW)
       s = '*MAT_POWER_LAW_PLASTICITY'
+    case (MAT_PLASTIC_KINEMATIC)
+      s = '*MAT_PLASTIC_KINEMATIC'
     case (MAT_RIGID)
       s = '*MAT_RIGID'
     case (MAT_MOONEY_RIVLIN)
