@@ -240,25 +240,10 @@ contains
       ! N > 1 is allowed: the seed paper's law sigma_y0 (1 + a e_p)^b has b = 1.1
       if (mat%n_exponent < 0.0_wp) call fail(card, who// &
           'field N must be >= 0 '//quoted_real(mat%n_exponent))
-      if (mat%cowper_c < 0.0_wp) call fail(card, who//'field SRC must not be negative '// &
-          quoted_real(mat%cowper_c))
-      if (mat%cowper_p < 0.0_wp .or. (mat%cowper_c > 0.0_wp .and. mat%cowper_p == 0.0_wp)) &
-        call fail(card, who//'field SRP must be > 0 when SRC is given '// &
-                  quoted_real(mat%cowper_p))
       if (mat%yield_stress < 0.0_wp) call fail(card2, who//'field SIGY must not be '// &
           'negative '//quoted_real(mat%yield_stress))
-      if (mat%vp /= 0.0_wp .and. mat%vp /= 1.0_wp) call fail(card2, who// &
-          'field VP must be 0 or 1 '//quoted_real(mat%vp))
-      if (mat%failure_strain < 0.0_wp) call fail(card2, who//'field EPSF must not be '// &
-          'negative '//quoted_real(mat%failure_strain))
     end if
-    if (.not. bad) then
-      if (mat%cowper_c > 0.0_wp) call card_warning(card, who//'strain-rate effects (SRC, '// &
-          'SRP) are not modelled; the yield stress is the quasi-static law (doc/theory.md '// &
-          'section 4)')
-      if (mat%failure_strain > 0.0_wp) call card_warning(card2, who//'EPSF = '// &
-          rtoa(mat%failure_strain)//' ignored: mefem deletes no elements')
-    end if
+    if (.not. bad) call check_rate_and_failure(card, card2, mat, 'EPSF', bad)
     if (.not. bad) call add_material(model, mat)
     call reject_extra_cards(rd, 'material '//itoa(mat%id))
   contains
@@ -309,41 +294,56 @@ contains
       card2 = card
     end if
     if (.not. bad) then
-      if (.not. (mat%yield_stress > 0.0_wp)) call fail(card, who//'field SIGY must be > 0 '// &
-          quoted_real(mat%yield_stress))
+      if (.not. (mat%yield_stress > 0.0_wp)) call fail_field(card, who//'field SIGY must be '// &
+          '> 0 '//quoted_real(mat%yield_stress), bad)
       if (mat%tangent_modulus < 0.0_wp .or. mat%tangent_modulus >= mat%young) &
-        call fail(card, who//'field ETAN must be >= 0 and < E = '//rtoa(mat%young)//' '// &
-                  quoted_real(mat%tangent_modulus))
-      if (mat%beta < 0.0_wp .or. mat%beta > 1.0_wp) call fail(card, who//'field BETA must '// &
-          'be 0 (kinematic) to 1 (isotropic hardening) '//quoted_real(mat%beta))
-      if (mat%cowper_c < 0.0_wp) call fail(card2, who//'field SRC must not be negative '// &
-          quoted_real(mat%cowper_c))
-      if (mat%cowper_p < 0.0_wp .or. (mat%cowper_c > 0.0_wp .and. mat%cowper_p == 0.0_wp)) &
-        call fail(card2, who//'field SRP must be > 0 when SRC is given '// &
-                  quoted_real(mat%cowper_p))
-      if (mat%failure_strain < 0.0_wp) call fail(card2, who//'field FS must not be '// &
-          'negative '//quoted_real(mat%failure_strain))
-      if (mat%vp /= 0.0_wp .and. mat%vp /= 1.0_wp) call fail(card2, who// &
-          'field VP must be 0 or 1 '//quoted_real(mat%vp))
+        call fail_field(card, who//'field ETAN must be >= 0 and < E = '//rtoa(mat%young)// &
+                        ' '//quoted_real(mat%tangent_modulus), bad)
+      if (mat%beta < 0.0_wp .or. mat%beta > 1.0_wp) call fail_field(card, who//'field BETA '// &
+          'must be 0 (kinematic) to 1 (isotropic hardening) '//quoted_real(mat%beta), bad)
     end if
-    if (.not. bad) then
-      if (mat%cowper_c > 0.0_wp) call card_warning(card2, who//'strain-rate effects (SRC, '// &
-          'SRP) are not modelled; the yield stress is the quasi-static law (doc/theory.md '// &
-          'section 4)')
-      if (mat%failure_strain > 0.0_wp) call card_warning(card2, who//'FS = '// &
-          rtoa(mat%failure_strain)//' ignored: mefem deletes no elements')
-    end if
+    if (.not. bad) call check_rate_and_failure(card2, card2, mat, 'FS', bad)
     if (.not. bad) call add_material(model, mat)
     call reject_extra_cards(rd, 'material '//itoa(mat%id))
-  contains
-    !> Report and remember an error.
-    subroutine fail(where_card, message)
-      type(card_t), intent(in) :: where_card     !< the card with the field
-      character(len=*), intent(in) :: message    !< what is wrong
-      call card_error(where_card, message)
-      bad = .true.
-    end subroutine fail
   end subroutine read_mat_plastic_kinematic
+
+  !> The strain-rate and failure fields of *MAT_018 and *MAT_003 (SRC, SRP on rate_card; VP
+  !> and the failure strain, named fs_name, on fail_card): checked, and a warning for each that
+  !> is set, since mefem models neither rate effects nor element erosion.
+  subroutine check_rate_and_failure(rate_card, fail_card, mat, fs_name, bad)
+    type(card_t), intent(in) :: rate_card, fail_card   !< the cards holding the fields
+    type(material_t), intent(in) :: mat                !< the material
+    character(len=*), intent(in) :: fs_name            !< name of the failure strain field
+    logical, intent(inout) :: bad                      !< set on any error
+    character(len=:), allocatable :: who
+    logical :: was_bad
+    who = 'material '//itoa(mat%id)//': '
+    was_bad = bad
+    if (mat%cowper_c < 0.0_wp) call fail_field(rate_card, who//'field SRC must not be '// &
+        'negative '//quoted_real(mat%cowper_c), bad)
+    if (mat%cowper_p < 0.0_wp .or. (mat%cowper_c > 0.0_wp .and. mat%cowper_p == 0.0_wp)) &
+      call fail_field(rate_card, who//'field SRP must be > 0 when SRC is given '// &
+                      quoted_real(mat%cowper_p), bad)
+    if (mat%vp /= 0.0_wp .and. mat%vp /= 1.0_wp) call fail_field(fail_card, who// &
+        'field VP must be 0 or 1 '//quoted_real(mat%vp), bad)
+    if (mat%failure_strain < 0.0_wp) call fail_field(fail_card, who//'field '//fs_name// &
+        ' must not be negative '//quoted_real(mat%failure_strain), bad)
+    if (bad .and. .not. was_bad) return
+    if (mat%cowper_c > 0.0_wp) call card_warning(rate_card, who//'strain-rate effects (SRC, '// &
+        'SRP) are not modelled; the yield stress is the quasi-static law (doc/theory.md '// &
+        'section 4)')
+    if (mat%failure_strain > 0.0_wp) call card_warning(fail_card, who//fs_name//' = '// &
+        rtoa(mat%failure_strain)//' ignored: mefem deletes no elements')
+  end subroutine check_rate_and_failure
+
+  !> Report an error at a card and remember it.
+  subroutine fail_field(where_card, message, bad)
+    type(card_t), intent(in) :: where_card     !< the card with the field
+    character(len=*), intent(in) :: message    !< what is wrong
+    logical, intent(inout) :: bad              !< set
+    call card_error(where_card, message)
+    bad = .true.
+  end subroutine fail_field
 
   !> *MAT_MOONEY-RIVLIN_RUBBER: MID RO PR A B REF / SGL SW ST LCID. PR is Poisson's ratio
   !> (near 0.5 for rubber); E is not an input: the small-strain equivalent

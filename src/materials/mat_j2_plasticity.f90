@@ -80,7 +80,7 @@ contains
     type(status_t), intent(out) :: status               !< det F <= 0, no convergence
     real(wp), intent(out), optional :: c_tau(3,3,3,3)   !< spatial tangent of tau
     real(wp) :: mu, kappa, j, adj(3,3)
-    real(wp) :: cp_old(SYM), be_trial(SYM), s_trial(SYM), s(SYM), be_new(SYM)
+    real(wp) :: s_trial(SYM), s(SYM), be_new(SYM)
     real(wp) :: i_bar, mu_bar, norm_trial, alpha_old, alpha_new, yield_old, slope, dgamma
     real(wp) :: jp, scale, return_factor, factor
     real(wp) :: beta0, beta1, beta2, beta3, beta4
@@ -98,16 +98,9 @@ contains
     end if
     mu = mat%young/(2.0_wp*(1.0_wp + mat%poisson))
     kappa = mat%young/(3.0_wp*(1.0_wp - 2.0_wp*mat%poisson))
-    ! 1-2: the elastic trial state be_tr = scale F Cbar_p^-1 F^T (upper triangle: exactly
-    ! symmetric), scale = J^(-2/3)
-    scale = inverse_cube_root(j)
-    scale = scale*scale
-    cp_old = hist_old(HIST_CP:HIST_CP + 5)
-    call symmetric_sandwich(f_new, cp_old, scale, be_trial)
-    i_bar = (be_trial(XX) + be_trial(YY) + be_trial(ZZ))*ONE_THIRD
-    mu_bar = mu*i_bar
-    s_trial(XX:ZZ) = mu*(be_trial(XX:ZZ) - i_bar)
-    s_trial(XY:ZX) = mu*be_trial(XY:ZX)
+    ! 1-2: the elastic trial state
+    call elastic_trial(f_new, j, hist_old(HIST_CP:HIST_CP + 5), mu, scale, i_bar, mu_bar, &
+                       s_trial)
     norm_trial = sym_norm(s_trial)
     ! 3-4: yield check and return map
     alpha_old = hist_old(HIST_ALPHA)
@@ -490,7 +483,7 @@ contains
     real(wp), intent(out) :: sound_speed                !< dilatational wave speed
     type(status_t), intent(out) :: status               !< det F <= 0
     real(wp) :: mu, kappa, j, scale, i_bar, mu_bar, norm_xi, plastic_modulus, yield_old, dgamma
-    real(wp) :: jp, cp_old(SYM), be_trial(SYM), s_trial(SYM), back_trial(SYM), xi(SYM)
+    real(wp) :: jp, s_trial(SYM), back_trial(SYM), xi(SYM)
     real(wp) :: normal(SYM), s(SYM), back_new(SYM), be_new(SYM), adj(3,3), r(3,3)
     integer :: k
     hist_new = hist_old
@@ -505,14 +498,8 @@ contains
     kappa = mat%young/(3.0_wp*(1.0_wp - 2.0_wp*mat%poisson))
     plastic_modulus = mat%young*mat%tangent_modulus/(mat%young - mat%tangent_modulus)
     ! elastic trial state (as mat_j2_update) and the back stress in the current frame
-    scale = inverse_cube_root(j)
-    scale = scale*scale
-    cp_old = hist_old(HIST_CP:HIST_CP + 5)
-    call symmetric_sandwich(f_new, cp_old, scale, be_trial)
-    i_bar = (be_trial(XX) + be_trial(YY) + be_trial(ZZ))*ONE_THIRD
-    mu_bar = mu*i_bar
-    s_trial(XX:ZZ) = mu*(be_trial(XX:ZZ) - i_bar)
-    s_trial(XY:ZX) = mu*be_trial(XY:ZX)
+    call elastic_trial(f_new, j, hist_old(HIST_CP:HIST_CP + 5), mu, scale, i_bar, mu_bar, &
+                       s_trial)
     call polar_rotation(f_new, r)
     call symmetric_sandwich(r, hist_old(HIST_BACK:HIST_BACK + 5), 1.0_wp, back_trial)
     xi = s_trial - back_trial
@@ -542,6 +529,28 @@ contains
     call symmetric_sandwich(transpose(r), back_new, 1.0_wp, hist_new(HIST_BACK:HIST_BACK + 5))
     sound_speed = sqrt((kappa + 4.0_wp/3.0_wp*mu_bar)/mat%density)
   end subroutine kinematic_stress
+
+  !> The elastic trial state of the update at F (det J > 0) from Cbar_p^-1 of t_n: be_tr =
+  !> scale F Cbar_p^-1 F^T with scale = J^(-2/3) (upper triangle: exactly symmetric),
+  !> I_bar = tr(be_tr)/3, mu_bar = mu I_bar and s_tr = mu dev(be_tr).
+  pure subroutine elastic_trial(f, j, cp_old, mu, scale, i_bar, mu_bar, s_trial)
+    real(wp), intent(in) :: f(3,3)        !< deformation gradient F_{n+1}
+    real(wp), intent(in) :: j             !< det F
+    real(wp), intent(in) :: cp_old(SYM)   !< Cbar_p^-1 of t_n
+    real(wp), intent(in) :: mu            !< shear modulus
+    real(wp), intent(out) :: scale        !< J^(-2/3)
+    real(wp), intent(out) :: i_bar        !< tr(be_tr)/3
+    real(wp), intent(out) :: mu_bar       !< mu I_bar
+    real(wp), intent(out) :: s_trial(SYM) !< mu dev(be_tr)
+    real(wp) :: be_trial(SYM)
+    scale = inverse_cube_root(j)
+    scale = scale*scale
+    call symmetric_sandwich(f, cp_old, scale, be_trial)
+    i_bar = (be_trial(XX) + be_trial(YY) + be_trial(ZZ))*ONE_THIRD
+    mu_bar = mu*i_bar
+    s_trial(XX:ZZ) = mu*(be_trial(XX:ZZ) - i_bar)
+    s_trial(XY:ZX) = mu*be_trial(XY:ZX)
+  end subroutine elastic_trial
 
   !> The rotation R of the polar decomposition F = R U (det F > 0): Higham's scaled Newton
   !> iteration X <- (g X + X^-T / g)/2, g = (|X^-1| / |X|)^(1/2) (Frobenius norms), from X = F,
