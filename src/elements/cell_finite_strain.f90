@@ -14,7 +14,7 @@ module mefem_cell_finite_strain
 
   public :: cell_deformation_gradient, cell_internal_force, cell_tangent, inverse_3x3, &
             adjugate_3x3
-  public :: block_deformation_gradient, block_adjugate, block_internal_force
+  public :: block_deformation_gradient, block_adjugate, block_internal_force, block_strain_rate
 
 contains
 
@@ -159,6 +159,45 @@ contains
       end do
     end do
   end subroutine block_deformation_gradient
+
+  !> Effective strain rates of n cells (block form, as block_deformation_gradient): Fdot =
+  !> sum_a v_a (x) grad_a, l = Fdot F^-1 = Fdot adj(F)/J, d = sym(l), and the rate sqrt(d : d)
+  !> (deviatoric: sqrt(dev d : dev d)), LS-DYNA's measure for the Cowper-Symonds scale
+  !> (doc/theory.md section 4). Cells with J <= 0 get 0.
+  pure subroutine block_strain_rate(n, nn, v, grad, adj, det, deviatoric, rate)
+    integer, intent(in) :: n, nn                  !< cells (<= BLOCK_POINTS), nodes per cell
+    integer, parameter :: ld = BLOCK_POINTS       !< leading dimension
+    real(wp), intent(in) :: v(ld, 3, nn)          !< velocities of the cells' nodes
+    real(wp), intent(in) :: grad(ld, 3, nn)       !< reference gradients
+    real(wp), intent(in) :: adj(ld, 9)            !< adj(F), column by column
+    real(wp), intent(in) :: det(ld)               !< J = det F
+    logical, intent(in) :: deviatoric             !< the deviatoric rate (VP = -1)
+    real(wp), intent(out) :: rate(ld)             !< effective strain rates
+    real(wp) :: fdot(ld, 9), l(9), d(6), mean
+    integer :: i, r, c
+    call block_deformation_gradient(n, nn, v, grad, fdot)    ! (I + Fdot: the identity taken off)
+    do i = 1, n
+      fdot(i, 1) = fdot(i, 1) - 1.0_wp
+      fdot(i, 5) = fdot(i, 5) - 1.0_wp
+      fdot(i, 9) = fdot(i, 9) - 1.0_wp
+    end do
+    do i = 1, n
+      rate(i) = 0.0_wp
+      if (.not. det(i) > 0.0_wp) cycle
+      do c = 1, 3                               ! l(r, c) = sum_k Fdot(r, k) adj(k, c) / J
+        do r = 1, 3
+          l(r + 3*(c - 1)) = (fdot(i, r)*adj(i, 1 + 3*(c - 1)) + fdot(i, r + 3)* &
+              adj(i, 2 + 3*(c - 1)) + fdot(i, r + 6)*adj(i, 3 + 3*(c - 1)))/det(i)
+        end do
+      end do
+      d = [l(1), l(5), l(9), 0.5_wp*(l(4) + l(2)), 0.5_wp*(l(8) + l(6)), 0.5_wp*(l(3) + l(7))]
+      if (deviatoric) then
+        mean = (d(1) + d(2) + d(3))/3.0_wp
+        d(1:3) = d(1:3) - mean
+      end if
+      rate(i) = sqrt(d(1)**2 + d(2)**2 + d(3)**2 + 2.0_wp*(d(4)**2 + d(5)**2 + d(6)**2))
+    end do
+  end subroutine block_strain_rate
 
   !> Adjugates and determinants of n 3x3 matrices (block form of adjugate_3x3, the same
   !> expressions); m(i, :) and adj(i, :) column by column.

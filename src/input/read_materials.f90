@@ -125,9 +125,10 @@ contains
     if (.not. bad) call check_piecewise_linear(card, card2, card3, card4, mat, bad)
     if (.not. bad) then
       ! read, not modelled: say so where LS-DYNA would compute something else
-      if (mat%cowper_c > 0.0_wp .or. mat%lcsr /= 0) call card_warning(card2, 'material '// &
-          itoa(mat%id)//': strain-rate effects (C, P, LCSR) are not modelled; the yield '// &
-          'stress is the quasi-static curve (doc/theory.md section 4)')
+      if (mat%vp == 1.0_wp .and. (mat%cowper_c > 0.0_wp .or. mat%lcsr /= 0)) &
+        call card_warning(card2, 'material '//itoa(mat%id)//': VP = 1 (viscoplastic, the '// &
+            'plastic strain rate) is computed as VP = 0: the yield stress is scaled by the '// &
+            'total strain rate (doc/theory.md section 4)')
       if (mat%failure_strain < NO_FAILURE) call card_warning(card, 'material '// &
           itoa(mat%id)//': FAIL = '//rtoa(mat%failure_strain)//' ignored: mefem deletes '// &
           'no elements')
@@ -308,8 +309,8 @@ contains
   end subroutine read_mat_plastic_kinematic
 
   !> The strain-rate and failure fields of *MAT_018 and *MAT_003 (SRC, SRP on rate_card; VP
-  !> and the failure strain, named fs_name, on fail_card): checked, and a warning for each that
-  !> is set, since mefem models neither rate effects nor element erosion.
+  !> and the failure strain, named fs_name, on fail_card): checked; a warning for a failure
+  !> strain (mefem erodes no elements) and for VP = 1 with rate effects (computed as VP = 0).
   subroutine check_rate_and_failure(rate_card, fail_card, mat, fs_name, bad)
     type(card_t), intent(in) :: rate_card, fail_card   !< the cards holding the fields
     type(material_t), intent(in) :: mat                !< the material
@@ -329,9 +330,9 @@ contains
     if (mat%failure_strain < 0.0_wp) call fail_field(fail_card, who//'field '//fs_name// &
         ' must not be negative '//quoted_real(mat%failure_strain), bad)
     if (bad .and. .not. was_bad) return
-    if (mat%cowper_c > 0.0_wp) call card_warning(rate_card, who//'strain-rate effects (SRC, '// &
-        'SRP) are not modelled; the yield stress is the quasi-static law (doc/theory.md '// &
-        'section 4)')
+    if (mat%cowper_c > 0.0_wp .and. mat%vp == 1.0_wp) call card_warning(fail_card, who// &
+        'VP = 1 (viscoplastic, the plastic strain rate) is computed as VP = 0: the yield '// &
+        'stress is scaled by the total strain rate (doc/theory.md section 4)')
     if (mat%failure_strain > 0.0_wp) call card_warning(fail_card, who//fs_name//' = '// &
         rtoa(mat%failure_strain)//' ignored: mefem deletes no elements')
   end subroutine check_rate_and_failure

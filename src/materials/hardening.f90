@@ -24,7 +24,10 @@
 !>   first/last segment's slope outside the table (as *DEFINE_CURVE is evaluated).
 !> - HARDENING_CURVE, *MAT_024 with LCSS: K = curve_value(curve, alpha) of the yield stress
 !>   vs effective plastic strain curve; K' the slope of the segment curve_value uses.
-!> Strain-rate effects (C, P, LCSR, VP; SRC, SRP) are not part of these laws.
+!> Strain-rate effects scale K and K' by hardening_rate_factor(mat, curves, rate) of the
+!> element's effective strain rate (LS-DYNA's VP = 0 form, doc/theory.md section 4): the LCSR
+!> curve of *MAT_024 (scale against strain rate), else Cowper-Symonds 1 + (rate/C)^(1/P)
+!> (*MAT_024 C, P; *MAT_018 and *MAT_003 SRC, SRP).
 !> At a table or curve point alpha = EPS_i the slope is that of the segment to the right.
 module mefem_hardening
   use mefem_kinds, only: wp
@@ -42,7 +45,8 @@ module mefem_hardening
   real(wp), parameter, public :: POWER_LAW_STRAIN_LIMIT = 0.02_wp
 
   public :: hardening_yield, hardening_yield_block, piecewise_linear_law
-  public :: power_law_strain_offset, plastic_modulus
+  public :: power_law_strain_offset, plastic_modulus, hardening_rate_factor,  &
+            rate_dependent
 
   !> Curves of at most this many points have their segment found by counting (the block
   !> version); longer ones by bisection, point by point
@@ -175,6 +179,27 @@ contains
       power_law_strain_offset = 0.0_wp
     end if
   end function power_law_strain_offset
+
+  !> True when the material's yield stress depends on the strain rate: an LCSR curve (*MAT_024)
+  !> or a Cowper-Symonds C (SRC) > 0.
+  pure logical function rate_dependent(mat)
+    type(material_t), intent(in) :: mat        !< the material's parameters
+    rate_dependent = mat%lcsr_curve > 0 .or. mat%cowper_c > 0.0_wp
+  end function rate_dependent
+
+  !> Scale of the yield stress at the effective strain rate: the LCSR curve's value at the rate
+  !> (*MAT_024), else Cowper-Symonds 1 + (rate/C)^(1/P), else 1.
+  pure real(wp) function hardening_rate_factor(mat, curves, strain_rate) result(factor)
+    type(material_t), intent(in) :: mat        !< the material's parameters
+    type(curve_t), intent(in) :: curves(:)     !< the model's curves (for LCSR)
+    real(wp), intent(in) :: strain_rate        !< effective strain rate (1/time, >= 0)
+    factor = 1.0_wp
+    if (mat%lcsr_curve > 0) then
+      factor = curve_value(curves(mat%lcsr_curve), strain_rate)
+    else if (mat%cowper_c > 0.0_wp .and. strain_rate > 0.0_wp) then
+      factor = 1.0_wp + (strain_rate/mat%cowper_c)**(1.0_wp/mat%cowper_p)
+    end if
+  end function hardening_rate_factor
 
   !> *MAT_024 plastic modulus Ep = E ETAN/(E - ETAN) (0 for ETAN = 0).
   pure real(wp) function plastic_modulus(mat)

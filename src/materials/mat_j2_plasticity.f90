@@ -68,7 +68,7 @@ contains
   !> is read and written through the offsets of mefem_material_state. The 3x3 tensors of the
   !> tangent are built only when c_tau is asked for.
   pure subroutine mat_j2_update(mat, curves, law, f_new, hist_old, hist_new, tau, sound_speed, &
-                                status, c_tau)
+                                status, c_tau, rate_factor, committed)
     type(material_t), intent(in) :: mat                !< *MAT_024 / *MAT_018 parameters
     type(curve_t), intent(in) :: curves(:)              !< the model's curves (for LCSS)
     integer, intent(in) :: law                          !< HARDENING_* of mefem_hardening
@@ -79,7 +79,11 @@ contains
     real(wp), intent(out) :: sound_speed                !< dilatational wave speed
     type(status_t), intent(out) :: status               !< det F <= 0, no convergence
     real(wp), intent(out), optional :: c_tau(3,3,3,3)   !< spatial tangent of tau
-    real(wp) :: mu, kappa, j, adj(3,3)
+    real(wp), intent(in), optional :: rate_factor       !< yield stress scale of the strain
+                                                        !< rate (hardening_rate_factor; 1)
+    logical, intent(in), optional :: committed          !< hist_old is F's own (output): its
+                                                        !< stress, no yield check
+    real(wp) :: mu, kappa, j, adj(3,3), factor_rate
     real(wp) :: s_trial(SYM), s(SYM), be_new(SYM)
     real(wp) :: i_bar, mu_bar, norm_trial, alpha_old, alpha_new, yield_old, slope, dgamma
     real(wp) :: jp, scale, return_factor, factor
@@ -104,19 +108,24 @@ contains
     norm_trial = sym_norm(s_trial)
     ! 3-4: yield check and return map
     alpha_old = hist_old(HIST_ALPHA)
+    factor_rate = 1.0_wp
+    if (present(rate_factor)) factor_rate = rate_factor
     call hardening_yield(law, mat, curves, alpha_old, yield_old, slope)
+    yield_old = factor_rate*yield_old
+    slope = factor_rate*slope
     if (.not. (yield_old > 0.0_wp)) then
       call fail(status, mat, 'yield stress '//rtoa(yield_old)//' <= 0 at plastic strain '// &
                 rtoa(alpha_old))
       return
     end if
     plastic = norm_trial - SQRT_TWO_THIRDS*yield_old > 0.0_wp
+    if (present(committed)) plastic = plastic .and. .not. committed
     dgamma = 0.0_wp
     alpha_new = alpha_old
     s = s_trial
     if (plastic) then
-      call return_map(law, mat, curves, alpha_old, yield_old, norm_trial, mu_bar, dgamma, &
-                      slope, converged)
+      call return_map(law, mat, curves, factor_rate, alpha_old, yield_old, norm_trial, &
+                      mu_bar, dgamma, slope, converged)
       if (.not. converged) then
         call fail(status, mat, 'J2 return map did not converge (trial von Mises stress '// &
                   rtoa(sqrt(1.5_wp)*norm_trial)//', yield stress '//rtoa(yield_old)//')')
@@ -176,7 +185,7 @@ contains
   !> f(i, 1:9): F_{n+1} column by column; j(i) = det F_{n+1} (the caller's, same expression);
   !> hist(i, :): history at t_n in, at t_{n+1} out (points that fail: unchanged);
   !> tau(i, 1:6): Kirchhoff stress XX YY ZZ XY YZ ZX.
-  subroutine mat_j2_update_block(mat, curves, law, n, f, j, hist, tau, ok)
+  subroutine mat_j2_update_block(mat, curves, law, n, f, j, hist, tau, ok, rate_factor)
     type(material_t), intent(in) :: mat                !< *MAT_024 / *MAT_018 parameters
     type(curve_t), intent(in) :: curves(:)              !< the model's curves (for LCSS)
     integer, intent(in) :: law                          !< HARDENING_* of mefem_hardening
@@ -187,7 +196,8 @@ contains
     real(wp), intent(inout) :: hist(ld, NHIST)          !< histories t_n -> t_{n+1}
     real(wp), intent(out) :: tau(ld, SYM)               !< Kirchhoff stresses
     logical, intent(out) :: ok(ld)                      !< point updated
-    real(wp) :: mu, kappa, inverse_mu
+    real(wp), intent(in), optional :: rate_factor(ld)   !< yield stress scales (1)
+    real(wp) :: mu, kappa, inverse_mu, factor_rate(ld)
     real(wp), dimension(ld) :: x, d, scale, i_bar, mu_bar, norm_trial, yield_old
     real(wp), dimension(ld) :: slope, dgamma, i2, i3, g, jp, denominator
     real(wp), dimension(ld) :: residual0, step, alpha_step, yield_step, slope_step
@@ -243,6 +253,15 @@ contains
     ! 3-4: yield check (the hardening law for the whole block) and return map of the plastic
     ! points (points that cannot be updated are neither: their alpha_n is not used)
     call hardening_yield_block(law, mat, curves, n, hist(:, HIST_ALPHA), yield_old, slope)
+    if (present(rate_factor)) then
+      factor_rate(1:n) = rate_factor(1:n)
+      do i = 1, n
+        yield_old(i) = factor_rate(i)*yield_old(i)
+        slope(i) = factor_rate(i)*slope(i)
+      end do
+    else
+      factor_rate(1:n) = 1.0_wp
+    end if
     do i = 1, n
       ok(i) = ok(i) .and. yield_old(i) > 0.0_wp
       plastic(i) = ok(i) .and. norm_trial(i) - SQRT_TWO_THIRDS*yield_old(i) > 0.0_wp
@@ -271,6 +290,12 @@ contains
       alpha_step(k) = hist(i, HIST_ALPHA) + SQRT_TWO_THIRDS*step(k)
     end do
     call hardening_yield_block(law, mat, curves, nplastic, alpha_step, yield_step, slope_step)
+    if (present(rate_factor)) then
+      do k = 1, nplastic
+        yield_step(k) = factor_rate(plastic_point(k))*yield_step(k)
+        slope_step(k) = factor_rate(plastic_point(k))*slope_step(k)
+      end do
+    end if
     do k = 1, nplastic
       i = plastic_point(k)
       residual1 = norm_trial(i) - 2.0_wp*mu_bar(i)*step(k) - SQRT_TWO_THIRDS*yield_step(k)
@@ -280,7 +305,8 @@ contains
         dgamma(i) = step(k)
         slope(i) = slope_step(k)
       else
-        call return_map(law, mat, curves, hist(i, HIST_ALPHA), yield_old(i), norm_trial(i), &
+        call return_map(law, mat, curves, factor_rate(i), hist(i, HIST_ALPHA), yield_old(i), &
+                        norm_trial(i), &
                         mu_bar(i), dgamma(i), slope(i), converged)
         ok(i) = converged
       end if
@@ -380,11 +406,12 @@ contains
   !> Plastic multiplier dgamma of the return map: root of
   !> r = |s_tr| - 2 mu_bar dgamma - sqrt(2/3) K(alpha_n + sqrt(2/3) dgamma) in
   !> (0, |s_tr|/(2 mu_bar)) by Newton steps, replaced by bisection when they leave the bracket.
-  pure subroutine return_map(law, mat, curves, alpha_old, yield_old, norm_trial, mu_bar, &
-                             dgamma, slope, converged)
+  pure subroutine return_map(law, mat, curves, factor_rate, alpha_old, yield_old, norm_trial, &
+                             mu_bar, dgamma, slope, converged)
     integer, intent(in) :: law                 !< HARDENING_*
     type(material_t), intent(in) :: mat        !< material parameters
     type(curve_t), intent(in) :: curves(:)     !< the model's curves
+    real(wp), intent(in) :: factor_rate        !< yield scale of the strain rate (1: none)
     real(wp), intent(in) :: alpha_old          !< alpha_n
     real(wp), intent(in) :: yield_old          !< K(alpha_n) (the yield check's)
     real(wp), intent(in) :: norm_trial         !< |s_tr| (> sqrt(2/3) K(alpha_n))
@@ -401,9 +428,12 @@ contains
     converged = .false.
     yield_stress = yield_old                   ! the first iterate, dgamma = 0, is alpha_n
     do iteration = 1, MAX_RETURN_ITERATIONS
-      if (iteration > 1) call hardening_yield(law, mat, curves, &
-                                              alpha_old + SQRT_TWO_THIRDS*dgamma, &
-                                              yield_stress, slope)
+      if (iteration > 1) then
+        call hardening_yield(law, mat, curves, alpha_old + SQRT_TWO_THIRDS*dgamma, &
+                             yield_stress, slope)
+        yield_stress = factor_rate*yield_stress
+        slope = factor_rate*slope
+      end if
       residual = norm_trial - 2.0_wp*mu_bar*dgamma - SQRT_TWO_THIRDS*yield_stress
       if (abs(residual) <= RETURN_TOLERANCE*norm_trial) then
         converged = .true.
@@ -440,7 +470,7 @@ contains
   !> central difference of this update along the six symmetric directions h of dF = h F
   !> (c : h = D tau[h F] - h tau - tau h^T; step 1e-6): consistent to about 1e-9.
   pure subroutine mat_j2_kinematic_update(mat, f_new, hist_old, hist_new, tau, sound_speed, &
-                                          status, c_tau)
+                                          status, c_tau, rate_factor, committed)
     type(material_t), intent(in) :: mat                !< *MAT_003 parameters
     real(wp), intent(in) :: f_new(3,3)                  !< deformation gradient F_{n+1}
     real(wp), intent(in) :: hist_old(NHIST)             !< history at t_n
@@ -449,11 +479,21 @@ contains
     real(wp), intent(out) :: sound_speed                !< dilatational wave speed
     type(status_t), intent(out) :: status               !< det F <= 0
     real(wp), intent(out), optional :: c_tau(3,3,3,3)   !< spatial tangent of tau
+    real(wp), intent(in), optional :: rate_factor       !< yield stress scale of the strain
+                                                        !< rate (1)
+    logical, intent(in), optional :: committed          !< hist_old is F's own (output)
     real(wp), parameter :: STEP = 1.0e-6_wp
     real(wp) :: h(3,3), tau_plus(3,3), tau_minus(3,3), scratch(NHIST), d_tau(3,3), dummy
     integer :: k, l
     type(status_t) :: probe
-    call kinematic_stress(mat, f_new, hist_old, hist_new, tau, sound_speed, status)
+    real(wp) :: factor_rate
+    logical :: elastic_only
+    factor_rate = 1.0_wp
+    if (present(rate_factor)) factor_rate = rate_factor
+    elastic_only = .false.
+    if (present(committed)) elastic_only = committed
+    call kinematic_stress(mat, factor_rate, elastic_only, f_new, hist_old, hist_new, tau, &
+                          sound_speed, status)
     if (.not. present(c_tau)) return
     c_tau = 0.0_wp
     if (.not. status%ok) return
@@ -462,10 +502,10 @@ contains
         h = 0.0_wp
         h(k, l) = 0.5_wp
         h(l, k) = h(l, k) + 0.5_wp
-        call kinematic_stress(mat, f_new + STEP*matmul(h, f_new), hist_old, scratch, tau_plus, &
-                              dummy, probe)
-        call kinematic_stress(mat, f_new - STEP*matmul(h, f_new), hist_old, scratch, &
-                              tau_minus, dummy, probe)
+        call kinematic_stress(mat, factor_rate, elastic_only, f_new + STEP*matmul(h, f_new), &
+                              hist_old, scratch, tau_plus, dummy, probe)
+        call kinematic_stress(mat, factor_rate, elastic_only, f_new - STEP*matmul(h, f_new), &
+                              hist_old, scratch, tau_minus, dummy, probe)
         d_tau = (tau_plus - tau_minus)/(2.0_wp*STEP) - matmul(h, tau) - matmul(tau, transpose(h))
         c_tau(:, :, k, l) = d_tau
         c_tau(:, :, l, k) = d_tau
@@ -474,8 +514,11 @@ contains
   end subroutine mat_j2_kinematic_update
 
   !> The stress, history and wave speed of mat_j2_kinematic_update (no tangent).
-  pure subroutine kinematic_stress(mat, f_new, hist_old, hist_new, tau, sound_speed, status)
+  pure subroutine kinematic_stress(mat, factor_rate, elastic_only, f_new, hist_old, hist_new, &
+                              tau, sound_speed, status)
     type(material_t), intent(in) :: mat                !< *MAT_003 parameters
+    real(wp), intent(in) :: factor_rate                 !< yield scale of the strain rate
+    logical, intent(in) :: elastic_only                 !< no yield check (committed stress)
     real(wp), intent(in) :: f_new(3,3)                  !< deformation gradient F_{n+1}
     real(wp), intent(in) :: hist_old(NHIST)             !< history at t_n
     real(wp), intent(out) :: hist_new(NHIST)            !< history at t_{n+1}
@@ -505,12 +548,13 @@ contains
     xi = s_trial - back_trial
     norm_xi = sym_norm(xi)
     ! yield check and the closed-form return (linear hardening)
-    yield_old = mat%yield_stress + mat%beta*plastic_modulus*hist_old(HIST_ALPHA)
+    ! (the strain rate scales the yield stress, SIGY + BETA Ep alpha, and its slope)
+    yield_old = factor_rate*(mat%yield_stress + mat%beta*plastic_modulus*hist_old(HIST_ALPHA))
     s = s_trial
     back_new = back_trial
-    if (norm_xi - SQRT_TWO_THIRDS*yield_old > 0.0_wp) then
-      dgamma = (norm_xi - SQRT_TWO_THIRDS*yield_old)/ &
-               (2.0_wp*mu_bar + 2.0_wp/3.0_wp*plastic_modulus)
+    if (norm_xi - SQRT_TWO_THIRDS*yield_old > 0.0_wp .and. .not. elastic_only) then
+      dgamma = (norm_xi - SQRT_TWO_THIRDS*yield_old)/(2.0_wp*mu_bar + 2.0_wp/3.0_wp* &
+               (factor_rate*mat%beta + 1.0_wp - mat%beta)*plastic_modulus)
       normal = xi/norm_xi
       s = s_trial - 2.0_wp*mu_bar*dgamma*normal
       back_new = back_trial + 2.0_wp/3.0_wp*(1.0_wp - mat%beta)*plastic_modulus*dgamma*normal

@@ -31,21 +31,22 @@ module mefem_material_update
   use mefem_errors, only: status_t
   use mefem_strings, only: itoa
   use mefem_material_state, only: NHIST, BLOCK_POINTS
-  use mefem_hardening, only: HARDENING_POWER_LAW, piecewise_linear_law
+  use mefem_hardening, only: HARDENING_POWER_LAW, piecewise_linear_law, hardening_rate_factor, &
+                             rate_dependent
   use mefem_mat_elastic, only: mat_elastic_update, lame_constants
   use mefem_mat_j2_plasticity, only: mat_j2_update, mat_j2_update_block, mat_j2_kinematic_update
   use mefem_mat_mooney_rivlin, only: mat_mooney_rivlin_update
   implicit none
   private
 
-  public :: material_update, material_update_block, material_elastic_moduli
+  public :: material_update, material_update_block, material_elastic_moduli, rate_dependent
 
 contains
 
   !> Update one material point to F_{n+1}: new history, Kirchhoff stress, wave speed and
   !> optionally the spatial tangent (contract in the module header).
   pure subroutine material_update(mat, curves, f_new, hist_old, hist_new, tau, c_tau, &
-                                  sound_speed, status)
+                                  sound_speed, status, strain_rate, committed)
     type(material_t), intent(in) :: mat                !< the material card
     type(curve_t), intent(in) :: curves(:)              !< the model's curves (LCSS)
     real(wp), intent(in) :: f_new(3,3)                  !< deformation gradient F_{n+1}
@@ -55,21 +56,28 @@ contains
     real(wp), intent(out), optional :: c_tau(3,3,3,3)   !< spatial tangent of tau
     real(wp), intent(out) :: sound_speed                !< dilatational wave speed
     type(status_t), intent(out) :: status               !< failure and its reason
+    real(wp), intent(in), optional :: strain_rate       !< effective strain rate (plasticity
+                                                        !< with rate effects; 0 if absent)
+    logical, intent(in), optional :: committed          !< hist_old already holds F (output):
+                                                        !< the committed stress, no yield check
+    real(wp) :: factor
+    factor = 1.0_wp
+    if (present(strain_rate)) factor = hardening_rate_factor(mat, curves, strain_rate)
     select case (mat%kind)
     case (MAT_ELASTIC)
       call mat_elastic_update(mat, f_new, hist_old, hist_new, tau, sound_speed, status, c_tau)
     case (MAT_PIECEWISE_LINEAR)
       call mat_j2_update(mat, curves, piecewise_linear_law(mat), f_new, hist_old, hist_new, &
-                         tau, sound_speed, status, c_tau)
+                         tau, sound_speed, status, c_tau, factor, committed)
     case (MAT_POWER_LAW)
       call mat_j2_update(mat, curves, HARDENING_POWER_LAW, f_new, hist_old, hist_new, tau, &
-                         sound_speed, status, c_tau)
+                         sound_speed, status, c_tau, factor, committed)
     case (MAT_MOONEY_RIVLIN)
       call mat_mooney_rivlin_update(mat, f_new, hist_old, hist_new, tau, sound_speed, status, &
                                     c_tau)
     case (MAT_PLASTIC_KINEMATIC)
       call mat_j2_kinematic_update(mat, f_new, hist_old, hist_new, tau, sound_speed, status, &
-                                   c_tau)
+                                   c_tau, factor, committed)
     case default
       hist_new = hist_old
       tau = 0.0_wp
@@ -89,7 +97,7 @@ contains
   !> the other laws point by point through material_update (same results as material_update
   !> point by point). A point whose update fails gets ok(i) = .false. and keeps its history;
   !> material_update on it gives the reason.
-  subroutine material_update_block(mat, curves, n, f, j, hist, tau, ok)
+  subroutine material_update_block(mat, curves, n, f, j, hist, tau, ok, strain_rate)
     type(material_t), intent(in) :: mat                !< the material card
     type(curve_t), intent(in) :: curves(:)              !< the model's curves (LCSS)
     integer, intent(in) :: n                            !< points in the block (<= BLOCK_POINTS)
@@ -99,19 +107,27 @@ contains
     real(wp), intent(inout) :: hist(ld, NHIST)          !< histories t_n -> t_{n+1}
     real(wp), intent(out) :: tau(ld, 6)                 !< Kirchhoff stress XX YY ZZ XY YZ ZX
     logical, intent(out) :: ok(ld)                      !< point updated
-    real(wp) :: f_point(3, 3), tau_point(3, 3), hist_new(NHIST), sound
+    real(wp), intent(in), optional :: strain_rate(ld)   !< effective strain rates (0 if absent)
+    real(wp) :: f_point(3, 3), tau_point(3, 3), hist_new(NHIST), sound, rate(ld), factor(ld)
     type(status_t) :: status
     integer :: i
+    rate(1:n) = 0.0_wp
+    if (present(strain_rate)) rate(1:n) = strain_rate(1:n)
     select case (mat%kind)
-    case (MAT_PIECEWISE_LINEAR)
-      call mat_j2_update_block(mat, curves, piecewise_linear_law(mat), n, f, j, hist, tau, ok)
-    case (MAT_POWER_LAW)
-      call mat_j2_update_block(mat, curves, HARDENING_POWER_LAW, n, f, j, hist, tau, ok)
+    case (MAT_PIECEWISE_LINEAR, MAT_POWER_LAW)
+      if (present(strain_rate)) then
+        do i = 1, n
+          factor(i) = hardening_rate_factor(mat, curves, rate(i))
+        end do
+        call mat_j2_update_block(mat, curves, block_law(mat), n, f, j, hist, tau, ok, factor)
+      else
+        call mat_j2_update_block(mat, curves, block_law(mat), n, f, j, hist, tau, ok)
+      end if
     case default
       do i = 1, n
         f_point = reshape(f(i, :), [3, 3])
         call material_update(mat, curves, f_point, hist(i, :), hist_new, tau_point, &
-                             sound_speed=sound, status=status)
+                             sound_speed=sound, status=status, strain_rate=rate(i))
         ok(i) = status%ok
         tau(i, :) = [tau_point(1, 1), tau_point(2, 2), tau_point(3, 3), tau_point(1, 2), &
                      tau_point(2, 3), tau_point(3, 1)]
@@ -119,6 +135,13 @@ contains
       end do
     end select
   end subroutine material_update_block
+
+  !> The hardening law of a J2 material of the block kernel (*MAT_024's or the power law).
+  pure integer function block_law(mat)
+    type(material_t), intent(in) :: mat                !< *MAT_024 or *MAT_018
+    block_law = HARDENING_POWER_LAW
+    if (mat%kind == MAT_PIECEWISE_LINEAR) block_law = piecewise_linear_law(mat)
+  end function block_law
 
   !> Small-strain Lame constants of a material (for the explicit stable time step):
   !> *MAT_ELASTIC and the J2 laws from E and PR; *MAT_MOONEY-RIVLIN_RUBBER mu = 2 (A + B) and

@@ -102,6 +102,7 @@ module mefem_model
     integer :: lcss = 0                     !< curve id of stress vs plastic strain (MAT_024)
     integer :: lcss_curve = 0               !< its index (after resolve)
     integer :: lcsr = 0                     !< strain-rate curve id (MAT_024)
+    integer :: lcsr_curve = 0               !< its index (after resolve)
     real(wp) :: vp = 0.0_wp                 !< VP rate formulation flag
     integer :: n_points = 0                 !< EPS/ES pairs given (MAT_024)
     real(wp) :: eps(8) = 0.0_wp, es(8) = 0.0_wp

@@ -239,7 +239,7 @@ contains
   subroutine resolve_materials(model, look)
     type(model_t), intent(inout) :: model     !< the model
     type(lookup_t), intent(in) :: look        !< lookups
-    integer :: m, index
+    integer :: m
     character(len=:), allocatable :: where
     do m = 1, model%n_materials
       associate (mat => model%materials(m))
@@ -247,7 +247,7 @@ contains
         where = where_is(mat%src, material_keyword(mat%kind))
         if (mat%lcss > 0) call resolve_curve(look, mat%lcss, mat%lcss_curve, where, &
             'material '//itoa(mat%id)//': LCSS ')
-        if (mat%lcsr > 0) call resolve_curve(look, mat%lcsr, index, where, &
+        if (mat%lcsr > 0) call resolve_curve(look, mat%lcsr, mat%lcsr_curve, where, &
             'material '//itoa(mat%id)//': LCSR ')
       end associate
     end do

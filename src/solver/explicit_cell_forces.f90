@@ -23,11 +23,12 @@ module mefem_explicit_cell_forces
                               block_hexahedron_frequency
   use mefem_cell_finite_strain, only: cell_deformation_gradient, cell_internal_force, &
                                       block_deformation_gradient, block_adjugate, &
-                                      block_internal_force, adjugate_3x3
+                                      block_internal_force, adjugate_3x3, block_strain_rate, &
+                                      inverse_3x3
   use mefem_stable_time_step, only: cell_critical_omega_squared, block_critical_omega_squared, &
                                     cell_split_weights, inverse_mass_metric
   use mefem_material_state, only: NHIST, material_state_init, BLOCK_CELLS => BLOCK_POINTS
-  use mefem_material_update, only: material_update, material_update_block
+  use mefem_material_update, only: material_update, material_update_block, rate_dependent
   use mefem_tensor_algebra, only: determinant, inverse_cube_root
   use mefem_explicit_state, only: explicit_state_t, set_to_zero, state_peer_view
   use mefem_comm, only: comm_rank, comm_size, comm_barrier, comm_arena_free, comm_arena_sync, &
@@ -284,7 +285,7 @@ contains
     real(wp), intent(in), contiguous :: w0(:,:)       !< (dim, dim) inverse-mass metric
     real(wp), intent(in) :: hist_old(NHIST)           !< history at t_n
     real(wp) :: ue(3, CELL_MAX_NODES), f(3, 3), tau(3, 3), hist_new(NHIST), sound, omega2
-    real(wp) :: fbar(3, 3), det, jbar, adjugate(3, 3)
+    real(wp) :: fbar(3, 3), det, jbar, adjugate(3, 3), rate
     type(status_t) :: status
     integer :: nn, dim, k
     logical :: averaged
@@ -294,6 +295,9 @@ contains
       ue(1:dim, k) = s%u(1:dim, s%nodes(k, l))
     end do
     call cell_deformation_gradient(dim, nn, grad, ue(1:dim, 1:nn), f)
+    rate = 0.0_wp
+    if (rate_dependent(model%materials(s%material(l)))) rate = cell_strain_rate(s, l, grad, f, &
+        model%materials(s%material(l))%vp < 0.0_wp)
     averaged = s%nodal_pressure
     if (averaged) averaged = s%np_cell(l)
     if (averaged) then                        ! as block_forces, one cell
@@ -302,7 +306,7 @@ contains
       jbar = merge(jbar, det, det > 0.0_wp .and. jbar > 0.0_wp)
       fbar = f*volume_scale(jbar, det)
       call material_update(model%materials(s%material(l)), model%curves, fbar, hist_old, &
-                           hist_new, tau, sound_speed=sound, status=status)
+                           hist_new, tau, sound_speed=sound, status=status, strain_rate=rate)
       if (status%ok) then
         call split_pressure(tau(1, 1), tau(2, 2), tau(3, 3), jbar, s%np_pressure(l))
         s%np_jbar(l) = jbar
@@ -313,7 +317,7 @@ contains
       end if
     else
       call material_update(model%materials(s%material(l)), model%curves, f, hist_old, &
-                           hist_new, tau, sound_speed=sound, status=status)
+                           hist_new, tau, sound_speed=sound, status=status, strain_rate=rate)
     end if
     if (.not. status%ok) then
       s%cell_force(:, :, l) = 0.0_wp
@@ -333,6 +337,34 @@ contains
     omega2 = cell_critical_omega_squared(dim, s%weight(l), w0, f, s%lame(1, l), s%lame(2, l))
     call take_cell_step(model, s, l, omega2)
   end subroutine cell_evaluate
+
+  !> Effective strain rate of local cell l (as block_strain_rate, one cell, 2D or 3D): d =
+  !> sym(Fdot F^-1), Fdot = sum_a v_a (x) grad_a, the rate sqrt(d : d) (deviatoric: of dev d).
+  real(wp) function cell_strain_rate(s, l, grad, f, deviatoric) result(rate)
+    type(explicit_state_t), intent(in) :: s           !< local state
+    integer, intent(in) :: l                          !< local cell
+    real(wp), intent(in), contiguous :: grad(:,:)     !< (dim, CELL_MAX_NODES) gradients
+    real(wp), intent(in) :: f(3, 3)                   !< its F
+    logical, intent(in) :: deviatoric                 !< the deviatoric rate (VP = -1)
+    real(wp) :: fdot(3, 3), finv(3, 3), d(3, 3), det, mean
+    integer :: a, dim
+    dim = s%dim
+    fdot = 0.0_wp
+    do a = 1, s%nnodes(l)
+      fdot(1:dim, 1:dim) = fdot(1:dim, 1:dim) + spread(s%v(:, s%nodes(a, l)), 2, dim)* &
+                           spread(grad(1:dim, a), 1, dim)
+    end do
+    call inverse_3x3(f, finv, det)
+    d = matmul(fdot, finv)
+    d = 0.5_wp*(d + transpose(d))
+    if (deviatoric) then
+      mean = (d(1, 1) + d(2, 2) + d(3, 3))/3.0_wp
+      do a = 1, 3
+        d(a, a) = d(a, a) - mean
+      end do
+    end if
+    rate = sqrt(sum(d*d))
+  end function cell_strain_rate
 
   !> A cell's stable step 2/omega from its bound omega^2 (a NaN or overflow fails the cell),
   !> with the mass added if scaling, times TSSFAC; the smallest is kept with its cell, among
@@ -501,8 +533,8 @@ contains
     real(wp) :: fbar(LD, 9), jbar(LD), scale(LD)
     real(wp) :: v(LD, 3, CELL_MAX_NODES), gamma(LD, CELL_MAX_NODES, HOURGLASS_MODES)
     real(wp) :: stiffness(LD, 6), viscosity(LD), energy(LD), power(LD), c_inverse(6)
-    real(wp) :: position(LD, 3, 8), rule(LD)
-    logical :: ok(LD), finite(LD), steps_at_once, averaged, hexahedral
+    real(wp) :: position(LD, 3, 8), rule(LD), rate(LD)
+    logical :: ok(LD), finite(LD), steps_at_once, averaged, hexahedral, rated
     integer :: n, nn, i, a, l, node, first, h, k
     first = s%block_start(b)
     n = s%block_start(b + 1) - first
@@ -524,6 +556,22 @@ contains
     call block_deformation_gradient(n, nn, u, s%block_grad(:, :, :, b), f)
     call block_adjugate(n, f, adj, det)
     l = s%block_cell(first)
+    ! rate effects of the material (Cowper-Symonds, LCSR): the cells' effective strain rates
+    ! from the velocities v^{n+1/2} (the hexahedra's hourglass forces use these too)
+    rated = rate_dependent(model%materials(s%material(l)))
+    hexahedral = s%hourglass
+    if (hexahedral) hexahedral = s%hg_slot(l) > 0
+    if (rated .or. hexahedral) then
+      do i = 1, n
+        do a = 1, nn
+          node = s%nodes(a, s%block_cell(first + i - 1))
+          if (node == 0) node = s%nodes(1, s%block_cell(first + i - 1))
+          v(i, :, a) = s%v(:, node)
+        end do
+      end do
+    end if
+    if (rated) call block_strain_rate(n, nn, v, s%block_grad(:, :, :, b), adj, det, &
+                                      model%materials(s%material(l))%vp < 0.0_wp, rate)
     averaged = s%nodal_pressure
     if (averaged) averaged = s%np_cell(l)
     if (averaged) then
@@ -539,8 +587,13 @@ contains
           fbar(i, a) = f(i, a)*scale(i)
         end do
       end do
-      call material_update_block(model%materials(s%material(l)), model%curves, n, fbar, jbar, &
-                                 s%block_hist(:, :, b), tau, ok)
+      if (rated) then
+        call material_update_block(model%materials(s%material(l)), model%curves, n, fbar, &
+                                   jbar, s%block_hist(:, :, b), tau, ok, rate)
+      else
+        call material_update_block(model%materials(s%material(l)), model%curves, n, fbar, &
+                                   jbar, s%block_hist(:, :, b), tau, ok)
+      end if
       do i = 1, n
         l = s%block_cell(first + i - 1)
         call split_pressure(tau(i, 1), tau(i, 2), tau(i, 3), jbar(i), s%np_pressure(l))
@@ -563,15 +616,18 @@ contains
         end do
       end do
     else
-      call material_update_block(model%materials(s%material(l)), model%curves, n, f, det, &
-                                 s%block_hist(:, :, b), tau, ok)
+      if (rated) then
+        call material_update_block(model%materials(s%material(l)), model%curves, n, f, det, &
+                                   s%block_hist(:, :, b), tau, ok, rate)
+      else
+        call material_update_block(model%materials(s%material(l)), model%curves, n, f, det, &
+                                   s%block_hist(:, :, b), tau, ok)
+      end if
     end if
     if (.not. averaged) call block_internal_force(n, nn, s%block_grad(:, :, :, b), &
                                                   s%block_weight(:, b), adj, det, tau, force)
     call block_critical_omega_squared(n, s%block_weight(:, b), s%block_w0(:, :, b), adj, det, &
                                       s%lame(1, l), s%lame(2, l), omega2)
-    hexahedral = s%hourglass
-    if (hexahedral) hexahedral = s%hg_slot(s%block_cell(first)) > 0
     if (hexahedral) then
       ! one-point hexahedra: the hourglass forces (velocities of the padded slots: the first
       ! node's, their gamma is zero) and the step: the larger of the element bound's and
@@ -582,9 +638,6 @@ contains
         l = s%block_cell(first + i - 1)
         h = s%hg_slot(l)
         do a = 1, nn
-          node = s%nodes(a, l)
-          if (node == 0) node = s%nodes(1, l)
-          v(i, :, a) = s%v(:, node)
           gamma(i, a, :) = s%hg_gamma(a, :, h)
         end do
         do a = 1, 8                             ! the corners' current positions

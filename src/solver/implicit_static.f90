@@ -27,7 +27,7 @@ module mefem_implicit_static
                                       cell_tangent, inverse_3x3
   use mefem_hexahedron, only: hourglass_stiffness_cell
   use mefem_material_state, only: NHIST, HIST_ALPHA, material_state_init
-  use mefem_material_update, only: material_update
+  use mefem_material_update, only: material_update, rate_dependent
   use mefem_boundary_conditions, only: fixed_dofs, prescribed_displacements, external_forces
   use mefem_sparse_assembly, only: coo_matrix_t, coo_init, coo_add_block, coo_reset_values, &
                                    coo_free
@@ -184,7 +184,7 @@ contains
       ! whole increment of a driven boundary into the cells next to it.
       if (dt_last > 0.0_wp) where (equation > 0) u = u + (dt/dt_last)*(u_step - u_last)
       call newton_step(model, cells, owned, equation, n_equations, t + dt, hist, u, &
-                       tangent, solver, trial, iterations, converged)
+                       tangent, solver, trial, iterations, converged, dt, u_step)
       if (converged .and. tools%interfaces%n > 0) then
         call report_contact(t + dt, model%controls%rcforc_interval > 0.0_wp)
         if (tools%friction) tools%committed = tools%interfaces
@@ -341,7 +341,7 @@ contains
 
   !> One load step by Newton-Raphson; u holds the converged displacements on success.
   subroutine newton_step(model, cells, owned, equation, n_equations, t_new, hist, u, tangent, &
-                         solver, trial, iterations, converged)
+                         solver, trial, iterations, converged, dt, u_committed)
     type(model_t), intent(in) :: model                 !< resolved model
     type(cells_t), intent(in) :: cells                 !< cells
     logical, intent(in) :: owned(:)                    !< cells this rank computes
@@ -355,6 +355,8 @@ contains
     type(cell_state_t), intent(inout) :: trial         !< trial history and stress
     integer, intent(out) :: iterations                 !< iterations used
     logical, intent(out) :: converged                  !< the step converged
+    real(wp), intent(in) :: dt                         !< the step (strain rates)
+    real(wp), intent(in) :: u_committed(:,:)           !< the converged u of the step's start
     real(wp), allocatable :: residual(:), du(:), force(:,:), fixed_u(:,:), u_start(:,:)
     logical, allocatable :: fixed(:,:)
     type(status_t) :: status
@@ -383,7 +385,7 @@ contains
       iterations = k
       clock = comm_wtime()
       call evaluate_cells(model, cells, owned, equation, u, hist, force, residual, tangent, &
-                          trial, ok, t_new)
+                          trial, ok, t_new, u_committed, dt)
       timing%assembly = timing%assembly + (comm_wtime() - clock)
       timing%iterations = timing%iterations + 1
       if (.not. ok) return                                  ! a cell inverted: cut the step
@@ -396,7 +398,7 @@ contains
           if (step_length < 1.0_wp) then
             call add_increment(u, equation, du, step_length - 1.0_wp)
             call evaluate_cells(model, cells, owned, equation, u, hist, force, residual, &
-                                tangent, trial, ok, t_new)
+                                tangent, trial, ok, t_new, u_committed, dt)
             if (.not. ok) return
             if (model%controls%nlprint > 0) call say('  line search: step length '// &
                 rtoa(step_length))
@@ -431,7 +433,7 @@ contains
           energy <= model%controls%ectol*energy0 .and. ratio <= model%controls%rctol)) then
         ! one more evaluation so that history and stress belong to the final u
         call evaluate_cells(model, cells, owned, equation, u, hist, force, residual, &
-                            tangent, trial, ok, t_new)
+                            tangent, trial, ok, t_new, u_committed, dt)
         converged = ok
         return
       end if
@@ -655,7 +657,7 @@ contains
 
   !> Residual f_ext - f_int and tangent of all owned cells at displacements u.
   subroutine evaluate_cells(model, cells, owned, equation, u, hist, force_ext, residual, &
-                            tangent, trial, ok, t)
+                            tangent, trial, ok, t, u_old, dt)
     type(model_t), intent(in) :: model                 !< resolved model
     type(cells_t), intent(in) :: cells                 !< cells
     logical, intent(in) :: owned(:)                    !< cells this rank computes
@@ -668,7 +670,10 @@ contains
     type(cell_state_t), intent(inout) :: trial         !< trial history and Cauchy stress
     logical, intent(out) :: ok                         !< no cell failed (on every rank)
     real(wp), intent(in) :: t                          !< time of u (tool positions)
+    real(wp), intent(in) :: u_old(:,:)                 !< displacements at the step's start
+    real(wp), intent(in) :: dt                         !< the step (strain rates)
     real(wp) :: f(3, 3), finv(3, 3), tau(3, 3), c(3, 3, 3, 3), fc(3, CELL_MAX_NODES), det, sound
+    real(wp) :: f_old(3, 3), rate, d(3, 3)
     real(wp) :: ke(3*CELL_MAX_NODES, 3*CELL_MAX_NODES), ue(3, CELL_MAX_NODES)
     real(wp) :: kh(3*CELL_MAX_NODES, 3*CELL_MAX_NODES), fh(3, CELL_MAX_NODES), energy
     integer :: dofs(3*CELL_MAX_NODES), cell, nn, nd, dim, a, i, n
@@ -691,8 +696,20 @@ contains
       nd = dim*nn
       ue(1:dim, 1:nn) = u(:, cells%nodes(1:nn, cell))
       call cell_deformation_gradient(dim, nn, cells%grad(:, :, cell), ue, f)
+      ! rate effects: the effective strain rate sqrt(d : d) of the step, d = sym((F - F_n)
+      ! F^-1)/dt (doc/theory.md section 4; its dependence on u is left out of the tangent)
+      rate = 0.0_wp
+      if (rate_dependent(model%materials(cells%material(cell))) .and. dt > 0.0_wp) then
+        ue(1:dim, 1:nn) = u_old(:, cells%nodes(1:nn, cell))
+        call cell_deformation_gradient(dim, nn, cells%grad(:, :, cell), ue, f_old)
+        ue(1:dim, 1:nn) = u(:, cells%nodes(1:nn, cell))
+        call inverse_3x3(f, finv, det)
+        d = matmul(f - f_old, finv)/dt
+        rate = sqrt(sum((0.5_wp*(d + transpose(d)))**2))
+      end if
       call material_update(model%materials(cells%material(cell)), model%curves, f, &
-                           hist(:, cell), trial%hist_new(:, cell), tau, c, sound, status)
+                           hist(:, cell), trial%hist_new(:, cell), tau, c, sound, status, &
+                           strain_rate=rate)
       if (.not. status%ok) then
         if (.not. failed) call say('  cell '//itoa(cell)//' (element '// &
             itoa(model%elements%id(cells%elements(1, cell)))//'): '//status%message)
@@ -801,9 +818,10 @@ contains
       nn = cells%nnodes(cell)
       ue(1:cells%dim, 1:nn) = u(:, cells%nodes(1:nn, cell))
       call cell_deformation_gradient(cells%dim, nn, cells%grad(:, :, cell), ue, f)
-      ! the committed history already holds F_{n+1}: re-evaluating from it is elastic
+      ! the committed history already holds F_{n+1}: re-evaluating from it is elastic (no
+      ! yield check: a rate-hardened stress lies outside the quasi-static surface)
       call material_update(model%materials(cells%material(cell)), model%curves, f, &
-                           hist(:, cell), scratch, tau, c, sound, status)
+                           hist(:, cell), scratch, tau, c, sound, status, committed=.true.)
       if (.not. status%ok) cycle
       call inverse_3x3(f, finv, det)
       stress(:, cell) = [tau(1, 1), tau(2, 2), tau(3, 3), tau(1, 2), tau(2, 3), tau(3, 1)]/det
