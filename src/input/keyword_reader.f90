@@ -75,7 +75,7 @@ module mefem_keyword_reader
     keyword_entry_t('NODE', H_NODE, ' '), &
     keyword_entry_t('ELEMENT_SOLID', H_ELEMENT_SOLID, ' '), &
     keyword_entry_t('ELEMENT_SHELL', H_ELEMENT_SHELL, ' '), &
-    keyword_entry_t('PART', H_PART, ' '), &
+    keyword_entry_t('PART', H_PART, ' CONTACT '), &
     keyword_entry_t('SECTION_SOLID', H_SECTION_SOLID, ' TITLE '), &
     keyword_entry_t('SECTION_SHELL', H_SECTION_SHELL, ' TITLE '), &
     keyword_entry_t('HOURGLASS', H_HOURGLASS, ' TITLE '), &

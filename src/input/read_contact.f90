@@ -14,7 +14,7 @@ module mefem_read_contact
   use mefem_card_helpers, only: has_option, read_id_card, quoted_real, reject_extra_cards, &
                                 skip_extra_cards, read_id_option
   use mefem_deck_source, only: deck_push_back
-  use mefem_model, only: model_t, contact_t, rigid_wall_t, source_t
+  use mefem_model, only: model_t, contact_t, rigid_wall_t, source_t, FS_FROM_PARTS
   implicit none
   private
 
@@ -168,8 +168,9 @@ contains
         '(0 segment set, 2 part set, 3 part)')
     if (saboxid /= 0 .or. sbboxid /= 0) call fail(card1, who// &
         ': fields SABOXID/SBBOXID: boxes (*DEFINE_BOX) are not supported')
-    if (contact%fs < 0.0_wp) call fail(card2, who//': field FS must not be negative '// &
-        quoted_real(contact%fs))
+    if (contact%fs < 0.0_wp .and. contact%fs /= FS_FROM_PARTS) call fail(card2, who// &
+        ': field FS must not be negative, or -1 for the friction of the SURFA part''s '// &
+        '*PART_CONTACT '//quoted_real(contact%fs))
     if (contact%fd < 0.0_wp) call fail(card2, who//': field FD must not be negative '// &
         quoted_real(contact%fd))
     if (contact%dc < 0.0_wp) call fail(card2, who//': field DC must not be negative '// &

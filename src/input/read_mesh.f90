@@ -196,7 +196,9 @@ contains
     elements%src(k) = source_t(card%file, card%line)
   end subroutine add_element
 
-  !> *PART: a heading card and a card PID SECID MID EOSID HGID GRAV ADPOPT TMID, repeated.
+  !> *PART: a heading card and a card PID SECID MID EOSID HGID GRAV ADPOPT TMID, repeated;
+  !> *PART_CONTACT: a third card FS FD DC VC OPTT SFT SSF CPARM8 per part (FS, FD, DC are kept
+  !> for the contacts whose FS is -1; the others read, not used).
   subroutine read_part(rd, options, model)
     type(reader_t), intent(inout) :: rd          !< reading state
     character(len=*), intent(in) :: options      !< keyword options
@@ -205,11 +207,11 @@ contains
     type(part_t) :: part
     type(part_t), allocatable :: grown(:)
     character(len=:), allocatable :: title
-    logical :: got
+    type(card_t) :: card3
+    logical :: got, contact_card
     integer :: nread
-    if (len_trim(options) > 0) then
-      call keyword_error(rd, 'options "'//trim(adjustl(options))//'" are not supported')
-    end if
+    real(wp) :: unused
+    contact_card = has_option(options, 'CONTACT')
     nread = 0
     do
       call next_card(rd, heading, got, keep_blank=.true.)
@@ -236,6 +238,27 @@ contains
       call get_int(card, 4, 'EOSID', part%eos_id)
       call get_int(card, 5, 'HGID', part%hourglass_id)
       part%src = source_t(card%file, card%line)
+      if (contact_card) then
+        call next_card(rd, card3, got, keep_blank=.true.)
+        if (.not. got) then
+          call card_error(card, 'part '//itoa(part%id)//': missing the *PART_CONTACT card '// &
+                          'FS FD DC VC OPTT SFT SSF')
+          exit
+        end if
+        call split_card(rd, card3, W_10)
+        call get_real(card3, 1, 'FS', part%contact_fs)
+        call get_real(card3, 2, 'FD', part%contact_fd)
+        call get_real(card3, 3, 'DC', part%contact_dc)
+        call get_real(card3, 4, 'VC', unused)
+        call get_real(card3, 5, 'OPTT', unused)
+        call get_real(card3, 6, 'SFT', unused)
+        call get_real(card3, 7, 'SSF', unused)
+        part%has_contact = .true.
+        if (card3%bad) cycle
+        if (part%contact_fs < 0.0_wp .or. part%contact_fd < 0.0_wp .or. &
+            part%contact_dc < 0.0_wp) call card_error(card3, 'part '//itoa(part%id)// &
+            ': fields FS, FD and DC must not be negative')
+      end if
       if (card%bad) cycle
       if (part%eos_id /= 0) then
         call card_error(card, 'part '//itoa(part%id)// &

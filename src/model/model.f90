@@ -26,6 +26,8 @@ module mefem_model
                                 ON_PART_SET = 5, ON_SEGMENT_SET = 6
   ! sets
   integer, parameter, public :: SET_NODE = 1, SET_SEGMENT = 2, SET_PART = 3
+  !> a contact's FS of -1: the friction (FS, FD, DC) of its SURFA parts' *PART_CONTACT
+  real(wp), parameter, public :: FS_FROM_PARTS = -1.0_wp
 
   !> Where a record was read.
   type, public :: source_t
@@ -62,6 +64,10 @@ module mefem_model
     integer :: section_id = 0, material_id = 0, eos_id = 0, hourglass_id = 0
     integer :: section = 0, material = 0    !< indices (after resolve)
     integer :: hourglass = 0                !< index of its *HOURGLASS (after resolve; 0: none)
+    logical :: has_contact = .false.        !< *PART_CONTACT gave the card below
+    real(wp) :: contact_fs = 0.0_wp, contact_fd = 0.0_wp   !< *PART_CONTACT FS FD (used by
+                                            !< the contacts whose FS is -1)
+    real(wp) :: contact_dc = 0.0_wp         !< *PART_CONTACT DC
     type(source_t) :: src
   end type part_t
 

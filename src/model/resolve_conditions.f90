@@ -7,11 +7,13 @@
 !> pass. The maps of material and curve ids are returned for the part and output checks
 !> done by the caller (model_resolve).
 module mefem_resolve_conditions
+  use mefem_kinds, only: wp
   use mefem_errors, only: input_error, warn
   use mefem_strings, only: itoa
   use mefem_deck_source, only: location
   use mefem_id_map, only: id_map_t, id_map_build, id_map_find, sort_with_index
   use mefem_model, only: model_t, source_t, ON_NODE, ON_NODE_SET, ON_PART, ON_ALL_NODES, &
+                         FS_FROM_PARTS, contact_t, &
                          ON_PART_SET, ON_SEGMENT_SET, SET_NODE, SET_SEGMENT, SET_PART, &
                          MAT_PIECEWISE_LINEAR, MAT_RIGID
   use mefem_read_materials, only: material_keyword
@@ -466,6 +468,7 @@ contains
                             contact%surf_a, where, who//'SURFA ')
         call resolve_target(look, surface_kind(contact%surf_b_type), contact%surf_b_id, &
                             contact%surf_b, where, who//'SURFB ')
+        if (contact%fs == FS_FROM_PARTS) call part_friction(contact, where, who)
         ! the penalty comes from SURFA's elements: a SURFA of rigid parts only has none
         if (contact%surf_a > 0 .and. surface_kind(contact%surf_a_type) /= ON_SEGMENT_SET) then
           if (all_rigid(surface_kind(contact%surf_a_type), contact%surf_a)) &
@@ -486,6 +489,47 @@ contains
     end do
 
   contains
+
+    !> FS = -1: the friction FS, FD, DC of the *PART_CONTACT of SURFA's parts (a part or a
+    !> part set; all of them the same values).
+    subroutine part_friction(contact, where, who)
+      type(contact_t), intent(inout) :: contact   !< the contact (SURFA resolved)
+      character(len=*), intent(in) :: where, who !< for messages
+      integer, allocatable :: parts(:)
+      integer :: i
+      if (contact%surf_a <= 0) return
+      select case (surface_kind(contact%surf_a_type))
+      case (ON_PART)
+        parts = [contact%surf_a]
+      case (ON_PART_SET)
+        parts = model%sets(contact%surf_a)%members
+      case default
+        call input_error(where, who//'FS = -1 (friction of the SURFA parts'' *PART_CONTACT) '// &
+            'needs SURFA as a part or part set (SURFATYP 3 or 2)')
+        return
+      end select
+      do i = 1, size(parts)
+        associate (part => model%parts(parts(i)))
+          if (.not. part%has_contact) then
+            call input_error(where, who//'FS = -1 takes the friction of the SURFA parts'' '// &
+                '*PART_CONTACT, but part '//itoa(part%id)//' has none (give it with '// &
+                '*PART_CONTACT or set FS)')
+            return
+          end if
+          if (i == 1) then
+            contact%fs = part%contact_fs
+            contact%fd = part%contact_fd
+            contact%dc = part%contact_dc
+          else if (part%contact_fs /= contact%fs .or. part%contact_fd /= contact%fd .or. &
+                   part%contact_dc /= contact%dc) then
+            call input_error(where, who//'FS = -1: the SURFA parts'' *PART_CONTACT '// &
+                'frictions differ (part '//itoa(part%id)//'); mefem takes one friction per '// &
+                'contact')
+            return
+          end if
+        end associate
+      end do
+    end subroutine part_friction
 
     !> Every part of a contact surface (a part, or a part set) is *MAT_RIGID.
     logical function all_rigid(kind, target)

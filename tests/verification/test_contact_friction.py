@@ -90,6 +90,26 @@ if rc == 0:
                  'reaches mu N (within 10 % of the pull ramp)', '%.4e vs %.4e' % (t_moved,
                                                                                 t_slip))
 
+# ---- 1a. the friction from *PART_CONTACT (the contact's FS = -1): the same bits --------------
+if rc == 0:
+    from_parts = []
+    for block in blocks:
+        block = list(block)
+        if block[:3] == ['*PART', 'block', f10(1, 1, 1)]:
+            block = ['*PART_CONTACT', 'block', f10(1, 1, 1), f10(MU, MU)] + block[3:]
+        if block and block[0] == '*CONTACT_AUTOMATIC_SURFACE_TO_SURFACE_MORTAR':
+            block = [block[0], block[1], f10(-1.0), block[3]]
+        from_parts.append(block)
+    rc_p, text_p, out_p = run_case('sliding_block_part_contact', from_parts)
+    checks.check(rc_p == 0, 'sliding block, FS = -1 with *PART_CONTACT: run succeeds',
+                 text_p[-600:])
+    if rc_p == 0:
+        # (the first line names the deck)
+        same = open(os.path.join(out, 'rcforc')).read().split('\n')[1:] == \
+            open(os.path.join(out_p, 'rcforc')).read().split('\n')[1:]
+        checks.check(same, 'sliding block: FS = -1 takes *PART_CONTACT\'s FS, FD (rcforc '
+                     'identical to FS = FD = 0.3 on the contact card)')
+
 # ---- 1b. the same sliding block on 2 ranks: the same bits --------------------------------
 # The mortar kernels are divided among the ranks (doc/theory.md 10.8) and the friction state
 # is kept per slave node on every rank: the rcforc history and the last state (displacement,
