@@ -99,7 +99,7 @@ module mefem_keyword_reader
     keyword_entry_t('MAT_RIGID', H_MAT_RIGID, ' TITLE '), &
     keyword_entry_t('MAT_020', H_MAT_RIGID, ' TITLE '), &
     ! sets (*SET_NODE and *SET_PART are the older names of the _LIST forms)
-    keyword_entry_t('SET_NODE', H_SET_NODE, ' LIST GENERATE TITLE '), &
+    keyword_entry_t('SET_NODE', H_SET_NODE, ' LIST GENERATE GENERAL TITLE '), &
     keyword_entry_t('SET_PART', H_SET_PART, ' LIST TITLE '), &
     keyword_entry_t('SET_SEGMENT', H_SET_SEGMENT, ' TITLE '), &
     ! boundary conditions, curves, loads, initial conditions

@@ -6,11 +6,12 @@
 !> Members are stored as user ids and resolved by resolve_conditions.
 module mefem_read_sets
   use mefem_kinds, only: wp
-  use mefem_strings, only: itoa
+  use mefem_strings, only: itoa, to_upper
   use mefem_cards, only: reader_t, card_t, next_card, split_card, get_int, get_real, &
                          get_text, card_error, keyword_error
   use mefem_card_helpers, only: has_option, read_title_card
-  use mefem_model, only: model_t, set_t, source_t, SET_NODE, SET_PART, SET_SEGMENT
+  use mefem_model, only: model_t, set_t, source_t, SET_NODE, SET_PART, SET_SEGMENT, &
+                         GENERAL_ALL, GENERAL_NODE, GENERAL_PART, GENERAL_SET
   implicit none
   private
 
@@ -42,12 +43,84 @@ contains
     type(model_t), intent(inout) :: model        !< model appended to
     type(set_t) :: set
     set%kind = SET_NODE
-    if (has_option(options, 'GENERATE')) then
+    if (has_option(options, 'GENERAL')) then
+      call read_set_general(rd, options, model, set)
+    else if (has_option(options, 'GENERATE')) then
       call read_set(rd, options, model, set, 'node', generate=.true.)
     else
       call read_set(rd, options, model, set, 'node', generate=.false.)
     end if
   end subroutine read_set_node
+
+  !> *SET_NODE_GENERAL(_TITLE): card 1 SID DA1-DA4 SOLVER, then entries OPTION E1 .. E7 (A10,
+  !> 7 x I10) taken in order: ALL (every node), NODE (the nodes E1..E7), PART (the nodes of the
+  !> elements of parts E1..E7), SET (the nodes of node sets E1..E7), and DNODE, DPART, DSET,
+  !> which remove those. Resolved by resolve_conditions (the members in ascending node order).
+  subroutine read_set_general(rd, options, model, set)
+    type(reader_t), intent(inout) :: rd          !< reading state
+    character(len=*), intent(in) :: options      !< keyword options
+    type(model_t), intent(inout) :: model        !< model appended to
+    type(set_t), intent(inout) :: set            !< the set (kind given)
+    integer, parameter :: N_OPTIONS = 7
+    character(len=5), parameter :: OPTION_NAME(N_OPTIONS) = [character(len=5) :: 'ALL', &
+        'NODE', 'PART', 'SET', 'DNODE', 'DPART', 'DSET']
+    integer, parameter :: OPTION_CODE(N_OPTIONS) = [GENERAL_ALL, GENERAL_NODE, GENERAL_PART, &
+        GENERAL_SET, -GENERAL_NODE, -GENERAL_PART, -GENERAL_SET]
+    type(card_t) :: card
+    logical :: got, bad
+    character(len=:), allocatable :: option
+    integer :: i, k, ids(7), n_ids
+    if (.not. read_header(rd, options, set)) then
+      call skip_members(rd)
+      return
+    end if
+    bad = .false.
+    set%general = .true.
+    allocate(set%member_ids(64))
+    do
+      call next_card(rd, card, got)
+      if (.not. got) exit
+      call split_card(rd, card, W_10)
+      call get_text(card, 1, option)
+      option = to_upper(trim(adjustl(option)))
+      k = 0
+      do i = 1, N_OPTIONS
+        if (trim(OPTION_NAME(i)) == option) k = i
+      end do
+      if (k == 0) then
+        call card_error(card, 'node set '//itoa(set%id)//': option "'//option//'" of '// &
+            '*SET_NODE_GENERAL is not supported (ALL, NODE, PART, SET, DNODE, DPART, DSET)')
+        bad = .true.
+        cycle
+      end if
+      n_ids = 0
+      do i = 1, 7
+        call get_int(card, i + 1, 'E'//itoa(i), ids(n_ids + 1))
+        if (ids(n_ids + 1) < 0) then
+          call card_error(card, 'node set '//itoa(set%id)//': field E'//itoa(i)// &
+                          ' must be a positive id (got '//itoa(ids(n_ids + 1))//')')
+          bad = .true.
+        else if (ids(n_ids + 1) > 0) then
+          n_ids = n_ids + 1
+        end if
+      end do
+      if (card%bad) bad = .true.
+      if (OPTION_CODE(k) /= GENERAL_ALL .and. n_ids == 0 .and. .not. card%bad) then
+        call card_error(card, 'node set '//itoa(set%id)//': option '//option// &
+                        ' names no ids (E1 .. E7)')
+        bad = .true.
+      end if
+      call ensure_room(set%member_ids, set%n + 2 + n_ids)
+      set%member_ids(set%n + 1:set%n + 2 + n_ids) = [OPTION_CODE(k), n_ids, ids(1:n_ids)]
+      set%n = set%n + 2 + n_ids
+    end do
+    if (set%n == 0 .and. .not. bad) then
+      call keyword_error(rd, 'node set '//itoa(set%id)//': no entries (OPTION E1 .. E7)')
+      bad = .true.
+    end if
+    if (bad) return
+    call finish_set(rd, model, set, 'node')
+  end subroutine read_set_general
 
   !> *SET_PART(_LIST)(_TITLE).
   subroutine read_set_part(rd, options, model)

@@ -26,6 +26,9 @@ module mefem_model
                                 ON_PART_SET = 5, ON_SEGMENT_SET = 6
   ! sets
   integer, parameter, public :: SET_NODE = 1, SET_SEGMENT = 2, SET_PART = 3
+  ! entries of *SET_NODE_GENERAL (negative: the D- options, which remove)
+  integer, parameter, public :: GENERAL_ALL = 1, GENERAL_NODE = 2, GENERAL_PART = 3, &
+                                GENERAL_SET = 4
   !> a contact's FS of -1: the friction (FS, FD, DC) of its SURFA parts' *PART_CONTACT
   real(wp), parameter, public :: FS_FROM_PARTS = -1.0_wp
 
@@ -131,6 +134,9 @@ module mefem_model
                                             !< generated sets: (2*n) ranges B E until
                                             !< resolved, then the (n) ids of their nodes
     integer, allocatable :: members(:)      !< indices (after resolve)
+    logical :: general = .false.            !< *SET_NODE_GENERAL: member_ids holds its entries
+                                            !< (code, count, ids...; GENERAL_* codes) until
+                                            !< resolved
     logical :: generated = .false.          !< from _GENERATE ranges: ids in a range that no
                                             !< node has are left out (as LS-DYNA does)
     type(source_t) :: src

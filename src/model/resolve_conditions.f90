@@ -13,7 +13,8 @@ module mefem_resolve_conditions
   use mefem_deck_source, only: location
   use mefem_id_map, only: id_map_t, id_map_build, id_map_find, sort_with_index
   use mefem_model, only: model_t, source_t, ON_NODE, ON_NODE_SET, ON_PART, ON_ALL_NODES, &
-                         FS_FROM_PARTS, contact_t, &
+                         FS_FROM_PARTS, contact_t, GENERAL_ALL, GENERAL_NODE, GENERAL_PART, &
+                         GENERAL_SET, &
                          ON_PART_SET, ON_SEGMENT_SET, SET_NODE, SET_SEGMENT, SET_PART, &
                          MAT_PIECEWISE_LINEAR, MAT_RIGID
   use mefem_read_materials, only: material_keyword
@@ -267,6 +268,7 @@ contains
     do s = 1, model%n_sets
       associate (set => model%sets(s))
         if (.not. allocated(set%member_ids)) allocate(set%member_ids(0))
+        if (set%general) cycle                      ! (after the others: they may name them)
         ! _GENERATE: "all defined ids between B and E" (LS-DYNA), in ascending id order,
         ! each once; an empty set is an error
         if (set%generated) then
@@ -294,7 +296,93 @@ contains
         end do
       end associate
     end do
+    do s = 1, model%n_sets
+      if (model%sets(s)%general) call resolve_general_set(model, look, s)
+    end do
   end subroutine resolve_sets
+
+  !> *SET_NODE_GENERAL set s: its entries (GENERAL_* code, count, ids) applied in order to a
+  !> mask over the nodes (negative codes remove), the members the nodes left, ascending; every
+  !> id named must exist (a node set named must be defined before it if it is general too).
+  subroutine resolve_general_set(model, look, s)
+    type(model_t), intent(inout) :: model     !< the model
+    type(lookup_t), intent(in) :: look        !< lookups
+    integer, intent(in) :: s                  !< the set
+    logical, allocatable :: mask(:), part_nodes(:)
+    integer :: k, code, n, i, id, index, e, a
+    logical :: add
+    character(len=:), allocatable :: where, who
+    associate (set => model%sets(s))
+      where = where_is(set%src, '*SET_NODE_GENERAL')
+      who = 'node set '//itoa(set%id)//': '
+      allocate(mask(model%nodes%n))
+      mask = .false.
+      k = 1
+      do while (k <= size(set%member_ids))
+        code = set%member_ids(k)
+        n = set%member_ids(k + 1)
+        add = code > 0
+        if (abs(code) == GENERAL_ALL) mask = add
+        do i = 1, n
+          id = set%member_ids(k + 1 + i)
+          select case (abs(code))
+          case (GENERAL_NODE)
+            index = id_map_find(look%nodes, id)
+            if (index == 0) then
+              call input_error(where, who//'node '//itoa(id)//' is not defined')
+            else
+              mask(index) = add
+            end if
+          case (GENERAL_PART)
+            index = id_map_find(look%parts, id)
+            if (index == 0) then
+              call input_error(where, who//'part '//itoa(id)//' is not defined')
+              cycle
+            end if
+            if (.not. allocated(part_nodes)) allocate(part_nodes(model%nodes%n))
+            part_nodes = .false.
+            do e = 1, model%elements%n
+              if (model%elements%part_id(e) /= id) cycle
+              do a = 1, 8
+                if (model%elements%node_ids(a, e) == 0) cycle
+                index = id_map_find(look%nodes, model%elements%node_ids(a, e))
+                if (index > 0) part_nodes(index) = .true.
+              end do
+            end do
+            where (part_nodes) mask = add
+          case (GENERAL_SET)
+            index = find_set(id)
+            if (index == 0) then
+              call input_error(where, who//'node set '//itoa(id)//' is not defined (or '// &
+                  'is a general set defined after this one)')
+            else
+              do a = 1, size(model%sets(index)%members)
+                if (model%sets(index)%members(a) > 0) mask(model%sets(index)%members(a)) = add
+              end do
+            end if
+          end select
+        end do
+        k = k + 2 + n
+      end do
+      set%members = pack([(i, i = 1, model%nodes%n)], mask)
+      set%member_ids = model%nodes%id(set%members)
+      set%n = size(set%members)
+      set%general = .false.                     ! (resolved: an ordinary node set now)
+      if (set%n == 0) call input_error(where, who//'its entries leave no node')
+    end associate
+  contains
+    !> A resolved node set by id (0: none, or a general one not resolved yet).
+    integer function find_set(set_id)
+      integer, intent(in) :: set_id           !< the id
+      integer :: m
+      find_set = 0
+      do m = 1, model%n_sets
+        if (model%sets(m)%id /= set_id .or. model%sets(m)%kind /= SET_NODE) cycle
+        if (model%sets(m)%general) cycle
+        find_set = m
+      end do
+    end function find_set
+  end subroutine resolve_general_set
 
   !> The nodes whose ids lie in any of the ranges (B1 E1 B2 E2 ...), each once, in ascending
   !> id order: the ranges sorted and merged, each node's id found by bisection (time

@@ -6,6 +6,8 @@ ranges, once, in ascending id order; its memory follows the nodes, not the range
    1003, each once.
 2. 2 000 cards of four ranges up to 2e9 ids each: `--check` accepts it within 10 s and 100 MiB
    (when the ranges were expanded id by id, 28 such cards took 3.5 GB).
+3. *SET_NODE_GENERAL (issue 23): PART 2, NODE 1 3, DNODE 1002 gives 1 3 1001 1003 1004; ALL,
+   DSET (that set) gives 2 4 1002 (nodout of an explicit run lists a history set's nodes).
 """
 import os
 import re
@@ -56,4 +58,23 @@ try:
                                                          (p.stdout + p.stderr)[-300:]))
 except subprocess.TimeoutExpired:
     checks.check(False, 'wide ranges: accepted within 10 s', 'no end within 10 s')
+
+# ---- 3. *SET_NODE_GENERAL ---------------------------------------------------------------------
+TWO_PARTS = NODES[:NODES.index('*ELEMENT_SOLID')] + [
+    '*ELEMENT_SOLID', '1,1,1,2,3,4', '2,2,1001,1002,1003,1004', '*PART', 'one', '1,1,1',
+    '*PART', 'two', '2,1,1', '*SECTION_SOLID', '1,10', '*MAT_ELASTIC', '1,7.85e-9,210000.0,0.3']
+GENERAL = ['*SET_NODE_GENERAL', '8', 'PART,2', 'NODE,1,3', 'DNODE,1002',
+           '*SET_NODE_GENERAL_TITLE', 'the rest', '9', 'ALL', 'DSET,8']
+for sid, expected in ((8, [1, 3, 1001, 1003, 1004]), (9, [2, 4, 1002])):
+    deck = os.path.join(OUT, 'general_%d.k' % sid)
+    write_deck(deck, [TWO_PARTS, GENERAL, ['*DATABASE_HISTORY_NODE_SET', str(sid),
+                                           '*INITIAL_VELOCITY', '0', '0.0,0.0,-1000.0',
+                                           '*CONTROL_TERMINATION', '1.0e-7',
+                                           '*DATABASE_NODOUT', '1.0e-7']], title='general set')
+    rc, text = run(deck, os.path.join(OUT, 'general_%d' % sid))
+    checks.check(rc == 0, '*SET_NODE_GENERAL %d: the run succeeds' % sid, text[-500:])
+    if rc == 0:
+        ids = list(read_nodout(os.path.join(OUT, 'general_%d' % sid, 'nodout'))['ids'])
+        checks.check(ids == expected, '*SET_NODE_GENERAL %d: its entries in order (PART, '
+                     'NODE, DNODE; ALL, DSET)' % sid, 'nodout ids %s' % ids)
 checks.exit()
