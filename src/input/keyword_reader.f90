@@ -33,6 +33,7 @@ module mefem_keyword_reader
                                    read_define_curve, read_load_node, read_load_segment, &
                                    read_load_segment_set, read_initial_velocity, &
                                    read_initial_velocity_node, read_initial_velocity_generation, &
+                                   read_constrained_rigid_bodies, read_constrained_extra_nodes, &
                                    read_load_body, read_load_body_parts
   use mefem_read_contact, only: read_contact_surface_to_surface, read_rigidwall_planar
   implicit none
@@ -61,7 +62,8 @@ module mefem_keyword_reader
   integer, parameter :: H_LOAD_BODY_X = 46, H_LOAD_BODY_Y = 47, H_LOAD_BODY_Z = 48, &
                         H_LOAD_BODY_PARTS = 49
   integer, parameter :: H_CONTROL_SOLUTION = 50, H_HOURGLASS = 51, H_CONTROL_HOURGLASS = 52, &
-                        H_MAT_PLASTIC_KINEMATIC = 53
+                        H_MAT_PLASTIC_KINEMATIC = 53, H_CONSTRAINED_RIGID_BODIES = 54, &
+                        H_CONSTRAINED_EXTRA_NODES = 55
 
   !> One registered keyword.
   type :: keyword_entry_t
@@ -70,7 +72,7 @@ module mefem_keyword_reader
     character(len=64) :: options = ''    !< options accepted, as ' OPT1 OPT2 '
   end type keyword_entry_t
 
-  integer, parameter :: N_ENTRIES = 62
+  integer, parameter :: N_ENTRIES = 64
   type(keyword_entry_t), parameter :: REGISTRY(N_ENTRIES) = [ &
     keyword_entry_t('NODE', H_NODE, ' '), &
     keyword_entry_t('ELEMENT_SOLID', H_ELEMENT_SOLID, ' '), &
@@ -129,6 +131,8 @@ module mefem_keyword_reader
     keyword_entry_t('CONTACT_FORMING_SURFACE_TO_SURFACE', H_CONTACT_SURFACE_TO_SURFACE, &
                     ' ID TITLE MPP '), &
     keyword_entry_t('RIGIDWALL_PLANAR', H_RIGIDWALL_PLANAR, ' ID '), &
+    keyword_entry_t('CONSTRAINED_RIGID_BODIES', H_CONSTRAINED_RIGID_BODIES, ' '), &
+    keyword_entry_t('CONSTRAINED_EXTRA_NODES', H_CONSTRAINED_EXTRA_NODES, ' NODE SET '), &
     ! controls and output requests (matched before the DATABASE_ skip rule)
     keyword_entry_t('CONTROL_TIMESTEP', H_CONTROL_TIMESTEP, ' '), &
     keyword_entry_t('CONTROL_SOLUTION', H_CONTROL_SOLUTION, ' '), &
@@ -422,6 +426,10 @@ contains
           'SURFA, the blank, is the slave side); the forming contact''s own treatment of '// &
           'shell blanks is not used (doc/keywords.md 3.10)')
       call read_contact_surface_to_surface(rd, options, model)
+    case (H_CONSTRAINED_RIGID_BODIES)
+      call read_constrained_rigid_bodies(rd, model)
+    case (H_CONSTRAINED_EXTRA_NODES)
+      call read_constrained_extra_nodes(rd, options, model)
     case (H_RIGIDWALL_PLANAR)
       call read_rigidwall_planar(rd, options, model)
     case (H_CONTROL_TIMESTEP)

@@ -16,14 +16,15 @@ module mefem_read_conditions
   use mefem_deck_source, only: location
   use mefem_model, only: model_t, source_t, spc_t, prescribed_motion_t, curve_t, &
                          nodal_load_t, pressure_load_t, initial_velocity_t, body_load_t, ON_NODE, &
-                         ON_NODE_SET, ON_PART, ON_ALL_NODES, ON_PART_SET
+                         ON_NODE_SET, ON_PART, ON_ALL_NODES, ON_PART_SET, rigid_constraint_t, &
+                         RIGID_MERGE, RIGID_EXTRA_NODES
   implicit none
   private
 
   public :: read_boundary_spc, read_prescribed_motion, read_define_curve, read_load_node, &
             read_load_segment, read_load_segment_set, read_initial_velocity, &
             read_initial_velocity_node, read_initial_velocity_generation, read_load_body, &
-            read_load_body_parts
+            read_load_body_parts, read_constrained_rigid_bodies, read_constrained_extra_nodes
 
   integer, parameter :: W_10(8) = 10          !< standard 8 x 10 card
   integer, parameter :: W_POINT(2) = 20       !< *DEFINE_CURVE point: 2 x E20
@@ -715,6 +716,79 @@ contains
     model%n_spcs = model%n_spcs + 1
     model%spcs(model%n_spcs) = item
   end subroutine add_spc
+
+  !> *CONSTRAINED_RIGID_BODIES: PIDL PIDC IFLAG, repeated: the rigid part PIDC joins the rigid
+  !> body of PIDL (IFLAG read, not used: the merged body's mass and inertia come from both).
+  subroutine read_constrained_rigid_bodies(rd, model)
+    type(reader_t), intent(inout) :: rd          !< reading state
+    type(model_t), intent(inout) :: model        !< model appended to
+    type(card_t) :: card
+    type(rigid_constraint_t) :: item
+    logical :: got
+    integer :: iflag
+    do
+      call next_card(rd, card, got)
+      if (.not. got) exit
+      call split_card(rd, card, W_10)
+      item = rigid_constraint_t(kind=RIGID_MERGE, target_kind=ON_PART)
+      call get_int(card, 1, 'PIDL', item%lead_id, required=.true.)
+      call get_int(card, 2, 'PIDC', item%target_id, required=.true.)
+      call get_int(card, 3, 'IFLAG', iflag)
+      item%src = source_t(card%file, card%line)
+      if (card%bad) cycle
+      if (item%lead_id == item%target_id) then
+        call card_error(card, 'PIDL and PIDC are the same part ('//itoa(item%lead_id)//')')
+        cycle
+      end if
+      call add_rigid_constraint(model, item)
+    end do
+  end subroutine read_constrained_rigid_bodies
+
+  !> *CONSTRAINED_EXTRA_NODES_NODE (PID NID) / _SET (PID NSID), repeated: the nodes move with
+  !> the rigid body of part PID (their lumped masses join it).
+  subroutine read_constrained_extra_nodes(rd, options, model)
+    type(reader_t), intent(inout) :: rd          !< reading state
+    character(len=*), intent(in) :: options      !< keyword options (NODE or SET)
+    type(model_t), intent(inout) :: model        !< model appended to
+    type(card_t) :: card
+    type(rigid_constraint_t) :: item
+    logical :: got, by_set
+    by_set = has_option(options, 'SET')
+    if (.not. (by_set .or. has_option(options, 'NODE'))) then
+      call keyword_error(rd, 'give _NODE or _SET (*CONSTRAINED_EXTRA_NODES_NODE or _SET)')
+      do                                       ! (its cards skipped)
+        call next_card(rd, card, got)
+        if (.not. got) return
+      end do
+    end if
+    do
+      call next_card(rd, card, got)
+      if (.not. got) exit
+      call split_card(rd, card, W_10)
+      item = rigid_constraint_t(kind=RIGID_EXTRA_NODES, &
+                                target_kind=merge(ON_NODE_SET, ON_NODE, by_set))
+      call get_int(card, 1, 'PID', item%lead_id, required=.true.)
+      call get_int(card, 2, trim(merge('NSID', 'NID ', by_set)), item%target_id, required=.true.)
+      item%src = source_t(card%file, card%line)
+      if (card%bad) cycle
+      call add_rigid_constraint(model, item)
+    end do
+  end subroutine read_constrained_extra_nodes
+
+  !> Append a rigid-body constraint.
+  subroutine add_rigid_constraint(model, item)
+    type(model_t), intent(inout) :: model            !< model appended to
+    type(rigid_constraint_t), intent(in) :: item     !< the record
+    type(rigid_constraint_t), allocatable :: grown(:)
+    if (.not. allocated(model%rigid_constraints)) allocate(model%rigid_constraints(0))
+    if (model%n_rigid_constraints == size(model%rigid_constraints)) then
+      allocate(grown(max(4, 2*model%n_rigid_constraints)))
+      grown(1:model%n_rigid_constraints) = model%rigid_constraints(1:model%n_rigid_constraints)
+      call move_alloc(grown, model%rigid_constraints)
+    end if
+    model%n_rigid_constraints = model%n_rigid_constraints + 1
+    model%rigid_constraints(model%n_rigid_constraints) = item
+  end subroutine add_rigid_constraint
 
   !> Append a prescribed motion.
   subroutine add_motion(model, item)

@@ -289,6 +289,17 @@ module mefem_model
     character(len=80) :: title = ''
   end type controls_t
 
+  !> *CONSTRAINED_RIGID_BODIES (a part merged into a rigid body: lead = master PIDL, part =
+  !> PIDC) or *CONSTRAINED_EXTRA_NODES_NODE/_SET (nodes added to the rigid body of part lead).
+  type, public :: rigid_constraint_t
+    integer :: kind = 0                     !< RIGID_MERGE or RIGID_EXTRA_NODES
+    integer :: lead_id = 0, lead = 0        !< the body's (master) part: id, index
+    integer :: target_kind = 0              !< merge: ON_PART; extra nodes: ON_NODE/ON_NODE_SET
+    integer :: target_id = 0, target = 0    !< the merged part, node or node set: id, index
+    type(source_t) :: src
+  end type rigid_constraint_t
+  integer, parameter, public :: RIGID_MERGE = 1, RIGID_EXTRA_NODES = 2
+
   !> The whole model.
   type, public :: model_t
     type(nodes_t) :: nodes
@@ -315,6 +326,8 @@ module mefem_model
     type(initial_velocity_t), allocatable :: initial_velocities(:)
     type(contact_t), allocatable :: contacts(:)
     type(rigid_wall_t), allocatable :: rigid_walls(:)
+    integer :: n_rigid_constraints = 0
+    type(rigid_constraint_t), allocatable :: rigid_constraints(:)
     type(controls_t) :: controls
     integer :: dimension = 3                  !< 2 for plane strain shells-only models
   end type model_t

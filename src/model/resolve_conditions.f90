@@ -14,6 +14,7 @@ module mefem_resolve_conditions
   use mefem_id_map, only: id_map_t, id_map_build, id_map_find, sort_with_index
   use mefem_model, only: model_t, source_t, ON_NODE, ON_NODE_SET, ON_PART, ON_ALL_NODES, &
                          FS_FROM_PARTS, contact_t, GENERAL_ALL, GENERAL_NODE, GENERAL_PART, &
+                         RIGID_MERGE, &
                          GENERAL_SET, &
                          ON_PART_SET, ON_SEGMENT_SET, SET_NODE, SET_SEGMENT, SET_PART, &
                          MAT_PIECEWISE_LINEAR, MAT_RIGID
@@ -566,6 +567,21 @@ contains
         end if
       end associate
     end do
+    do k = 1, model%n_rigid_constraints
+      associate (rc => model%rigid_constraints(k))
+        where = where_is(rc%src, trim(merge('*CONSTRAINED_RIGID_BODIES', &
+                                            '*CONSTRAINED_EXTRA_NODES ', rc%kind == RIGID_MERGE)))
+        call resolve_target(look, ON_PART, rc%lead_id, rc%lead, where, &
+                            trim(merge('PIDL', 'PID ', rc%kind == RIGID_MERGE))//': ')
+        if (rc%kind == RIGID_MERGE) then
+          call resolve_target(look, rc%target_kind, rc%target_id, rc%target, where, 'PIDC: ')
+        else
+          call resolve_target(look, rc%target_kind, rc%target_id, rc%target, where)
+        end if
+        if (rc%lead > 0) call require_rigid(rc%lead, where)
+        if (rc%kind == RIGID_MERGE .and. rc%target > 0) call require_rigid(rc%target, where)
+      end associate
+    end do
     do k = 1, model%n_rigid_walls
       associate (wall => model%rigid_walls(k))
         where = where_is(wall%src, '*RIGIDWALL_PLANAR')
@@ -577,6 +593,19 @@ contains
     end do
 
   contains
+
+    !> The part must be a *MAT_RIGID part (the constraints act on rigid bodies; parts are not
+    !> resolved yet: its material by id).
+    subroutine require_rigid(p, where)
+      integer, intent(in) :: p                    !< part index
+      character(len=*), intent(in) :: where       !< for the message
+      integer :: m
+      m = id_map_find(look%materials, model%parts(p)%material_id)
+      if (m <= 0) return
+      if (model%materials(m)%kind /= MAT_RIGID) call input_error(where, 'part '// &
+          itoa(model%parts(p)%id)//' is not a rigid part (*MAT_RIGID): the constraint '// &
+          'joins rigid bodies and nodes to them')
+    end subroutine require_rigid
 
     !> FS = -1: the friction FS, FD, DC of the *PART_CONTACT of SURFA's parts (a part or a
     !> part set; all of them the same values).

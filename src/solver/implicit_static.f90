@@ -316,6 +316,9 @@ contains
     end do
     if (model%n_rigid_walls > 0) call fatal('implicit analysis does not take rigid walls '// &
         '(use a rigid part as a contact tool)')
+    if (model%n_rigid_constraints > 0) call fatal('implicit analysis does not take '// &
+        '*CONSTRAINED_RIGID_BODIES or *CONSTRAINED_EXTRA_NODES (rigid parts are contact '// &
+        'tools there); see line '//itoa(model%rigid_constraints(1)%src%line))
     do k = 1, model%n_contacts
       if (model%contacts(k)%ignore /= 0) call fatal('implicit analysis takes IGNORE = 0 only '// &
           '(initial penetrations are pushed out); see the contact at line '// &

@@ -1,7 +1,8 @@
 !> Rigid bodies of *MAT_RIGID parts for the explicit solver (doc/theory.md, "Rigid bodies and
 !> rigid walls").
 !>
-!> One body per *MAT_RIGID part. Its mass, centre of mass and inertia tensor come from the
+!> One body per *MAT_RIGID part, or per group of them merged by *CONSTRAINED_RIGID_BODIES (the
+!> lead part's constraints), with the nodes *CONSTRAINED_EXTRA_NODES adds. Its mass, centre of mass and inertia tensor come from the
 !> part's elements (solids split into tetrahedra, shells as plates of thickness T1; in 2D
 !> plane strain, shells of unit thickness) plus the lumped masses of deformable elements at
 !> the body's nodes ("merged" nodes belong to the body). The state of body b is its centre
@@ -31,7 +32,8 @@ module mefem_rigid_bodies
   use mefem_errors, only: status_t, say
   use mefem_strings, only: itoa
   use mefem_vector_math, only: cross
-  use mefem_model, only: model_t, MAT_RIGID, ELEM_SOLID, ON_PART, TOPO_TRI3, TOPO_QUAD4, &
+  use mefem_model, only: model_t, MAT_RIGID, ELEM_SOLID, ON_PART, ON_NODE, RIGID_MERGE, &
+                         RIGID_EXTRA_NODES, TOPO_TRI3, TOPO_QUAD4, &
                          TOPO_TET4, TOPO_PENTA6, TOPO_HEX8
   use mefem_curves, only: curve_value
   implicit none
@@ -116,7 +118,8 @@ contains
     real(wp), intent(in) :: merged_mass(:)        !< (n_mesh_nodes) deformable lumped masses
     type(rigid_bodies_t), intent(out) :: bodies   !< the bodies, at rest in the reference
     type(status_t), intent(out) :: status         !< failure and why
-    integer :: p, b, e, i, node, m
+    integer :: p, b, e, i, node, m, k
+    integer, allocatable :: lead(:), extra(:)
     real(wp) :: mass, first(3), second(3, 3), origin(3)
     real(wp), allocatable :: body_mass(:), body_first(:,:), body_second(:,:,:), body_origin(:,:)
     logical, allocatable :: seen(:)
@@ -132,17 +135,31 @@ contains
     bodies%body_of_part = 0
     bodies%node_body = 0
     bodies%n = 0
+    ! *CONSTRAINED_RIGID_BODIES: a merged part takes the body of its lead part (chains
+    ! followed: the body is that of the part at the head of the chain)
+    allocate(lead(model%n_parts))
+    lead = [(p, p = 1, model%n_parts)]
+    do k = 1, model%n_rigid_constraints
+      associate (rc => model%rigid_constraints(k))
+        if (rc%kind /= RIGID_MERGE .or. rc%lead <= 0 .or. rc%target <= 0) cycle
+        lead(head(rc%target)) = head(rc%lead)
+      end associate
+    end do
     do p = 1, model%n_parts
       m = model%parts(p)%material
       if (m <= 0) cycle
       if (model%materials(m)%kind /= MAT_RIGID) cycle
+      if (head(p) /= p) cycle
       bodies%n = bodies%n + 1
       bodies%body_of_part(p) = bodies%n
+    end do
+    do p = 1, model%n_parts
+      if (head(p) /= p) bodies%body_of_part(p) = bodies%body_of_part(head(p))
     end do
     allocate(bodies%body(bodies%n))
     do p = 1, model%n_parts
       b = bodies%body_of_part(p)
-      if (b == 0) cycle
+      if (b == 0 .or. head(p) /= p) cycle
       bodies%body(b)%part = p
       m = model%parts(p)%material
       if (model%materials(m)%cmo == 1) then
@@ -174,14 +191,40 @@ contains
         if (bodies%node_body(node) /= 0 .and. bodies%node_body(node) /= b) then
           call fail(status, 'node '//itoa(model%nodes%id(node))//' belongs to the rigid '// &
               'parts '//itoa(model%parts(bodies%body(bodies%node_body(node))%part)%id)// &
-              ' and '//itoa(model%parts(bodies%body(b)%part)%id)//' (merging rigid '// &
-              'bodies is not supported)')
+              ' and '//itoa(model%parts(bodies%body(b)%part)%id)//' (merge them with '// &
+              '*CONSTRAINED_RIGID_BODIES)')
           return
         end if
         bodies%node_body(node) = b
         if (.not. seen(b)) body_origin(:, b) = model%nodes%x(:, node)
         seen(b) = .true.
       end do
+    end do
+    ! *CONSTRAINED_EXTRA_NODES: the nodes join the body of their part
+    do k = 1, model%n_rigid_constraints
+      associate (rc => model%rigid_constraints(k))
+        if (rc%kind /= RIGID_EXTRA_NODES .or. rc%lead <= 0 .or. rc%target <= 0) cycle
+        b = bodies%body_of_part(rc%lead)
+        if (b == 0) cycle
+        if (rc%target_kind == ON_NODE) then
+          extra = [rc%target]
+        else
+          extra = model%sets(rc%target)%members
+        end if
+        do i = 1, size(extra)
+          node = extra(i)
+          if (node <= 0) cycle
+          if (bodies%node_body(node) /= 0 .and. bodies%node_body(node) /= b) then
+            call fail(status, '*CONSTRAINED_EXTRA_NODES: node '//itoa(model%nodes%id(node))// &
+                ' already belongs to the rigid body of part '// &
+                itoa(model%parts(bodies%body(bodies%node_body(node))%part)%id))
+            return
+          end if
+          bodies%node_body(node) = b
+          if (.not. seen(b)) body_origin(:, b) = model%nodes%x(:, node)
+          seen(b) = .true.
+        end do
+      end associate
     end do
 
     ! pass 1: mass and centre; pass 2: second moments about the centre
@@ -214,6 +257,15 @@ contains
     call check_motions(model, bodies, status)
 
   contains
+
+    !> The part at the head of p's chain of merges.
+    integer function head(p)
+      integer, intent(in) :: p              !< part index
+      head = p
+      do while (lead(head) /= head)
+        head = lead(head)
+      end do
+    end function head
 
     !> Mass, first and second moments of every body about origin(:, b).
     subroutine sum_moments(origin_of)
