@@ -188,16 +188,7 @@ contains
       do i = 1, size(model%elements%conn, 1)
         node = model%elements%conn(i, e)
         if (node <= 0) cycle
-        if (bodies%node_body(node) /= 0 .and. bodies%node_body(node) /= b) then
-          call fail(status, 'node '//itoa(model%nodes%id(node))//' belongs to the rigid '// &
-              'parts '//itoa(model%parts(bodies%body(bodies%node_body(node))%part)%id)// &
-              ' and '//itoa(model%parts(bodies%body(b)%part)%id)//' (merge them with '// &
-              '*CONSTRAINED_RIGID_BODIES)')
-          return
-        end if
-        bodies%node_body(node) = b
-        if (.not. seen(b)) body_origin(:, b) = model%nodes%x(:, node)
-        seen(b) = .true.
+        if (.not. joined(node, b, '')) return
       end do
     end do
     ! *CONSTRAINED_EXTRA_NODES: the nodes join the body of their part
@@ -214,15 +205,7 @@ contains
         do i = 1, size(extra)
           node = extra(i)
           if (node <= 0) cycle
-          if (bodies%node_body(node) /= 0 .and. bodies%node_body(node) /= b) then
-            call fail(status, '*CONSTRAINED_EXTRA_NODES: node '//itoa(model%nodes%id(node))// &
-                ' already belongs to the rigid body of part '// &
-                itoa(model%parts(bodies%body(bodies%node_body(node))%part)%id))
-            return
-          end if
-          bodies%node_body(node) = b
-          if (.not. seen(b)) body_origin(:, b) = model%nodes%x(:, node)
-          seen(b) = .true.
+          if (.not. joined(node, b, '*CONSTRAINED_EXTRA_NODES: ')) return
         end do
       end associate
     end do
@@ -257,6 +240,25 @@ contains
     call check_motions(model, bodies, status)
 
   contains
+
+    !> Node joins body b (the first node of a body is the origin of its first moments);
+    !> false (status failed) when it belongs to another body already.
+    logical function joined(node, b, who)
+      integer, intent(in) :: node, b              !< node and body
+      character(len=*), intent(in) :: who         !< message prefix
+      joined = .true.
+      if (bodies%node_body(node) /= 0 .and. bodies%node_body(node) /= b) then
+        call fail(status, who//'node '//itoa(model%nodes%id(node))//' belongs to the rigid '// &
+            'bodies of parts '//itoa(model%parts(bodies%body(bodies%node_body(node))%part)%id)// &
+            ' and '//itoa(model%parts(bodies%body(b)%part)%id)//' (merge them with '// &
+            '*CONSTRAINED_RIGID_BODIES)')
+        joined = .false.
+        return
+      end if
+      bodies%node_body(node) = b
+      if (.not. seen(b)) body_origin(:, b) = model%nodes%x(:, node)
+      seen(b) = .true.
+    end function joined
 
     !> The part at the head of p's chain of merges.
     integer function head(p)
