@@ -23,6 +23,8 @@ module mefem_contact_surfaces
   use mefem_vector_math, only: cross
   use mefem_output_mesh, only: NODES_OF_TOPO
   use mefem_model, only: model_t, ELEM_SOLID, ELEM_SHELL, SET_SEGMENT, SET_PART, &
+                         SURFACE_SEGMENT_SET, SURFACE_PART_SET, SURFACE_PART, &
+                         SURFACE_ALL_PARTS, SURFACE_ALL_BUT_SET, &
                          TOPO_TRI3, TOPO_QUAD4, TOPO_TET4, TOPO_PENTA6, TOPO_HEX8
   implicit none
   private
@@ -31,8 +33,6 @@ module mefem_contact_surfaces
             contact_surface_triangulate
   public :: contact_search_build
 
-  !> Surface kinds: the SURFATYP/SURFBTYP codes stored in contact_t.
-  integer, parameter, public :: SURFACE_SEGMENT_SET = 0, SURFACE_PART_SET = 2, SURFACE_PART = 3
 
   !> Most vertices of a facet and most faces of an element.
   integer, parameter :: MAX_VERTICES = 4, MAX_FACES = 6
@@ -116,10 +116,12 @@ contains
         return
       end if
       call segments_to_facets(model, target, surface, status, who)
-    case (SURFACE_PART, SURFACE_PART_SET)
+    case (SURFACE_PART, SURFACE_PART_SET, SURFACE_ALL_PARTS, SURFACE_ALL_BUT_SET)
       allocate(selected(model%n_parts))
       selected = .false.
-      if (kind == SURFACE_PART) then
+      if (kind == SURFACE_ALL_PARTS) then
+        selected = .true.
+      else if (kind == SURFACE_PART) then
         if (target < 1 .or. target > model%n_parts) then
           call fail(status, who//': target '//itoa(target)//' is not a part')
           return
@@ -137,12 +139,13 @@ contains
           return
         end if
         selected(model%sets(target)%members) = .true.
+        if (kind == SURFACE_ALL_BUT_SET) selected = .not. selected
       end if
       call parts_to_facets(model, selected, surface, status, who//' ('// &
                            target_name(model, kind, target)//')')
     case default
       call fail(status, who//': surface type '//itoa(kind)//' is not supported '// &
-                '(0 segment set, 2 part set, 3 part)')
+                '(0 segment set, 2 part set, 3 part, 5 all parts, 6 all but a part set)')
       return
     end select
     if (.not. status%ok) return
@@ -155,7 +158,8 @@ contains
   end subroutine contact_surface_build
 
   !> Slave (SURFA) and master (SURFB) surfaces of contact k of the model; messages name the
-  !> contact by its id (or its position when it has none) and SURFA/SURFB.
+  !> contact by its id (or its position when it has none) and SURFA/SURFB. A single-surface
+  !> contact's master is its SURFA again (the same facets, in the same order).
   subroutine contact_surface_pair_build(model, k, slave, master, status)
     type(model_t), intent(in) :: model                !< the resolved model
     integer, intent(in) :: k                          !< contact index in model%contacts
@@ -172,6 +176,10 @@ contains
       call contact_surface_build(model, contact%surf_a_type, contact%surf_a, slave, status, &
                                  who//' SURFA')
       if (.not. status%ok) return
+      if (contact%single_surface) then
+        master = slave
+        return
+      end if
       call contact_surface_build(model, contact%surf_b_type, contact%surf_b, master, status, &
                                  who//' SURFB')
     end associate
@@ -652,6 +660,10 @@ contains
       s = 'part '//itoa(model%parts(target)%id)
     case (SURFACE_PART_SET)
       s = 'part set '//itoa(model%sets(target)%id)
+    case (SURFACE_ALL_PARTS)
+      s = 'all parts'
+    case (SURFACE_ALL_BUT_SET)
+      s = 'all parts but those of part set '//itoa(model%sets(target)%id)
     case default
       s = 'segment set '//itoa(model%sets(target)%id)
     end select

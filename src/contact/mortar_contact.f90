@@ -2,6 +2,15 @@
 !> (formulation section 5; seed paper section 3.3) for *CONTACT_AUTOMATIC_SURFACE_TO_SURFACE
 !> (_MORTAR): SURFA = slave (non-mortar), SURFB = master (mortar).
 !>
+!> *CONTACT_AUTOMATIC_SINGLE_SURFACE (doc/theory.md 10.9): SURFA is both the slave and the
+!> master surface, so every pair of solid facets that meet is computed twice, each facet
+!> once as the slave (two half passes: such a pair counts with half the penalty, so it is as
+!> stiff as one surface-to-surface pass, and unbiased). Facets whose side is not known
+!> (shells of rigid tools) are masters only, and their pairs count fully. Pairs of facets
+!> that share a node are not candidates, and a pair whose slave facet lies deeper behind the
+!> master facet than PENMAX (default DEFAULT_PENMAX) times the master element's thickness
+!> normal to the facet is no partner: the other side of a thin body, not a penetration.
+!>
 !> One call (mortar_contact_forces) with the current positions of the surface nodes, per
 !> interface:
 !>  1. candidate facet pairs from the bucket search (mefem_contact_surfaces), rebuilt when a
@@ -52,7 +61,7 @@ module mefem_mortar_contact
   use mefem_kinds, only: wp, i8
   use mefem_errors, only: status_t, fatal
   use mefem_strings, only: itoa
-  use mefem_model, only: model_t, contact_t
+  use mefem_model, only: model_t, contact_t, MAT_RIGID
   use mefem_contact_surfaces, only: contact_surface_t, contact_search_t, &
                                     contact_surface_triangulate, &
                                     contact_surface_pair_build, contact_facet_area_vector, &
@@ -77,6 +86,9 @@ module mefem_mortar_contact
   real(wp), parameter :: FACING_COSINE = 0.25_wp   !< cos of the largest angle (75.5 deg)
                                                    !< between a slave normal and the reversed
                                                    !< normal of a master partner
+  real(wp), parameter :: DEFAULT_PENMAX = 0.4_wp   !< single surface: deepest penetration of a
+                                                   !< partner / the master element's thickness
+                                                   !< (LS-DYNA's default for solids)
 
   !> Reals per pair in the records the ranks exchange: candidate number, n_ab (3 x 3), n_ac
   !> (3 x MAX_VERTICES), master normal (3).
@@ -122,6 +134,12 @@ module mefem_mortar_contact
     real(wp), allocatable :: slave_area(:)         !< (ns) a_A, reference configuration
     real(wp) :: fs = 0.0_wp, fd = 0.0_wp, dc = 0.0_wp
     real(wp) :: birth = 0.0_wp, death = huge(1.0_wp) !< BT, DT: active for BT <= t <= DT
+    logical :: single = .false.                    !< single surface: master = slave facets
+    real(wp), allocatable :: pass_weight(:)        !< (ns) single surface: factor on the
+                                                   !< penalty of a slave node (1/2 for pairs
+                                                   !< computed both ways, 1 against shells)
+    real(wp), allocatable :: depth_limit(:)        !< (master facets) single surface: deepest
+                                                   !< penetration of a partner (length)
     ! per slave node, last call
     real(wp), allocatable :: normal(:,:)           !< (3, ns) n_A
     real(wp), allocatable :: normal_old(:,:)       !< (3, ns) n_A of the call before
@@ -205,6 +223,8 @@ contains
         it%id = merge(c%id, k, c%id > 0)
         call contact_surface_pair_build(model, k, it%slave, it%master, status)
         if (.not. status%ok) call fatal(status%message)
+        it%single = c%single_surface
+        if (it%single) call partner_depth_limits(model, c, it)
         ! the slave side integrates over triangles: quadrilateral faces (hexahedra,
         ! quadrilateral segments) are cut in two
         call contact_surface_triangulate(it%slave)
@@ -277,6 +297,109 @@ contains
     divide_threshold = value
   end function divide_threshold
 
+  !> Single surface: per master facet the deepest penetration a slave facet may have and
+  !> still be its partner, PENMAX (DEFAULT_PENMAX when 0) times the thickness of the
+  !> facet's element normal to the facet (the distance of its farthest node from the facet's
+  !> plane, reference configuration). Facets without an element, or whose side is not known
+  !> (shells), get no limit.
+  subroutine partner_depth_limits(model, c, it)
+    type(model_t), intent(in) :: model                !< resolved model
+    type(contact_t), intent(in) :: c                  !< the contact card
+    type(contact_interface_t), intent(inout) :: it    !< the interface (master built)
+    real(wp) :: a(3), normal(3), thickness, fraction
+    integer :: f, e, i, nv, origin
+    fraction = DEFAULT_PENMAX
+    if (c%penmax > 0.0_wp) fraction = c%penmax
+    allocate(it%depth_limit(it%master%nfacet))
+    it%depth_limit = huge(1.0_wp)
+    do f = 1, it%master%nfacet
+      e = it%master%element(f)
+      if (e <= 0 .or. .not. it%master%outward(f)) cycle
+      a = contact_facet_area_vector(it%master, f, model%nodes%x)
+      if (norm2(a) <= 0.0_wp) cycle
+      normal = a/norm2(a)
+      origin = it%master%facets(1, f)
+      nv = NODES_OF_TOPO(model%elements%topology(e))
+      thickness = 0.0_wp
+      do i = 1, nv
+        thickness = max(thickness, -dot_product(normal, model%nodes%x(:, &
+            model%elements%conn(i, e)) - model%nodes%x(:, origin)))
+      end do
+      if (thickness > 0.0_wp) it%depth_limit(f) = fraction*thickness
+    end do
+  end subroutine partner_depth_limits
+
+  !> Single surface: drop the candidates whose slave and master facets share a node (a facet
+  !> and its neighbours), keeping the order of the others.
+  subroutine drop_neighbours(it)
+    type(contact_interface_t), intent(inout) :: it    !< the interface
+    integer :: k, kept, s, m, i
+    logical :: shared
+    kept = 0
+    do k = 1, it%ncandidate
+      s = it%candidates(1, k)
+      m = it%candidates(2, k)
+      shared = .false.
+      do i = 1, it%slave%nvertex(s)
+        shared = shared .or. any(it%master%facets(1:it%master%nvertex(m), m) == &
+                                 it%slave%facets(i, s))
+      end do
+      if (shared) cycle
+      kept = kept + 1
+      it%candidates(:, kept) = it%candidates(:, k)
+    end do
+    it%ncandidate = kept
+  end subroutine drop_neighbours
+
+  !> Single surface: the penalty factor of the slave nodes first:last, the mean over the
+  !> node's pairs (weighted by their share sum_B n_AB of A_A) of 1/2 for a pair with a solid
+  !> master facet (computed again the other way round) and 1 for a shell master (one way).
+  subroutine pass_weights(it, first, last)
+    type(contact_interface_t), intent(inout) :: it    !< the interface (area set)
+    integer, intent(in) :: first, last                !< slave nodes wanted
+    integer :: k, a, slot
+    real(wp) :: w
+    if (.not. allocated(it%pass_weight)) allocate(it%pass_weight(size(it%slave%nodes)))
+    it%pass_weight = 0.0_wp
+    do k = 1, it%npair
+      associate (p => it%pairs(k))
+        w = merge(0.5_wp, 1.0_wp, it%master%outward(p%master))
+        do a = 1, it%slave%nvertex(p%slave)
+          slot = it%slave%local(a, p%slave)
+          if (slot < first .or. slot > last) cycle
+          it%pass_weight(slot) = it%pass_weight(slot) + w*sum(p%n_ab(a, :))
+        end do
+      end associate
+    end do
+    do slot = first, last
+      if (it%area(slot) > 0.0_wp) it%pass_weight(slot) = it%pass_weight(slot)/it%area(slot)
+    end do
+  end subroutine pass_weights
+
+  !> Single surface: the slave facet s lies deeper behind the master facet m (outward unit
+  !> normal n_m) than the facet's depth limit, measured from centroid to centroid along n_m.
+  logical function too_deep(contact, it, s, m, n_m)
+    type(mortar_contact_t), intent(in) :: contact     !< contact data (positions)
+    type(contact_interface_t), intent(in) :: it       !< the interface
+    integer, intent(in) :: s, m                       !< slave and master facets
+    real(wp), intent(in) :: n_m(3)                    !< master facet unit normal
+    real(wp) :: cs(3), cm(3)
+    integer :: i
+    too_deep = .false.
+    if (it%depth_limit(m) >= huge(1.0_wp)) return
+    cs = 0.0_wp
+    do i = 1, it%slave%nvertex(s)
+      cs = cs + contact%x(:, it%slave%facets(i, s))
+    end do
+    cm = 0.0_wp
+    do i = 1, it%master%nvertex(m)
+      cm = cm + contact%x(:, it%master%facets(i, m))
+    end do
+    cs = cs/real(it%slave%nvertex(s), wp)
+    cm = cm/real(it%master%nvertex(m), wp)
+    too_deep = dot_product(cs - cm, n_m) < -it%depth_limit(m)
+  end function too_deep
+
   !> The penalty constants of an interface, one value for the whole interface (a penalty
   !> that varied from node to node would turn a uniform penetration into a non-uniform
   !> pressure and fail the contact patch test):
@@ -313,6 +436,9 @@ contains
       if (e <= 0) cycle
       m = model%parts(model%elements%part(e))%material
       if (m <= 0) cycle
+      ! deformable elements only: a rigid tool's modulus says nothing about the body it
+      ! presses (single surfaces of all parts hold both)
+      if (model%materials(m)%kind == MAT_RIGID) cycle
       call material_elastic_moduli(model%materials(m), lambda, mu)
       bulk = lambda + 2.0_wp*mu/3.0_wp
       nv = NODES_OF_TOPO(model%elements%topology(e))
@@ -519,6 +645,7 @@ contains
                                            last, it%gap_old)
     call slave_normals(contact, it, first, last)
     call weighted_sums(contact%x, it, it%pairs, it%npair, first, last, it%gap_vector, it%area)
+    if (it%single) call pass_weights(it, first, last)
     ! gap, pressure, friction per slave node
     do a = first, last
       if (it%area(a) <= 0.0_wp) then
@@ -531,6 +658,7 @@ contains
       it%gap(a) = dot_product(it%normal(:, a), it%gap_vector(:, a))/it%area(a)
       eps = penalty_scale*it%eps_material
       if (dt > 0.0_wp) eps = min(eps, MASS_LIMIT*it%mass_per_area/(dt*dt))
+      if (it%single) eps = it%pass_weight(a)*eps
       penetration = max(-it%gap(a), 0.0_wp)
       if (it%keep_initial) then
         ! the initial penetration is remembered; separating reduces it for good
@@ -775,6 +903,7 @@ contains
     if (moved <= 0.5_wp*it%margin) return
     call contact_search_build(it%search, it%slave, it%master, contact%x, it%margin, &
                               it%candidates, it%ncandidate)
+    if (it%single) call drop_neighbours(it)
     it%x_search = contact%x(:, it%surface_nodes)
     it%searched = .true.
   end subroutine update_candidates
@@ -834,6 +963,10 @@ contains
       if (.not. it%master%outward(m)) facing = -abs(facing)
       if (facing > -FACING_COSINE) cycle
       nm = it%master%nvertex(m)
+      if (it%single) then
+        if (.not. it%slave%outward(s)) cycle          ! shells are masters only
+        if (too_deep(contact, it, s, m, n_m)) cycle
+      end if
       associate (p => it%pairs(it%npair + 1))
         p%candidate = k
         p%slave = s

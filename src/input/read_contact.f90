@@ -1,5 +1,6 @@
-!> Keyword handlers for contact and rigid walls: *CONTACT_AUTOMATIC_SURFACE_TO_SURFACE (options
-!> MORTAR, ID, TITLE, MPP) and *RIGIDWALL_PLANAR (option ID).
+!> Keyword handlers for contact and rigid walls: *CONTACT_AUTOMATIC_SURFACE_TO_SURFACE and
+!> *CONTACT_AUTOMATIC_SINGLE_SURFACE (options MORTAR, ID, TITLE, MPP; the same cards, SURFB
+!> and SURFBTYP not used by the single surface) and *RIGIDWALL_PLANAR (option ID).
 !>
 !> Contact card order (LS-DYNA manual): [_ID/_TITLE: CID HEADING] [_MPP: IGNORE BCKT LCBCKT
 !> NS2TRK INITITR PARMAX - CPARM8, and an optional second card starting with '&'] / card 1
@@ -25,17 +26,20 @@ module mefem_read_contact
 
 contains
 
-  !> *CONTACT_AUTOMATIC_SURFACE_TO_SURFACE(_MORTAR)(_ID|_TITLE)(_MPP): one interface.
-  subroutine read_contact_surface_to_surface(rd, options, model)
+  !> *CONTACT_AUTOMATIC_SURFACE_TO_SURFACE(_MORTAR)(_ID|_TITLE)(_MPP), or with single_surface
+  !> *CONTACT_AUTOMATIC_SINGLE_SURFACE(...): one interface.
+  subroutine read_contact_surface_to_surface(rd, options, model, single_surface)
     type(reader_t), intent(inout) :: rd          !< reading state
     character(len=*), intent(in) :: options      !< keyword options
     type(model_t), intent(inout) :: model        !< model appended to
+    logical, intent(in) :: single_surface        !< SURFA against itself
     type(contact_t) :: contact
     type(card_t) :: card, card1, card2, card3, mpp
     logical :: got, ok, bad
     integer :: k, sapr, sbpr, saboxid, sbboxid, penchk, mpp_ignore
     character(len=:), allocatable :: who
     contact%mortar = has_option(options, 'MORTAR')
+    contact%single_surface = single_surface
     if (has_option(options, 'ID') .or. has_option(options, 'TITLE')) then
       call read_id_card(rd, contact%id, contact%title, ok)
       if (.not. ok) then
@@ -66,8 +70,8 @@ contains
       return
     end if
     call split_card(rd, card1, W_10)
-    call get_int(card1, 1, 'SURFA', contact%surf_a_id, required=.true.)
-    call get_int(card1, 2, 'SURFB', contact%surf_b_id, required=.true.)
+    call get_int(card1, 1, 'SURFA', contact%surf_a_id, required=.not. single_surface)
+    call get_int(card1, 2, 'SURFB', contact%surf_b_id, required=.not. single_surface)
     call get_int(card1, 3, 'SURFATYP', contact%surf_a_type)
     call get_int(card1, 4, 'SURFBTYP', contact%surf_b_type)
     call get_int(card1, 5, 'SABOXID', saboxid)
@@ -157,15 +161,28 @@ contains
     character(len=*), intent(in) :: who              !< 'contact 5'
     integer, intent(in) :: saboxid, sbboxid          !< box ids
     logical, intent(inout) :: bad                    !< set on any error
-    if (contact%surf_a_id <= 0 .or. contact%surf_b_id <= 0) call fail(card1, who// &
-        ': fields SURFA and SURFB must be positive ids (got '//itoa(contact%surf_a_id)// &
-        ' and '//itoa(contact%surf_b_id)//')')
-    if (.not. any(contact%surf_a_type == [0, 2, 3])) call fail(card1, who// &
-        ': field SURFATYP = '//itoa(contact%surf_a_type)//' is not supported '// &
-        '(0 segment set, 2 part set, 3 part)')
-    if (.not. any(contact%surf_b_type == [0, 2, 3])) call fail(card1, who// &
-        ': field SURFBTYP = '//itoa(contact%surf_b_type)//' is not supported '// &
-        '(0 segment set, 2 part set, 3 part)')
+    if (contact%single_surface) then
+      ! SURFA alone: all parts (SURFATYP 5), all but a part set (6), a part set, part or
+      ! segment set; SURFB and SURFBTYP are not used by LS-DYNA either
+      if (.not. any(contact%surf_a_type == [0, 2, 3, 5, 6])) call fail(card1, who// &
+          ': field SURFATYP = '//itoa(contact%surf_a_type)//' is not supported '// &
+          '(0 segment set, 2 part set, 3 part, 5 all parts, 6 all parts but a part set)')
+      if (contact%surf_a_type /= 5 .and. contact%surf_a_id <= 0) call fail(card1, who// &
+          ': field SURFA must be a positive id (got '//itoa(contact%surf_a_id)// &
+          '); for all parts give SURFATYP = 5')
+      if (contact%surf_b_id /= 0 .or. contact%surf_b_type /= 0) call card_warning(card1, &
+          who//': SURFB and SURFBTYP are not used by a single-surface contact')
+    else
+      if (contact%surf_a_id <= 0 .or. contact%surf_b_id <= 0) call fail(card1, who// &
+          ': fields SURFA and SURFB must be positive ids (got '//itoa(contact%surf_a_id)// &
+          ' and '//itoa(contact%surf_b_id)//')')
+      if (.not. any(contact%surf_a_type == [0, 2, 3])) call fail(card1, who// &
+          ': field SURFATYP = '//itoa(contact%surf_a_type)//' is not supported '// &
+          '(0 segment set, 2 part set, 3 part)')
+      if (.not. any(contact%surf_b_type == [0, 2, 3])) call fail(card1, who// &
+          ': field SURFBTYP = '//itoa(contact%surf_b_type)//' is not supported '// &
+          '(0 segment set, 2 part set, 3 part)')
+    end if
     if (saboxid /= 0 .or. sbboxid /= 0) call fail(card1, who// &
         ': fields SABOXID/SBBOXID: boxes (*DEFINE_BOX) are not supported')
     if (contact%fs < 0.0_wp .and. contact%fs /= FS_FROM_PARTS) call fail(card2, who// &

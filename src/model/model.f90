@@ -224,6 +224,8 @@ module mefem_model
     integer :: id = 0
     character(len=80) :: title = ''
     logical :: mortar = .false.
+    logical :: single_surface = .false.      !< *CONTACT_AUTOMATIC_SINGLE_SURFACE: SURFA
+                                             !< against itself (SURFB not used)
     integer :: surf_a_id = 0, surf_b_id = 0, surf_a_type = 0, surf_b_type = 0
     integer :: surf_a = 0, surf_b = 0        !< set/part indices (after resolve)
     real(wp) :: fs = 0.0_wp, fd = 0.0_wp, dc = 0.0_wp, vc = 0.0_wp, vdc = 0.0_wp
@@ -234,6 +236,11 @@ module mefem_model
     real(wp) :: sofscl = 0.1_wp, penmax = 0.0_wp
     type(source_t) :: src
   end type contact_t
+
+  !> Contact surface kinds: the SURFATYP/SURFBTYP codes of LS-DYNA stored in contact_t (5 and
+  !> 6 for single-surface contacts only).
+  integer, parameter, public :: SURFACE_SEGMENT_SET = 0, SURFACE_PART_SET = 2, &
+                                SURFACE_PART = 3, SURFACE_ALL_PARTS = 5, SURFACE_ALL_BUT_SET = 6
 
   !> *RIGIDWALL_PLANAR.
   type, public :: rigid_wall_t

@@ -12,7 +12,9 @@ module mefem_resolve_conditions
   use mefem_strings, only: itoa
   use mefem_deck_source, only: location
   use mefem_id_map, only: id_map_t, id_map_build, id_map_find, sort_with_index
-  use mefem_model, only: model_t, source_t, ON_NODE, ON_NODE_SET, ON_PART, ON_ALL_NODES, &
+  use mefem_model, only: model_t, source_t, SURFACE_SEGMENT_SET, SURFACE_PART, &
+                         SURFACE_PART_SET, SURFACE_ALL_PARTS, SURFACE_ALL_BUT_SET, &
+                         ON_NODE, ON_NODE_SET, ON_PART, ON_ALL_NODES, &
                          FS_FROM_PARTS, contact_t, GENERAL_ALL, GENERAL_NODE, GENERAL_PART, &
                          RIGID_MERGE, &
                          GENERAL_SET, &
@@ -542,28 +544,46 @@ contains
     end do
   end subroutine resolve_initial_velocities
 
-  !> Contact surfaces (by SURFATYP/SURFBTYP) and rigid-wall node sets.
+  !> Contact surfaces (by SURFATYP/SURFBTYP; a single-surface contact's SURFA only) and
+  !> rigid-wall node sets.
   subroutine resolve_contacts(model, look)
     type(model_t), intent(inout) :: model     !< the model
     type(lookup_t), intent(in) :: look        !< lookups
-    integer :: k
+    integer :: k, k2
+    integer, allocatable :: parts(:)
     character(len=:), allocatable :: where, who
     do k = 1, model%n_contacts
       associate (contact => model%contacts(k))
-        where = where_is(contact%src, '*CONTACT_AUTOMATIC_SURFACE_TO_SURFACE')
+        if (contact%single_surface) then
+          where = where_is(contact%src, '*CONTACT_AUTOMATIC_SINGLE_SURFACE')
+        else
+          where = where_is(contact%src, '*CONTACT_AUTOMATIC_SURFACE_TO_SURFACE')
+        end if
         who = 'contact: '
         if (contact%id /= 0) who = 'contact '//itoa(contact%id)//': '
-        call resolve_target(look, surface_kind(contact%surf_a_type), contact%surf_a_id, &
-                            contact%surf_a, where, who//'SURFA ')
-        call resolve_target(look, surface_kind(contact%surf_b_type), contact%surf_b_id, &
-                            contact%surf_b, where, who//'SURFB ')
-        if (contact%fs == FS_FROM_PARTS) call part_friction(contact, where, who)
+        if (contact%surf_a_type /= SURFACE_ALL_PARTS) call resolve_target(look, &
+            surface_kind(contact%surf_a_type), contact%surf_a_id, contact%surf_a, where, &
+            who//'SURFA ')
+        if (.not. contact%single_surface) call resolve_target(look, &
+            surface_kind(contact%surf_b_type), contact%surf_b_id, contact%surf_b, where, &
+            who//'SURFB ')
+        call surface_a_parts(contact, parts)
+        if (contact%fs == FS_FROM_PARTS) call part_friction(contact, parts, where, who)
         ! the penalty comes from SURFA's elements: a SURFA of rigid parts only has none
-        if (contact%surf_a > 0 .and. surface_kind(contact%surf_a_type) /= ON_SEGMENT_SET) then
-          if (all_rigid(surface_kind(contact%surf_a_type), contact%surf_a)) &
-            call input_error(where, who//'SURFA holds *MAT_RIGID parts only; mefem takes '// &
-                'the penalty from SURFA''s elements, so SURFA must be the deformable body '// &
-                '(swap SURFA and SURFB: the rigid tool is SURFB)')
+        if (size(parts) > 0) then
+          if (all([(part_is_rigid(parts(k2)), k2 = 1, size(parts))])) then
+            if (contact%single_surface) then
+              call input_error(where, who//'SURFA holds *MAT_RIGID parts only; mefem takes '// &
+                  'the penalty from the deformable elements of the surface')
+            else
+              call input_error(where, who//'SURFA holds *MAT_RIGID parts only; mefem takes '// &
+                  'the penalty from SURFA''s elements, so SURFA must be the deformable body '// &
+                  '(swap SURFA and SURFB: the rigid tool is SURFB)')
+            end if
+          end if
+        else if (contact%surf_a_type == SURFACE_ALL_BUT_SET .and. contact%surf_a > 0) then
+          call input_error(where, who//'SURFATYP = 6: part set '//itoa(contact%surf_a_id)// &
+              ' holds every part, so no part is left for the contact')
         end if
       end associate
     end do
@@ -607,24 +627,18 @@ contains
           'joins rigid bodies and nodes to them')
     end subroutine require_rigid
 
-    !> FS = -1: the friction FS, FD, DC of the *PART_CONTACT of SURFA's parts (a part or a
-    !> part set; all of them the same values).
-    subroutine part_friction(contact, where, who)
+    !> FS = -1: the friction FS, FD, DC of the *PART_CONTACT of SURFA's parts (a part, a
+    !> part set, all parts or all but a set; all of them the same values).
+    subroutine part_friction(contact, parts, where, who)
       type(contact_t), intent(inout) :: contact   !< the contact (SURFA resolved)
+      integer, intent(in) :: parts(:)             !< SURFA's parts (surface_a_parts)
       character(len=*), intent(in) :: where, who !< for messages
-      integer, allocatable :: parts(:)
       integer :: i
-      if (contact%surf_a <= 0) return
-      select case (surface_kind(contact%surf_a_type))
-      case (ON_PART)
-        parts = [contact%surf_a]
-      case (ON_PART_SET)
-        parts = model%sets(contact%surf_a)%members
-      case default
+      if (contact%surf_a_type == SURFACE_SEGMENT_SET) then
         call input_error(where, who//'FS = -1 (friction of the SURFA parts'' *PART_CONTACT) '// &
-            'needs SURFA as a part or part set (SURFATYP 3 or 2)')
+            'needs SURFA as parts (SURFATYP 3, 2, 5 or 6)')
         return
-      end select
+      end if
       do i = 1, size(parts)
         associate (part => model%parts(parts(i)))
           if (.not. part%has_contact) then
@@ -648,26 +662,33 @@ contains
       end do
     end subroutine part_friction
 
-    !> Every part of a contact surface (a part, or a part set) is *MAT_RIGID.
-    logical function all_rigid(kind, target)
-      integer, intent(in) :: kind               !< ON_PART or ON_PART_SET
-      integer, intent(in) :: target             !< part or set index
-      integer :: i
-      all_rigid = .false.
-      if (kind == ON_PART) then
-        all_rigid = part_is_rigid(target)
-      else
-        associate (set => model%sets(target))
-          if (.not. allocated(set%members)) return
-          if (size(set%members) == 0) return
-          if (any(set%members <= 0)) return
-          all_rigid = .true.
-          do i = 1, size(set%members)
-            all_rigid = all_rigid .and. part_is_rigid(set%members(i))
-          end do
-        end associate
-      end if
-    end function all_rigid
+    !> The part indices of a contact's SURFA (ascending; empty for a segment set or an
+    !> unresolved target): a part, a part set's members, all parts (SURFATYP 5) or all parts
+    !> but a part set's (6).
+    subroutine surface_a_parts(contact, parts)
+      type(contact_t), intent(in) :: contact      !< the contact (SURFA resolved)
+      integer, allocatable, intent(out) :: parts(:) !< part indices
+      logical :: keep(model%n_parts)
+      integer :: p
+      keep = .false.
+      select case (contact%surf_a_type)
+      case (SURFACE_PART)
+        if (contact%surf_a > 0) keep(contact%surf_a) = .true.
+      case (SURFACE_PART_SET, SURFACE_ALL_BUT_SET)
+        if (contact%surf_a > 0) then
+          associate (set => model%sets(contact%surf_a))
+            if (allocated(set%members)) then
+              if (all(set%members >= 1 .and. set%members <= model%n_parts)) &
+                keep(set%members) = .true.
+            end if
+          end associate
+          if (contact%surf_a_type == SURFACE_ALL_BUT_SET) keep = .not. keep
+        end if
+      case (SURFACE_ALL_PARTS)
+        keep = .true.
+      end select
+      parts = pack([(p, p = 1, model%n_parts)], keep)
+    end subroutine surface_a_parts
 
     !> Part p's material is *MAT_RIGID (false when it is not defined).
     logical function part_is_rigid(p)
@@ -680,11 +701,12 @@ contains
 
   end subroutine resolve_contacts
 
-  !> ON_* kind of a contact surface type (0 segment set, 2 part set, 3 part).
+  !> ON_* kind of a contact surface type (0 segment set, 2 part set, 3 part, 6 all parts but
+  !> a part set: the set).
   pure integer function surface_kind(surface_type)
     integer, intent(in) :: surface_type   !< SURFATYP or SURFBTYP
     select case (surface_type)
-    case (2)
+    case (2, 6)
       surface_kind = ON_PART_SET
     case (3)
       surface_kind = ON_PART

@@ -320,6 +320,9 @@ contains
         '*CONSTRAINED_RIGID_BODIES or *CONSTRAINED_EXTRA_NODES (rigid parts are contact '// &
         'tools there); see line '//itoa(model%rigid_constraints(1)%src%line))
     do k = 1, model%n_contacts
+      if (model%contacts(k)%single_surface) call fatal('implicit analysis takes contact with '// &
+          'rigid tools only: a single-surface contact is explicit only; see '// &
+          '*CONTACT_AUTOMATIC_SINGLE_SURFACE at line '//itoa(model%contacts(k)%src%line))
       if (model%contacts(k)%ignore /= 0) call fatal('implicit analysis takes IGNORE = 0 only '// &
           '(initial penetrations are pushed out); see the contact at line '// &
           itoa(model%contacts(k)%src%line))

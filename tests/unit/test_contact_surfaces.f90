@@ -11,12 +11,12 @@ program test_contact_surfaces
   use mefem_kinds, only: wp, i8
   use mefem_errors, only: status_t
   use mefem_model, only: model_t, set_t, contact_t, ELEM_SOLID, ELEM_SHELL, SET_SEGMENT, &
-                         SET_PART, TOPO_TRI3, TOPO_QUAD4, TOPO_TET4, TOPO_PENTA6, TOPO_HEX8
+                         SET_PART, TOPO_TRI3, TOPO_QUAD4, TOPO_TET4, TOPO_PENTA6, TOPO_HEX8, &
+                         SURFACE_SEGMENT_SET, SURFACE_PART_SET, SURFACE_PART
   use mefem_contact_surfaces, only: contact_surface_t, contact_search_t, &
                                     contact_surface_build, contact_surface_pair_build, &
                                     contact_facet_area_vector, contact_search_build, &
-                                    contact_surface_triangulate, &
-                                    SURFACE_SEGMENT_SET, SURFACE_PART_SET, SURFACE_PART
+                                    contact_surface_triangulate
   use mefem_testing, only: test_start, test_finish, check, check_close, check_equal
   implicit none
 
