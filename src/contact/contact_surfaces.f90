@@ -24,7 +24,7 @@ module mefem_contact_surfaces
   use mefem_output_mesh, only: NODES_OF_TOPO
   use mefem_model, only: model_t, ELEM_SOLID, ELEM_SHELL, SET_SEGMENT, SET_PART, &
                          SURFACE_SEGMENT_SET, SURFACE_PART_SET, SURFACE_PART, &
-                         SURFACE_ALL_PARTS, SURFACE_ALL_BUT_SET, &
+                         SURFACE_NODE_SET, SURFACE_ALL_PARTS, SURFACE_ALL_BUT_SET, SET_NODE, &
                          TOPO_TRI3, TOPO_QUAD4, TOPO_TET4, TOPO_PENTA6, TOPO_HEX8
   implicit none
   private
@@ -143,9 +143,22 @@ contains
       end if
       call parts_to_facets(model, selected, surface, status, who//' ('// &
                            target_name(model, kind, target)//')')
+    case (SURFACE_NODE_SET)
+      ! nodes-to-surface contacts: the exterior faces (2D: boundary edges) of all parts whose
+      ! vertices are all in the node set
+      if (.not. valid_set(model, target, SET_NODE)) then
+        call fail(status, who//': target '//itoa(target)//' is not a node set')
+        return
+      end if
+      allocate(selected(model%n_parts))
+      selected = .true.
+      call parts_to_facets(model, selected, surface, status, who//' ('// &
+                           target_name(model, kind, target)//')')
+      if (status%ok) call keep_facets_of_nodes(model, model%sets(target)%members, surface)
     case default
       call fail(status, who//': surface type '//itoa(kind)//' is not supported '// &
-                '(0 segment set, 2 part set, 3 part, 5 all parts, 6 all but a part set)')
+                '(0 segment set, 2 part set, 3 part, 4 node set, 5 all parts, 6 all but a '// &
+                'part set)')
       return
     end select
     if (.not. status%ok) return
@@ -552,6 +565,29 @@ contains
     surface%nfacet = nout
   end subroutine parts_to_facets
 
+  !> Keep the facets whose vertices are all among the given nodes (a node set's members),
+  !> in their order.
+  subroutine keep_facets_of_nodes(model, members, surface)
+    type(model_t), intent(in) :: model                  !< the model
+    integer, intent(in) :: members(:)                   !< node indices
+    type(contact_surface_t), intent(inout) :: surface   !< facets kept in place
+    logical, allocatable :: member(:)
+    integer :: f, n
+    allocate(member(model%nodes%n))
+    member = .false.
+    member(pack(members, members >= 1 .and. members <= model%nodes%n)) = .true.
+    n = 0
+    do f = 1, surface%nfacet
+      if (.not. all(member(surface%facets(1:surface%nvertex(f), f)))) cycle
+      n = n + 1
+      surface%facets(:, n) = surface%facets(:, f)
+      surface%nvertex(n) = surface%nvertex(f)
+      surface%element(n) = surface%element(f)
+      surface%outward(n) = surface%outward(f)
+    end do
+    surface%nfacet = n
+  end subroutine keep_facets_of_nodes
+
   !> Reverse a facet (a 2D edge: swap its ends; else keep the first vertex and reverse the
   !> others) when its normal points towards the centroid of element e (reference coordinates).
   subroutine orient_outward(model, e, facet, nv)
@@ -660,6 +696,8 @@ contains
       s = 'part '//itoa(model%parts(target)%id)
     case (SURFACE_PART_SET)
       s = 'part set '//itoa(model%sets(target)%id)
+    case (SURFACE_NODE_SET)
+      s = 'node set '//itoa(model%sets(target)%id)
     case (SURFACE_ALL_PARTS)
       s = 'all parts'
     case (SURFACE_ALL_BUT_SET)

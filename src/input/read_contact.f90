@@ -26,13 +26,15 @@ module mefem_read_contact
 
 contains
 
-  !> *CONTACT_AUTOMATIC_SURFACE_TO_SURFACE(_MORTAR)(_ID|_TITLE)(_MPP), or with single_surface
-  !> *CONTACT_AUTOMATIC_SINGLE_SURFACE(...): one interface.
-  subroutine read_contact_surface_to_surface(rd, options, model, single_surface)
+  !> *CONTACT_AUTOMATIC_SURFACE_TO_SURFACE(_MORTAR)(_ID|_TITLE)(_MPP), with single_surface
+  !> *CONTACT_AUTOMATIC_SINGLE_SURFACE(...), with nodes_a the nodes-to-surface contacts (SURFA
+  !> may be a node set): one interface.
+  subroutine read_contact_surface_to_surface(rd, options, model, single_surface, nodes_a)
     type(reader_t), intent(inout) :: rd          !< reading state
     character(len=*), intent(in) :: options      !< keyword options
     type(model_t), intent(inout) :: model        !< model appended to
     logical, intent(in) :: single_surface        !< SURFA against itself
+    logical, intent(in) :: nodes_a               !< SURFATYP 4 (node set) allowed
     type(contact_t) :: contact
     type(card_t) :: card, card1, card2, card3, mpp
     logical :: got, ok, bad
@@ -150,14 +152,15 @@ contains
     if (contact%sast /= 0.0_wp .or. contact%sbst /= 0.0_wp) call card_warning(card3, who// &
         ': SAST and SBST ignored: contact surfaces lie on the elements'' faces and on the '// &
         'mid-surfaces of shells, with no thickness offset (doc/keywords.md 3.10)')
-    call check_contact(card1, card2, card3, contact, who, saboxid, sbboxid, bad)
+    call check_contact(card1, card2, card3, contact, nodes_a, who, saboxid, sbboxid, bad)
     if (.not. bad) call add_contact(model, contact)
   end subroutine read_contact_surface_to_surface
 
   !> Values of cards 1-3 that mefem cannot honour or that make no sense.
-  subroutine check_contact(card1, card2, card3, contact, who, saboxid, sbboxid, bad)
+  subroutine check_contact(card1, card2, card3, contact, nodes_a, who, saboxid, sbboxid, bad)
     type(card_t), intent(in) :: card1, card2, card3  !< the cards
     type(contact_t), intent(in) :: contact           !< the contact read
+    logical, intent(in) :: nodes_a                   !< SURFA may be a node set (SURFATYP 4)
     character(len=*), intent(in) :: who              !< 'contact 5'
     integer, intent(in) :: saboxid, sbboxid          !< box ids
     logical, intent(inout) :: bad                    !< set on any error
@@ -176,9 +179,14 @@ contains
       if (contact%surf_a_id <= 0 .or. contact%surf_b_id <= 0) call fail(card1, who// &
           ': fields SURFA and SURFB must be positive ids (got '//itoa(contact%surf_a_id)// &
           ' and '//itoa(contact%surf_b_id)//')')
-      if (.not. any(contact%surf_a_type == [0, 2, 3])) call fail(card1, who// &
-          ': field SURFATYP = '//itoa(contact%surf_a_type)//' is not supported '// &
-          '(0 segment set, 2 part set, 3 part)')
+      if (nodes_a) then
+        if (.not. any(contact%surf_a_type == [0, 2, 3, 4])) call fail(card1, who// &
+            ': field SURFATYP = '//itoa(contact%surf_a_type)//' is not supported '// &
+            '(0 segment set, 2 part set, 3 part, 4 node set)')
+      else if (.not. any(contact%surf_a_type == [0, 2, 3])) then
+        call fail(card1, who//': field SURFATYP = '//itoa(contact%surf_a_type)//' is not '// &
+            'supported (0 segment set, 2 part set, 3 part)')
+      end if
       if (.not. any(contact%surf_b_type == [0, 2, 3])) call fail(card1, who// &
           ': field SURFBTYP = '//itoa(contact%surf_b_type)//' is not supported '// &
           '(0 segment set, 2 part set, 3 part)')

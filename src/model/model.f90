@@ -237,10 +237,11 @@ module mefem_model
     type(source_t) :: src
   end type contact_t
 
-  !> Contact surface kinds: the SURFATYP/SURFBTYP codes of LS-DYNA stored in contact_t (5 and
-  !> 6 for single-surface contacts only).
+  !> Contact surface kinds: the SURFATYP/SURFBTYP codes of LS-DYNA stored in contact_t (4 for
+  !> the SURFA of nodes-to-surface contacts, 5 and 6 for single-surface contacts only).
   integer, parameter, public :: SURFACE_SEGMENT_SET = 0, SURFACE_PART_SET = 2, &
-                                SURFACE_PART = 3, SURFACE_ALL_PARTS = 5, SURFACE_ALL_BUT_SET = 6
+                                SURFACE_PART = 3, SURFACE_NODE_SET = 4, SURFACE_ALL_PARTS = 5, &
+                                SURFACE_ALL_BUT_SET = 6
 
   !> *RIGIDWALL_PLANAR.
   type, public :: rigid_wall_t

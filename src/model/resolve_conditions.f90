@@ -13,7 +13,8 @@ module mefem_resolve_conditions
   use mefem_deck_source, only: location
   use mefem_id_map, only: id_map_t, id_map_build, id_map_find, sort_with_index
   use mefem_model, only: model_t, source_t, SURFACE_SEGMENT_SET, SURFACE_PART, &
-                         SURFACE_PART_SET, SURFACE_ALL_PARTS, SURFACE_ALL_BUT_SET, &
+                         SURFACE_PART_SET, SURFACE_NODE_SET, SURFACE_ALL_PARTS, &
+                         SURFACE_ALL_BUT_SET, &
                          ON_NODE, ON_NODE_SET, ON_PART, ON_ALL_NODES, &
                          FS_FROM_PARTS, contact_t, GENERAL_ALL, GENERAL_NODE, GENERAL_PART, &
                          RIGID_MERGE, &
@@ -639,6 +640,11 @@ contains
             'needs SURFA as parts (SURFATYP 3, 2, 5 or 6)')
         return
       end if
+      if (contact%surf_a_type == SURFACE_NODE_SET) then
+        call input_error(where, who//'FS = -1 (friction of the SURFA parts'' *PART_CONTACT) '// &
+            'needs SURFA as parts (SURFATYP 3, 2, 5 or 6), not a node set')
+        return
+      end if
       do i = 1, size(parts)
         associate (part => model%parts(parts(i)))
           if (.not. part%has_contact) then
@@ -701,8 +707,8 @@ contains
 
   end subroutine resolve_contacts
 
-  !> ON_* kind of a contact surface type (0 segment set, 2 part set, 3 part, 6 all parts but
-  !> a part set: the set).
+  !> ON_* kind of a contact surface type (0 segment set, 2 part set, 3 part, 4 node set, 6 all
+  !> parts but a part set: the set).
   pure integer function surface_kind(surface_type)
     integer, intent(in) :: surface_type   !< SURFATYP or SURFBTYP
     select case (surface_type)
@@ -710,6 +716,8 @@ contains
       surface_kind = ON_PART_SET
     case (3)
       surface_kind = ON_PART
+    case (4)
+      surface_kind = ON_NODE_SET
     case default
       surface_kind = ON_SEGMENT_SET
     end select

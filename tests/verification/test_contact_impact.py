@@ -4,7 +4,9 @@ material, different meshes (bar 1 is SURFA, bar 2 SURFB). Expected: contact for 
 the bars exchange their velocities (bar 1 stops, bar 2 leaves at v0); momentum conserved to
 round-off (the slave and master contact forces are equal and opposite); total energy
 (kinetic + internal + sliding interface) conserved within 1 %. ME-FEM tets, and again with
-one-point hexahedra (quadrilateral contact faces on both sides); mm, t, s, MPa.
+one-point hexahedra (quadrilateral contact faces on both sides), and as a
+*CONTACT_AUTOMATIC_NODES_TO_SURFACE whose SURFA is the node set of bar 1's end face (read as the
+mortar contact of the faces those nodes span, with a warning); mm, t, s, MPa.
 """
 import os
 import sys
@@ -28,9 +30,10 @@ c0 = np.sqrt(YOUNG / DENSITY)
 
 
 def impact(kind):
-    """The two bars of ME-FEM tets (kind 'tets') or of one-point hexahedra ('hexes': the
-    contact surfaces are the hexahedra's quadrilateral faces)."""
-    if kind == 'tets':
+    """The two bars of ME-FEM tets (kind 'tets'; 'nodes': the contact a nodes-to-surface one
+    with bar 1's end-face nodes as SURFA) or of one-point hexahedra ('hexes': the contact
+    surfaces are the hexahedra's quadrilateral faces)."""
+    if kind in ('tets', 'nodes'):
         x1, c1 = box_tets(L, W, W, 16, 2, 2)
         x2, c2 = box_tets(L, W, W, 20, 3, 3)
         elform = 43
@@ -42,20 +45,28 @@ def impact(kind):
     n1 = len(x1)
     x = np.vstack([x1, x2])
     end_time = GAP / V0 + 2.5 * L / c0
-    name = 'bar_impact' if kind == 'tets' else 'bar_impact_hexes'
+    name = {'tets': 'bar_impact', 'hexes': 'bar_impact_hexes', 'nodes': 'bar_impact_nodes'}[kind]
+    contact = ['*CONTACT_AUTOMATIC_SURFACE_TO_SURFACE_MORTAR', f10(1, 2, 3, 3), f10(0.0),
+               f10(SFS, SFS)]
+    if kind == 'nodes':
+        contact = node_set(3, np.nonzero(abs(x1[:, 0] - L) < 1e-9)[0]) + [
+            '*CONTACT_AUTOMATIC_NODES_TO_SURFACE', f10(3, 2, 4, 3), f10(0.0), f10(SFS, SFS)]
     blocks = [nodes_card(x), elements_card('ELEMENT_SOLID', c1, pid=1),
               elements_card('ELEMENT_SOLID', c2 + n1, pid=2, first_id=len(c1) + 1),
               ['*PART', 'bar 1', f10(1, 1, 1), '*PART', 'bar 2', f10(2, 1, 1),
                '*SECTION_SOLID', f10(1, elform), '*MAT_ELASTIC', free(1, DENSITY, YOUNG, 0.0)],
               node_set(1, range(n1)), ['*INITIAL_VELOCITY', f10(1), f10(V0, 0.0, 0.0)],
-              ['*CONTACT_AUTOMATIC_SURFACE_TO_SURFACE_MORTAR', f10(1, 2, 3, 3), f10(0.0),
-               f10(SFS, SFS)],
+              contact,
               ['*CONTROL_TERMINATION', f10(end_time), '*DATABASE_BINARY_D3PLOT', f10(end_time),
                '*DATABASE_GLSTAT', f10(end_time / 200), '*DATABASE_RCFORC', f10(end_time / 400)]]
     rc, text, out = run_case(name, blocks)
     checks.check(rc == 0, '%s: run succeeds' % name, text[-600:])
     if rc != 0:
         return
+    if kind == 'nodes':
+        checks.check('read as *CONTACT_AUTOMATIC_SURFACE_TO_SURFACE_MORTAR' in text,
+                     'nodes: the nodes-to-surface contact is read as the mortar contact, with '
+                     'a warning', text[-600:])
     g = read_glstat(os.path.join(out, 'glstat'))
     r = read_rcforc(os.path.join(out, 'rcforc'))[1]['slave']
     mass = 2 * DENSITY * L * W * W
@@ -95,4 +106,5 @@ def impact(kind):
 
 impact('tets')
 impact('hexes')
+impact('nodes')
 checks.exit()

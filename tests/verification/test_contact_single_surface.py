@@ -13,7 +13,8 @@ against itself, computed as two half passes (each facet once the slave, half the
    undeformed (the other side of a thin body is no partner: PENMAX).
 4. Hairpin: a U-shaped one-point-hexahedron body whose upper arm is thrown onto the lower arm:
    the arms do not pass through each other (and do without the contact), total energy kept;
-   1 and 2 ranks (the contact divided among the ranks) give the same bits.
+   1 and 2 ranks (the contact divided among the ranks) give the same bits;
+   *CONTACT_AUTOMATIC_GENERAL is read as this contact (the same bits, with a warning).
 Units: mm, tonne, s, N, MPa.
 """
 import os
@@ -33,9 +34,8 @@ os.environ['MEFEM_CONTACT_DIVIDE_MIN'] = '0'     # divide even small interfaces 
 checks = Checks('contact_single_surface')
 
 
-def single_surface(surfa, surfatyp, sfs=1.0):
-    return ['*CONTACT_AUTOMATIC_SINGLE_SURFACE_ID', f10(1), f10(surfa, 0, surfatyp),
-            f10(0.0), f10(sfs, sfs)]
+def single_surface(surfa, surfatyp, sfs=1.0, keyword='*CONTACT_AUTOMATIC_SINGLE_SURFACE_ID'):
+    return [keyword, f10(1), f10(surfa, 0, surfatyp), f10(0.0), f10(sfs, sfs)]
 
 
 def last_state(out, name, fields):
@@ -202,7 +202,7 @@ def hairpin_mesh():
     return g[used], renumber[conn]
 
 
-def hairpin(contact, ranks=1):
+def hairpin(contact, ranks=1, keyword='*CONTACT_AUTOMATIC_SINGLE_SURFACE_ID'):
     v_arm, end_time = 3.0e4, 2.0e-4
     x, c = hairpin_mesh()
     arm = np.nonzero((x[:, 2] > 1.4) & (x[:, 0] < 8.9))[0]
@@ -210,11 +210,13 @@ def hairpin(contact, ranks=1):
               ['*PART', 'hairpin', f10(1, 1, 1), '*SECTION_SOLID', f10(1, 1),
                '*MAT_ELASTIC', free(1, DENSITY, YOUNG, 0.3)],
               node_set(1, arm), ['*INITIAL_VELOCITY', f10(1), f10(0.0, 0.0, -v_arm)],
-              single_surface(1, 3) if contact else [],
+              single_surface(1, 3, keyword=keyword) if contact else [],
               ['*CONTROL_TERMINATION', f10(end_time), '*DATABASE_BINARY_D3PLOT',
                f10(end_time / 40), '*DATABASE_GLSTAT', f10(end_time / 200),
                '*DATABASE_RCFORC', f10(end_time / 200)]]
     name = 'single_surface_hairpin%s_np%d' % ('' if contact else '_free', ranks)
+    if 'GENERAL' in keyword:
+        name = 'single_surface_hairpin_general'
     rc, text, out = run_case(name, blocks, ranks=ranks)
     checks.check(rc == 0, '%s: run succeeds' % name, text[-600:])
     if rc != 0:
@@ -232,7 +234,7 @@ def hairpin(contact, ranks=1):
             gaps.append(np.min(xs[upper] - xs[lower]))
     g = read_glstat(os.path.join(out, 'glstat'))
     r = read_rcforc(os.path.join(out, 'rcforc'))[1]['slave'] if contact else None
-    return dict(gap=np.array(gaps), ratio=g['total energy / initial energy'], rcforc=r,
+    return dict(text=text, gap=np.array(gaps), ratio=g['total energy / initial energy'], rcforc=r,
                 state=last_state(out, name, ['displacement', 'velocity']))
 
 
@@ -269,6 +271,12 @@ if free_run and touch:
                  '(penetration below 0.02 mm = 4 % of the gap)', '%.4f' % touch['gap'].min())
     checks.check(np.all(abs(touch['ratio'] - 1) < 0.01), 'hairpin: total energy within 1 %',
                  '%.5f .. %.5f' % (touch['ratio'].min(), touch['ratio'].max()))
+general = hairpin(True, keyword='*CONTACT_AUTOMATIC_GENERAL_ID')
+if touch and general:
+    same = all(np.array_equal(a, b) for a, b in zip(touch['state'], general['state']))
+    checks.check(same and 'read as *CONTACT_AUTOMATIC_SINGLE_SURFACE' in general['text'],
+                 'hairpin: *CONTACT_AUTOMATIC_GENERAL is the single surface (same bits, with a '
+                 'warning)', general['text'][-400:])
 if touch and touch2:
     same = all(np.array_equal(a, b) for a, b in zip(touch['state'], touch2['state']))
     checks.check(same, 'hairpin: 2 ranks (contact divided) give the bits of 1 rank',
