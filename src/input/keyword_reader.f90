@@ -64,7 +64,7 @@ module mefem_keyword_reader
   integer, parameter :: H_CONTROL_SOLUTION = 50, H_HOURGLASS = 51, H_CONTROL_HOURGLASS = 52, &
                         H_MAT_PLASTIC_KINEMATIC = 53, H_CONSTRAINED_RIGID_BODIES = 54, &
                         H_CONSTRAINED_EXTRA_NODES = 55, H_CONTACT_SINGLE_SURFACE = 56, &
-                        H_CONTACT_NODES_TO_SURFACE = 57
+                        H_CONTACT_NODES_TO_SURFACE = 57, H_CONTACT_TIED = 58
 
   !> One registered keyword.
   type :: keyword_entry_t
@@ -73,7 +73,7 @@ module mefem_keyword_reader
     character(len=64) :: options = ''    !< options accepted, as ' OPT1 OPT2 '
   end type keyword_entry_t
 
-  integer, parameter :: N_ENTRIES = 68
+  integer, parameter :: N_ENTRIES = 70
   type(keyword_entry_t), parameter :: REGISTRY(N_ENTRIES) = [ &
     keyword_entry_t('NODE', H_NODE, ' '), &
     keyword_entry_t('ELEMENT_SOLID', H_ELEMENT_SOLID, ' '), &
@@ -132,6 +132,10 @@ module mefem_keyword_reader
     keyword_entry_t('CONTACT_AUTOMATIC_NODES_TO_SURFACE', H_CONTACT_NODES_TO_SURFACE, &
                     ' MORTAR ID TITLE MPP '), &
     keyword_entry_t('CONTACT_NODES_TO_SURFACE', H_CONTACT_NODES_TO_SURFACE, ' ID TITLE MPP '), &
+    keyword_entry_t('CONTACT_TIED_SURFACE_TO_SURFACE', H_CONTACT_TIED, &
+                    ' OFFSET CONSTRAINED ID TITLE MPP '), &
+    keyword_entry_t('CONTACT_TIED_NODES_TO_SURFACE', H_CONTACT_TIED, &
+                    ' OFFSET CONSTRAINED ID TITLE MPP '), &
     ! the forming contacts of DYNAFORM/eta decks: the same cards, read as the mortar contact
     keyword_entry_t('CONTACT_FORMING_ONE_WAY_SURFACE_TO_SURFACE', &
                     H_CONTACT_SURFACE_TO_SURFACE, ' ID TITLE MPP '), &
@@ -432,18 +436,21 @@ contains
           ': read as *CONTACT_AUTOMATIC_SURFACE_TO_SURFACE_MORTAR (mortar penalty contact; '// &
           'SURFA, the blank, is the slave side); the forming contact''s own treatment of '// &
           'shell blanks is not used (doc/keywords.md 3.10)')
-      call read_contact_surface_to_surface(rd, options, model, .false., .false.)
+      call read_contact_surface_to_surface(rd, options, model, .false., .false., .false.)
+    case (H_CONTACT_TIED)
+      call read_contact_surface_to_surface(rd, options, model, .false., &
+                                           starts_with(rd%keyword, '*CONTACT_TIED_NODES'), .true.)
     case (H_CONTACT_SINGLE_SURFACE)
       if (starts_with(rd%keyword, '*CONTACT_AUTOMATIC_GENERAL')) call warn(keyword_where(rd)// &
           ': read as *CONTACT_AUTOMATIC_SINGLE_SURFACE (mortar penalty contact of the '// &
           'surfaces'' facets); the general contact''s edge-to-edge and beam contact is not '// &
           'computed (doc/keywords.md 3.10)')
-      call read_contact_surface_to_surface(rd, options, model, .true., .false.)
+      call read_contact_surface_to_surface(rd, options, model, .true., .false., .false.)
     case (H_CONTACT_NODES_TO_SURFACE)
       call warn(keyword_where(rd)//': read as *CONTACT_AUTOMATIC_SURFACE_TO_SURFACE_MORTAR '// &
           '(mortar penalty contact; SURFA, the slave nodes, is taken as the exterior faces '// &
           'and boundary edges they span); no node-to-segment treatment (doc/keywords.md 3.10)')
-      call read_contact_surface_to_surface(rd, options, model, .false., .true.)
+      call read_contact_surface_to_surface(rd, options, model, .false., .true., .false.)
     case (H_CONSTRAINED_RIGID_BODIES)
       call read_constrained_rigid_bodies(rd, model)
     case (H_CONSTRAINED_EXTRA_NODES)

@@ -1,6 +1,8 @@
 !> Keyword handlers for contact and rigid walls: *CONTACT_AUTOMATIC_SURFACE_TO_SURFACE and
 !> *CONTACT_AUTOMATIC_SINGLE_SURFACE (options MORTAR, ID, TITLE, MPP; the same cards, SURFB
-!> and SURFBTYP not used by the single surface) and *RIGIDWALL_PLANAR (option ID).
+!> and SURFBTYP not used by the single surface), the tied contacts *CONTACT_TIED_SURFACE_TO_
+!> SURFACE and _NODES_TO_SURFACE (options OFFSET, CONSTRAINED_OFFSET; the same cards, into
+!> model%ties) and *RIGIDWALL_PLANAR (option ID).
 !>
 !> Contact card order (LS-DYNA manual): [_ID/_TITLE: CID HEADING] [_MPP: IGNORE BCKT LCBCKT
 !> NS2TRK INITITR PARMAX - CPARM8, and an optional second card starting with '&'] / card 1
@@ -29,12 +31,13 @@ contains
   !> *CONTACT_AUTOMATIC_SURFACE_TO_SURFACE(_MORTAR)(_ID|_TITLE)(_MPP), with single_surface
   !> *CONTACT_AUTOMATIC_SINGLE_SURFACE(...), with nodes_a the nodes-to-surface contacts (SURFA
   !> may be a node set): one interface.
-  subroutine read_contact_surface_to_surface(rd, options, model, single_surface, nodes_a)
+  subroutine read_contact_surface_to_surface(rd, options, model, single_surface, nodes_a, tied)
     type(reader_t), intent(inout) :: rd          !< reading state
     character(len=*), intent(in) :: options      !< keyword options
     type(model_t), intent(inout) :: model        !< model appended to
     logical, intent(in) :: single_surface        !< SURFA against itself
     logical, intent(in) :: nodes_a               !< SURFATYP 4 (node set) allowed
+    logical, intent(in) :: tied                  !< *CONTACT_TIED_...: into model%ties
     type(contact_t) :: contact
     type(card_t) :: card, card1, card2, card3, mpp
     logical :: got, ok, bad
@@ -42,6 +45,9 @@ contains
     character(len=:), allocatable :: who
     contact%mortar = has_option(options, 'MORTAR')
     contact%single_surface = single_surface
+    contact%tied = tied
+    contact%offset = tied .and. has_option(options, 'OFFSET')
+    if (tied) contact%keyword = rd%keyword
     if (has_option(options, 'ID') .or. has_option(options, 'TITLE')) then
       call read_id_card(rd, contact%id, contact%title, ok)
       if (.not. ok) then
@@ -149,11 +155,25 @@ contains
     ! read, not used: say so where LS-DYNA would compute something else
     if (contact%vc /= 0.0_wp .or. contact%vdc /= 0.0_wp) call card_warning(card2, who// &
         ': VC and VDC ignored (no friction limit from VC, no viscous contact damping)')
-    if (contact%sast /= 0.0_wp .or. contact%sbst /= 0.0_wp) call card_warning(card3, who// &
-        ': SAST and SBST ignored: contact surfaces lie on the elements'' faces and on the '// &
-        'mid-surfaces of shells, with no thickness offset (doc/keywords.md 3.10)')
+    if (tied) then
+      if (contact%sast > 0.0_wp .or. contact%sbst /= 0.0_wp) call card_warning(card3, who// &
+          ': SAST > 0 and SBST ignored: a negative SAST sets the tie''s tolerance, and the '// &
+          'gap between the surfaces is kept as it is (doc/keywords.md 3.10)')
+    else if (contact%sast /= 0.0_wp .or. contact%sbst /= 0.0_wp) then
+      call card_warning(card3, who//': SAST and SBST ignored: contact surfaces lie on the '// &
+          'elements'' faces and on the mid-surfaces of shells, with no thickness offset '// &
+          '(doc/keywords.md 3.10)')
+    end if
     call check_contact(card1, card2, card3, contact, nodes_a, who, saboxid, sbboxid, bad)
-    if (.not. bad) call add_contact(model, contact)
+    if (tied .and. contact%fs /= 0.0_wp) call card_warning(card2, who//': FS, FD and DC '// &
+        'are not used by a tied contact')
+    if (.not. bad) then
+      if (tied) then
+        call add_tie(model, contact)
+      else
+        call add_contact(model, contact)
+      end if
+    end if
   end subroutine read_contact_surface_to_surface
 
   !> Values of cards 1-3 that mefem cannot honour or that make no sense.
@@ -345,6 +365,21 @@ contains
     model%n_contacts = model%n_contacts + 1
     model%contacts(model%n_contacts) = item
   end subroutine add_contact
+
+  !> Append a tied contact.
+  subroutine add_tie(model, item)
+    type(model_t), intent(inout) :: model      !< model appended to
+    type(contact_t), intent(in) :: item        !< the record
+    type(contact_t), allocatable :: grown(:)
+    if (.not. allocated(model%ties)) allocate(model%ties(0))
+    if (model%n_ties == size(model%ties)) then
+      allocate(grown(max(8, 2*model%n_ties)))
+      grown(1:model%n_ties) = model%ties(1:model%n_ties)
+      call move_alloc(grown, model%ties)
+    end if
+    model%n_ties = model%n_ties + 1
+    model%ties(model%n_ties) = item
+  end subroutine add_tie
 
   !> Append a rigid wall.
   subroutine add_rigid_wall(model, item)

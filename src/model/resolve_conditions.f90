@@ -588,6 +588,28 @@ contains
         end if
       end associate
     end do
+    ! tied contacts: both sides deformable (a node tied to a rigid part moves with it:
+    ! *CONSTRAINED_EXTRA_NODES)
+    do k = 1, model%n_ties
+      associate (tie => model%ties(k))
+        where = where_is(tie%src, trim(tie%keyword))
+        who = 'contact: '
+        if (tie%id /= 0) who = 'contact '//itoa(tie%id)//': '
+        call resolve_target(look, surface_kind(tie%surf_a_type), tie%surf_a_id, tie%surf_a, &
+                            where, who//'SURFA ')
+        call resolve_target(look, surface_kind(tie%surf_b_type), tie%surf_b_id, tie%surf_b, &
+                            where, who//'SURFB ')
+        call surface_a_parts(tie, parts)
+        if (any([(part_is_rigid(parts(k2)), k2 = 1, size(parts))])) call input_error(where, &
+            who//'SURFA holds a *MAT_RIGID part: a tied contact joins deformable bodies (tie '// &
+            'nodes to a rigid part with *CONSTRAINED_EXTRA_NODES)')
+        if (tie%surf_b > 0 .and. any(tie%surf_b_type == [SURFACE_PART, SURFACE_PART_SET])) then
+          if (any_rigid(surface_kind(tie%surf_b_type), tie%surf_b)) call input_error(where, &
+              who//'SURFB holds a *MAT_RIGID part: a tied contact joins deformable bodies '// &
+              '(tie nodes to a rigid part with *CONSTRAINED_EXTRA_NODES)')
+        end if
+      end associate
+    end do
     do k = 1, model%n_rigid_constraints
       associate (rc => model%rigid_constraints(k))
         where = where_is(rc%src, trim(merge('*CONSTRAINED_RIGID_BODIES', &
@@ -695,6 +717,25 @@ contains
       end select
       parts = pack([(p, p = 1, model%n_parts)], keep)
     end subroutine surface_a_parts
+
+    !> Some part of a contact surface (a part, or a part set) is *MAT_RIGID.
+    logical function any_rigid(kind, target)
+      integer, intent(in) :: kind               !< ON_PART or ON_PART_SET
+      integer, intent(in) :: target             !< part or set index
+      integer :: i
+      any_rigid = .false.
+      if (kind == ON_PART) then
+        any_rigid = part_is_rigid(target)
+      else
+        associate (set => model%sets(target))
+          if (.not. allocated(set%members)) return
+          do i = 1, size(set%members)
+            if (set%members(i) >= 1 .and. set%members(i) <= model%n_parts) &
+              any_rigid = any_rigid .or. part_is_rigid(set%members(i))
+          end do
+        end associate
+      end if
+    end function any_rigid
 
     !> Part p's material is *MAT_RIGID (false when it is not defined).
     logical function part_is_rigid(p)

@@ -71,6 +71,7 @@ module mefem_explicit_dynamics
                                   rcforc_write, rcforc_close
   use mefem_mortar_contact, only: mortar_contact_setup, mortar_contact_forces, &
                                   mortar_contact_set_masses
+  use mefem_explicit_ties, only: explicit_ties_set_up, tie_accelerations
   use mefem_explicit_state, only: explicit_state_t, set_to_zero, state_arena_create
   use mefem_explicit_cell_forces, only: explicit_cells_set_up, explicit_cell_loop, &
                                         explicit_mass_split, &
@@ -160,6 +161,7 @@ contains
     s%f_int = s%f_int_new
     s%f_ext = s%f_ext_new
     call accelerations(s)
+    if (s%tied%n > 0) call tie_accelerations(s, s%contact%n > 0)
     if (s%bodies%n > 0) then
       call rigid_body_resultants(s)
       call rigid_body_loads(model, s, t)
@@ -198,6 +200,7 @@ contains
       call compute_forces(model, s, halo, t, dt_full, timing)
       clock = comm_wtime()
       call energies_and_accelerations(s, dt)
+      if (s%tied%n > 0) call tie_accelerations(s, s%contact%n > 0)
       if (s%bodies%n > 0) then
         call rigid_body_resultants(s)
         call rigid_body_loads(model, s, t)
@@ -571,6 +574,9 @@ contains
       end do
     end if
 
+    ! tied contacts: every rank holds all ties; their local nodes
+    if (model%n_ties > 0) call explicit_ties_set_up(model, layout, v_global, s)
+
     ! rigid walls: the local nodes each one tests (not those of rigid bodies)
     s%nwall = model%n_rigid_walls
     allocate(s%wall_nodes(s%nwall), s%wall_force(3, s%nwall))
@@ -610,6 +616,9 @@ contains
       g = s%node_global(l)
       if (g > model%nodes%n) cycle
       if (s%active(l)) s%fixed(:, l) = fixed_global(:, g)
+      if (allocated(s%tied_node)) then
+        if (s%tied_node(l)) s%fixed(:, l) = .false.   ! (it follows its master facet)
+      end if
     end do
   end subroutine update_fixed_dofs
 

@@ -8,6 +8,7 @@ module mefem_explicit_state
   use mefem_cells, only: CELL_MAX_NODES
   use mefem_material_state, only: NHIST, BLOCK_CELLS => BLOCK_POINTS
   use mefem_mortar_contact, only: mortar_contact_t
+  use mefem_tied_contact, only: tied_nodes_t
   use mefem_rigid_bodies, only: rigid_bodies_t
   use mefem_comm, only: comm_arena_t, comm_arena_create, comm_arena_array, &
                         comm_arena_peer_array, comm_arena_on_node, comm_min_request_t
@@ -73,6 +74,13 @@ module mefem_explicit_state
     integer, allocatable :: contact_local(:)   !< (contact nodes) local node, 0 if none
     logical, allocatable :: contact_owned(:)   !< (contact nodes) this rank owns it
     real(wp), allocatable :: contact_buffer(:,:) !< (3, contact nodes) gathered positions
+    ! tied contacts (replicated tie data, mefem_explicit_ties) and this rank's view of them
+    type(tied_nodes_t) :: tied
+    integer, allocatable :: tie_slave_local(:)   !< (tied nodes) local node, 0 if none
+    integer, allocatable :: tie_master_local(:)  !< (master nodes) local node, 0 if none
+    real(wp), allocatable :: tie_buffer(:,:)     !< (4, tied nodes) their force and mass
+    real(wp), allocatable :: tie_master_buffer(:,:) !< (3, master nodes) their accelerations
+    logical, allocatable :: tied_node(:)         !< (nnode) a tied node (its SPCs overridden)
     real(wp), allocatable :: mass(:)           !< (nnode) lumped mass (with added mass)
     real(wp), allocatable :: physical_mass(:)  !< (nnode) lumped mass without mass scaling
     integer, allocatable :: node_global(:)     !< (nnode) global node (mesh, then enriched)

@@ -319,6 +319,9 @@ contains
     if (model%n_rigid_constraints > 0) call fatal('implicit analysis does not take '// &
         '*CONSTRAINED_RIGID_BODIES or *CONSTRAINED_EXTRA_NODES (rigid parts are contact '// &
         'tools there); see line '//itoa(model%rigid_constraints(1)%src%line))
+    if (model%n_ties > 0) call fatal('implicit analysis does not take tied contacts '// &
+        '(*CONTACT_TIED_...: explicit only); see the tied contact at line '// &
+        itoa(model%ties(1)%src%line))
     do k = 1, model%n_contacts
       if (model%contacts(k)%single_surface) call fatal('implicit analysis takes contact with '// &
           'rigid tools only: a single-surface contact is explicit only; see '// &

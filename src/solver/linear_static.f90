@@ -145,6 +145,8 @@ contains
     end do
     if (model%n_contacts > 0 .or. model%n_rigid_walls > 0) call fatal( &
         'linear static analysis does not take contact or rigid walls')
+    if (model%n_ties > 0) call fatal('linear static analysis does not take tied contacts '// &
+        '(*CONTACT_TIED_...: explicit only)')
     if (model%n_rigid_constraints > 0) call fatal('linear static analysis does not take '// &
         '*CONSTRAINED_RIGID_BODIES or *CONSTRAINED_EXTRA_NODES (rigid parts take no part in it)')
   end subroutine check_supported
