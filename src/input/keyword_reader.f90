@@ -35,7 +35,10 @@ module mefem_keyword_reader
                                    read_initial_velocity_node, read_initial_velocity_generation, &
                                    read_constrained_rigid_bodies, read_constrained_extra_nodes, &
                                    read_load_body, read_load_body_parts
-  use mefem_read_contact, only: read_contact_surface_to_surface, read_rigidwall_planar
+  use mefem_read_contact, only: read_contact_surface_to_surface, read_rigidwall_planar, &
+                                FORM_SURFACE_TO_SURFACE, FORM_SINGLE_SURFACE, &
+                                FORM_NODES_TO_SURFACE, FORM_TIED, FORM_TIED_NODES, &
+                                FORM_TRANSDUCER
   implicit none
   private
 
@@ -64,7 +67,8 @@ module mefem_keyword_reader
   integer, parameter :: H_CONTROL_SOLUTION = 50, H_HOURGLASS = 51, H_CONTROL_HOURGLASS = 52, &
                         H_MAT_PLASTIC_KINEMATIC = 53, H_CONSTRAINED_RIGID_BODIES = 54, &
                         H_CONSTRAINED_EXTRA_NODES = 55, H_CONTACT_SINGLE_SURFACE = 56, &
-                        H_CONTACT_NODES_TO_SURFACE = 57, H_CONTACT_TIED = 58
+                        H_CONTACT_NODES_TO_SURFACE = 57, H_CONTACT_TIED = 58, &
+                        H_CONTACT_TRANSDUCER = 59
 
   !> One registered keyword.
   type :: keyword_entry_t
@@ -73,7 +77,7 @@ module mefem_keyword_reader
     character(len=64) :: options = ''    !< options accepted, as ' OPT1 OPT2 '
   end type keyword_entry_t
 
-  integer, parameter :: N_ENTRIES = 70
+  integer, parameter :: N_ENTRIES = 71
   type(keyword_entry_t), parameter :: REGISTRY(N_ENTRIES) = [ &
     keyword_entry_t('NODE', H_NODE, ' '), &
     keyword_entry_t('ELEMENT_SOLID', H_ELEMENT_SOLID, ' '), &
@@ -136,6 +140,8 @@ module mefem_keyword_reader
                     ' OFFSET CONSTRAINED ID TITLE MPP '), &
     keyword_entry_t('CONTACT_TIED_NODES_TO_SURFACE', H_CONTACT_TIED, &
                     ' OFFSET CONSTRAINED ID TITLE MPP '), &
+    keyword_entry_t('CONTACT_FORCE_TRANSDUCER_PENALTY', H_CONTACT_TRANSDUCER, &
+                    ' ID TITLE MPP '), &
     ! the forming contacts of DYNAFORM/eta decks: the same cards, read as the mortar contact
     keyword_entry_t('CONTACT_FORMING_ONE_WAY_SURFACE_TO_SURFACE', &
                     H_CONTACT_SURFACE_TO_SURFACE, ' ID TITLE MPP '), &
@@ -436,21 +442,26 @@ contains
           ': read as *CONTACT_AUTOMATIC_SURFACE_TO_SURFACE_MORTAR (mortar penalty contact; '// &
           'SURFA, the blank, is the slave side); the forming contact''s own treatment of '// &
           'shell blanks is not used (doc/keywords.md 3.10)')
-      call read_contact_surface_to_surface(rd, options, model, .false., .false., .false.)
+      call read_contact_surface_to_surface(rd, options, model, FORM_SURFACE_TO_SURFACE)
     case (H_CONTACT_TIED)
-      call read_contact_surface_to_surface(rd, options, model, .false., &
-                                           starts_with(rd%keyword, '*CONTACT_TIED_NODES'), .true.)
+      if (starts_with(rd%keyword, '*CONTACT_TIED_NODES')) then
+        call read_contact_surface_to_surface(rd, options, model, FORM_TIED_NODES)
+      else
+        call read_contact_surface_to_surface(rd, options, model, FORM_TIED)
+      end if
+    case (H_CONTACT_TRANSDUCER)
+      call read_contact_surface_to_surface(rd, options, model, FORM_TRANSDUCER)
     case (H_CONTACT_SINGLE_SURFACE)
       if (starts_with(rd%keyword, '*CONTACT_AUTOMATIC_GENERAL')) call warn(keyword_where(rd)// &
           ': read as *CONTACT_AUTOMATIC_SINGLE_SURFACE (mortar penalty contact of the '// &
           'surfaces'' facets); the general contact''s edge-to-edge and beam contact is not '// &
           'computed (doc/keywords.md 3.10)')
-      call read_contact_surface_to_surface(rd, options, model, .true., .false., .false.)
+      call read_contact_surface_to_surface(rd, options, model, FORM_SINGLE_SURFACE)
     case (H_CONTACT_NODES_TO_SURFACE)
       call warn(keyword_where(rd)//': read as *CONTACT_AUTOMATIC_SURFACE_TO_SURFACE_MORTAR '// &
           '(mortar penalty contact; SURFA, the slave nodes, is taken as the exterior faces '// &
           'and boundary edges they span); no node-to-segment treatment (doc/keywords.md 3.10)')
-      call read_contact_surface_to_surface(rd, options, model, .false., .true., .false.)
+      call read_contact_surface_to_surface(rd, options, model, FORM_NODES_TO_SURFACE)
     case (H_CONSTRAINED_RIGID_BODIES)
       call read_constrained_rigid_bodies(rd, model)
     case (H_CONSTRAINED_EXTRA_NODES)

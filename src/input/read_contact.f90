@@ -2,7 +2,8 @@
 !> *CONTACT_AUTOMATIC_SINGLE_SURFACE (options MORTAR, ID, TITLE, MPP; the same cards, SURFB
 !> and SURFBTYP not used by the single surface), the tied contacts *CONTACT_TIED_SURFACE_TO_
 !> SURFACE and _NODES_TO_SURFACE (options OFFSET, CONSTRAINED_OFFSET; the same cards, into
-!> model%ties) and *RIGIDWALL_PLANAR (option ID).
+!> model%ties), *CONTACT_FORCE_TRANSDUCER_PENALTY (SURFA only, into model%transducers) and
+!> *RIGIDWALL_PLANAR (option ID).
 !>
 !> Contact card order (LS-DYNA manual): [_ID/_TITLE: CID HEADING] [_MPP: IGNORE BCKT LCBCKT
 !> NS2TRK INITITR PARMAX - CPARM8, and an optional second card starting with '&'] / card 1
@@ -23,31 +24,42 @@ module mefem_read_contact
 
   public :: read_contact_surface_to_surface, read_rigidwall_planar
 
+  !> Forms of the contact keywords read by read_contact_surface_to_surface.
+  integer, parameter, public :: FORM_SURFACE_TO_SURFACE = 1, FORM_SINGLE_SURFACE = 2, &
+                                FORM_NODES_TO_SURFACE = 3, FORM_TIED = 4, FORM_TIED_NODES = 5, &
+                                FORM_TRANSDUCER = 6
+
   integer, parameter :: W_10(8) = 10          !< standard 8 x 10 card
   integer, parameter :: N_OPTIONAL = 6        !< optional cards A to F
 
 contains
 
-  !> *CONTACT_AUTOMATIC_SURFACE_TO_SURFACE(_MORTAR)(_ID|_TITLE)(_MPP), with single_surface
-  !> *CONTACT_AUTOMATIC_SINGLE_SURFACE(...), with nodes_a the nodes-to-surface contacts (SURFA
-  !> may be a node set): one interface.
-  subroutine read_contact_surface_to_surface(rd, options, model, single_surface, nodes_a, tied)
+  !> One interface of the contact keywords that share LS-DYNA's cards 1-3 and A-F, by form:
+  !> FORM_SURFACE_TO_SURFACE *CONTACT_AUTOMATIC_SURFACE_TO_SURFACE(_MORTAR)(_ID|_TITLE)(_MPP)
+  !> (and the forming contacts), FORM_SINGLE_SURFACE *CONTACT_AUTOMATIC_SINGLE_SURFACE(...),
+  !> FORM_NODES_TO_SURFACE the nodes-to-surface contacts (SURFA may be a node set), FORM_TIED
+  !> and FORM_TIED_NODES the tied contacts (into model%ties), FORM_TRANSDUCER
+  !> *CONTACT_FORCE_TRANSDUCER_PENALTY (into model%transducers).
+  subroutine read_contact_surface_to_surface(rd, options, model, form)
     type(reader_t), intent(inout) :: rd          !< reading state
     character(len=*), intent(in) :: options      !< keyword options
     type(model_t), intent(inout) :: model        !< model appended to
-    logical, intent(in) :: single_surface        !< SURFA against itself
-    logical, intent(in) :: nodes_a               !< SURFATYP 4 (node set) allowed
-    logical, intent(in) :: tied                  !< *CONTACT_TIED_...: into model%ties
+    integer, intent(in) :: form                  !< FORM_* of the keyword
     type(contact_t) :: contact
     type(card_t) :: card, card1, card2, card3, mpp
+    logical :: single_surface, tied, transducer, nodes_a
     logical :: got, ok, bad
     integer :: k, sapr, sbpr, saboxid, sbboxid, penchk, mpp_ignore
     character(len=:), allocatable :: who
     contact%mortar = has_option(options, 'MORTAR')
+    single_surface = form == FORM_SINGLE_SURFACE
+    tied = form == FORM_TIED .or. form == FORM_TIED_NODES
+    transducer = form == FORM_TRANSDUCER
+    nodes_a = form == FORM_NODES_TO_SURFACE .or. form == FORM_TIED_NODES
     contact%single_surface = single_surface
     contact%tied = tied
     contact%offset = tied .and. has_option(options, 'OFFSET')
-    if (tied) contact%keyword = rd%keyword
+    if (tied .or. transducer) contact%keyword = rd%keyword
     if (has_option(options, 'ID') .or. has_option(options, 'TITLE')) then
       call read_id_card(rd, contact%id, contact%title, ok)
       if (.not. ok) then
@@ -79,7 +91,8 @@ contains
     end if
     call split_card(rd, card1, W_10)
     call get_int(card1, 1, 'SURFA', contact%surf_a_id, required=.not. single_surface)
-    call get_int(card1, 2, 'SURFB', contact%surf_b_id, required=.not. single_surface)
+    call get_int(card1, 2, 'SURFB', contact%surf_b_id, required=.not. (single_surface .or. &
+                                                                         transducer))
     call get_int(card1, 3, 'SURFATYP', contact%surf_a_type)
     call get_int(card1, 4, 'SURFBTYP', contact%surf_b_type)
     call get_int(card1, 5, 'SABOXID', saboxid)
@@ -164,12 +177,16 @@ contains
           'elements'' faces and on the mid-surfaces of shells, with no thickness offset '// &
           '(doc/keywords.md 3.10)')
     end if
-    call check_contact(card1, card2, card3, contact, nodes_a, who, saboxid, sbboxid, bad)
-    if (tied .and. contact%fs /= 0.0_wp) call card_warning(card2, who//': FS, FD and DC '// &
-        'are not used by a tied contact')
+    call check_contact(card1, card2, card3, contact, nodes_a, transducer, who, saboxid, &
+                       sbboxid, bad)
+    if ((tied .or. transducer) .and. contact%fs /= 0.0_wp) call card_warning(card2, who// &
+        ': FS, FD and DC are not used by a '//trim(merge('tied contact    ', &
+                                                          'force transducer', tied)))
     if (.not. bad) then
       if (tied) then
         call add_tie(model, contact)
+      else if (transducer) then
+        call add_transducer(model, contact)
       else
         call add_contact(model, contact)
       end if
@@ -177,10 +194,12 @@ contains
   end subroutine read_contact_surface_to_surface
 
   !> Values of cards 1-3 that mefem cannot honour or that make no sense.
-  subroutine check_contact(card1, card2, card3, contact, nodes_a, who, saboxid, sbboxid, bad)
+  subroutine check_contact(card1, card2, card3, contact, nodes_a, transducer, who, saboxid, &
+                           sbboxid, bad)
     type(card_t), intent(in) :: card1, card2, card3  !< the cards
     type(contact_t), intent(in) :: contact           !< the contact read
     logical, intent(in) :: nodes_a                   !< SURFA may be a node set (SURFATYP 4)
+    logical, intent(in) :: transducer                !< a force transducer (SURFB 0)
     character(len=*), intent(in) :: who              !< 'contact 5'
     integer, intent(in) :: saboxid, sbboxid          !< box ids
     logical, intent(inout) :: bad                    !< set on any error
@@ -195,6 +214,17 @@ contains
           '); for all parts give SURFATYP = 5')
       if (contact%surf_b_id /= 0 .or. contact%surf_b_type /= 0) call card_warning(card1, &
           who//': SURFB and SURFBTYP are not used by a single-surface contact')
+    else if (transducer) then
+      ! the forces of all contacts on SURFA's nodes
+      if (contact%surf_a_id <= 0) call fail(card1, who//': field SURFA must be a positive '// &
+          'id (got '//itoa(contact%surf_a_id)//')')
+      if (contact%surf_b_id /= 0) call fail(card1, who//': field SURFB = '// &
+          itoa(contact%surf_b_id)//': mefem''s force transducer measures the forces of all '// &
+          'contacts on SURFA; give SURFB 0 (or define the pair as its own contact, whose '// &
+          'forces rcforc has)')
+      if (.not. any(contact%surf_a_type == [0, 2, 3])) call fail(card1, who// &
+          ': field SURFATYP = '//itoa(contact%surf_a_type)//' is not supported '// &
+          '(0 segment set, 2 part set, 3 part)')
     else
       if (contact%surf_a_id <= 0 .or. contact%surf_b_id <= 0) call fail(card1, who// &
           ': fields SURFA and SURFB must be positive ids (got '//itoa(contact%surf_a_id)// &
@@ -380,6 +410,21 @@ contains
     model%n_ties = model%n_ties + 1
     model%ties(model%n_ties) = item
   end subroutine add_tie
+
+  !> Append a force transducer.
+  subroutine add_transducer(model, item)
+    type(model_t), intent(inout) :: model      !< model appended to
+    type(contact_t), intent(in) :: item        !< the record
+    type(contact_t), allocatable :: grown(:)
+    if (.not. allocated(model%transducers)) allocate(model%transducers(0))
+    if (model%n_transducers == size(model%transducers)) then
+      allocate(grown(max(8, 2*model%n_transducers)))
+      grown(1:model%n_transducers) = model%transducers(1:model%n_transducers)
+      call move_alloc(grown, model%transducers)
+    end if
+    model%n_transducers = model%n_transducers + 1
+    model%transducers(model%n_transducers) = item
+  end subroutine add_transducer
 
   !> Append a rigid wall.
   subroutine add_rigid_wall(model, item)

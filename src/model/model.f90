@@ -229,7 +229,7 @@ module mefem_model
     logical :: tied = .false.                !< *CONTACT_TIED_...: SURFA's nodes tied to
                                              !< SURFB (model%ties, not model%contacts)
     logical :: offset = .false.              !< tied: the _OFFSET or _CONSTRAINED_OFFSET form
-    character(len=64) :: keyword = ''        !< tied: the keyword as written (messages)
+    character(len=64) :: keyword = ''        !< tied, transducer: the keyword as written
     integer :: surf_a_id = 0, surf_b_id = 0, surf_a_type = 0, surf_b_type = 0
     integer :: surf_a = 0, surf_b = 0        !< set/part indices (after resolve)
     real(wp) :: fs = 0.0_wp, fd = 0.0_wp, dc = 0.0_wp, vc = 0.0_wp, vdc = 0.0_wp
@@ -339,6 +339,8 @@ module mefem_model
     type(contact_t), allocatable :: contacts(:)
     integer :: n_ties = 0                    !< tied contacts (*CONTACT_TIED_...)
     type(contact_t), allocatable :: ties(:)
+    integer :: n_transducers = 0             !< *CONTACT_FORCE_TRANSDUCER_PENALTY
+    type(contact_t), allocatable :: transducers(:)
     type(rigid_wall_t), allocatable :: rigid_walls(:)
     integer :: n_rigid_constraints = 0
     type(rigid_constraint_t), allocatable :: rigid_constraints(:)

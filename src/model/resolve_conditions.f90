@@ -610,6 +610,15 @@ contains
         end if
       end associate
     end do
+    do k = 1, model%n_transducers
+      associate (transducer => model%transducers(k))
+        where = where_is(transducer%src, trim(transducer%keyword))
+        who = 'contact: '
+        if (transducer%id /= 0) who = 'contact '//itoa(transducer%id)//': '
+        call resolve_target(look, surface_kind(transducer%surf_a_type), transducer%surf_a_id, &
+                            transducer%surf_a, where, who//'SURFA ')
+      end associate
+    end do
     do k = 1, model%n_rigid_constraints
       associate (rc => model%rigid_constraints(k))
         where = where_is(rc%src, trim(merge('*CONSTRAINED_RIGID_BODIES', &

@@ -69,6 +69,7 @@ module mefem_explicit_dynamics
                                   apply_rigid_walls
   use mefem_history_output, only: rbdout_open, rbdout_write, rbdout_close, rcforc_open, &
                                   rcforc_write, rcforc_close
+  use mefem_contact_surfaces, only: contact_surface_t, contact_surface_build
   use mefem_mortar_contact, only: mortar_contact_setup, mortar_contact_forces, &
                                   mortar_contact_set_masses
   use mefem_explicit_ties, only: explicit_ties_set_up, tie_accelerations
@@ -573,6 +574,12 @@ contains
         if (s%contact_local(k) > 0) s%contact_owned(k) = s%owned(s%contact_local(k))
       end do
     end if
+
+    ! force transducers: the contact nodes of each SURFA (the forces every rank holds)
+    allocate(s%transducer_nodes(model%n_transducers), s%transducer_id(model%n_transducers))
+    do k = 1, model%n_transducers
+      call transducer_set_up(model, k, s)
+    end do
 
     ! tied contacts: every rank holds all ties; their local nodes
     if (model%n_ties > 0) call explicit_ties_set_up(model, layout, v_global, s)
@@ -1277,14 +1284,49 @@ contains
   subroutine write_rcforc(s, t)
     type(explicit_state_t), intent(in) :: s           !< local state
     real(wp), intent(in) :: t                         !< time
-    integer :: k
+    real(wp) :: force(3)
+    integer :: k, i
     do k = 1, s%contact%n
       associate (it => s%contact%interfaces(k))
         call rcforc_write(t, it%id, it%force_slave, it%force_master, it%normal_force, &
                           it%tangential_force)
       end associate
     end do
+    ! force transducers: the contact forces on their nodes, summed in ascending node order
+    ! (the forces are the same on every rank), as the slave side; master, normal and
+    ! tangential zero
+    do k = 1, size(s%transducer_id)
+      force = 0.0_wp
+      do i = 1, size(s%transducer_nodes(k)%nodes)
+        force = force + s%contact%force(:, s%transducer_nodes(k)%nodes(i))
+      end do
+      call rcforc_write(t, s%transducer_id(k), force, [0.0_wp, 0.0_wp, 0.0_wp], 0.0_wp, 0.0_wp)
+    end do
   end subroutine write_rcforc
+
+  !> Force transducer k: the contact nodes (contact-node numbering) of its SURFA's facets
+  !> (those on no contact surface feel no contact force and are left out), its rcforc number
+  !> (ID, else the contacts' count plus its position).
+  subroutine transducer_set_up(model, k, s)
+    type(model_t), intent(in) :: model                !< resolved model
+    integer, intent(in) :: k                          !< the transducer
+    type(explicit_state_t), intent(inout) :: s        !< local state (contact set up)
+    type(contact_surface_t) :: surface
+    type(status_t) :: status
+    integer, allocatable :: nodes(:)
+    associate (c => model%transducers(k))
+      s%transducer_id(k) = merge(c%id, model%n_contacts + k, c%id > 0)
+      call contact_surface_build(model, c%surf_a_type, c%surf_a, surface, status, &
+                                 'contact '//itoa(s%transducer_id(k))//' SURFA')
+      if (.not. status%ok) call fatal('explicit: '//status%message)
+    end associate
+    allocate(nodes(0))
+    if (s%contact%n > 0) nodes = s%contact%node_index(surface%nodes)
+    s%transducer_nodes(k)%nodes = pack(nodes, nodes > 0)
+    if (size(s%transducer_nodes(k)%nodes) == 0) call warn('contact '// &
+        itoa(s%transducer_id(k))//': the force transducer''s SURFA has no node on a contact '// &
+        'surface: its rcforc forces are zero')
+  end subroutine transducer_set_up
 
   !> Rigid-body histories (rbdout, at the glstat interval): centre displacement and velocity,
   !> reaction force and moment of every body (replicated data: rank 0 writes).
@@ -1374,7 +1416,8 @@ contains
       call rbdout_open(results_directory(), title_or_default(model%controls%title))
     call history_nodes(model, nodes)
     schedule%rcforc_interval = 0.0_wp
-    if (model%n_contacts > 0) schedule%rcforc_interval = model%controls%rcforc_interval
+    if (model%n_contacts + model%n_transducers > 0) &
+      schedule%rcforc_interval = model%controls%rcforc_interval
     schedule%next_rcforc = 0.0_wp
     if (schedule%rcforc_interval > 0.0_wp) call rcforc_open(results_directory(), &
         title_or_default(model%controls%title))

@@ -26,9 +26,10 @@ module mefem_explicit_state
   integer(i8), parameter :: INT_BYTES = storage_size(0)/8       !< bytes of a default integer
   integer(i8), parameter :: REAL_BYTES = storage_size(1.0_wp)/8 !< bytes of a real(wp)
 
-  !> Local nodes one rigid wall tests.
+  !> A list of node numbers (the local nodes a rigid wall tests, the contact nodes of a force
+  !> transducer).
   type, public :: node_list_t
-    integer, allocatable :: nodes(:)           !< local node numbers
+    integer, allocatable :: nodes(:)           !< node numbers
   end type node_list_t
 
   !> One rank's share of the explicit model: local nodes (layout numbering: mesh nodes, then
@@ -81,6 +82,9 @@ module mefem_explicit_state
     real(wp), allocatable :: tie_buffer(:,:)     !< (4, tied nodes) their force and mass
     real(wp), allocatable :: tie_master_buffer(:,:) !< (3, master nodes) their accelerations
     logical, allocatable :: tied_node(:)         !< (nnode) a tied node (its SPCs overridden)
+    ! force transducers: the contact nodes of each (contact-node numbering, ascending)
+    type(node_list_t), allocatable :: transducer_nodes(:)
+    integer, allocatable :: transducer_id(:)     !< (transducers) its rcforc number
     real(wp), allocatable :: mass(:)           !< (nnode) lumped mass (with added mass)
     real(wp), allocatable :: physical_mass(:)  !< (nnode) lumped mass without mass scaling
     integer, allocatable :: node_global(:)     !< (nnode) global node (mesh, then enriched)

@@ -17,7 +17,7 @@
 module mefem_implicit_static
   use mefem_kinds, only: wp
   use mefem_comm, only: comm_sum, comm_max, comm_is_root, comm_wtime, comm_any
-  use mefem_errors, only: status_t, fatal, say
+  use mefem_errors, only: status_t, fatal, say, warn
   use mefem_signals, only: signals_install, signal_caught, signal_name, signal_record_stop
   use mefem_strings, only: itoa, rtoa
   use mefem_model, only: model_t, ON_PART, MAT_RIGID, ON_NODE, ON_NODE_SET
@@ -319,6 +319,9 @@ contains
     if (model%n_rigid_constraints > 0) call fatal('implicit analysis does not take '// &
         '*CONSTRAINED_RIGID_BODIES or *CONSTRAINED_EXTRA_NODES (rigid parts are contact '// &
         'tools there); see line '//itoa(model%rigid_constraints(1)%src%line))
+    if (model%n_transducers > 0) call warn('implicit: force transducers '// &
+        '(*CONTACT_FORCE_TRANSDUCER_PENALTY) are written by the explicit analysis only; '// &
+        'rcforc has the contacts'' own forces')
     if (model%n_ties > 0) call fatal('implicit analysis does not take tied contacts '// &
         '(*CONTACT_TIED_...: explicit only); see the tied contact at line '// &
         itoa(model%ties(1)%src%line))

@@ -6,7 +6,8 @@ round-off (the slave and master contact forces are equal and opposite); total en
 (kinetic + internal + sliding interface) conserved within 1 %. ME-FEM tets, and again with
 one-point hexahedra (quadrilateral contact faces on both sides), and as a
 *CONTACT_AUTOMATIC_NODES_TO_SURFACE whose SURFA is the node set of bar 1's end face (read as the
-mortar contact of the faces those nodes span, with a warning); mm, t, s, MPa.
+mortar contact of the faces those nodes span, with a warning). Force transducers on each bar
+report the contact's slave and master resultants; mm, t, s, MPa.
 """
 import os
 import sys
@@ -51,6 +52,11 @@ def impact(kind):
     if kind == 'nodes':
         contact = node_set(3, np.nonzero(abs(x1[:, 0] - L) < 1e-9)[0]) + [
             '*CONTACT_AUTOMATIC_NODES_TO_SURFACE', f10(3, 2, 4, 3), f10(0.0), f10(SFS, SFS)]
+    if kind == 'tets':
+        # force transducers on each bar: the contact forces on its nodes
+        contact = contact + ['*CONTACT_FORCE_TRANSDUCER_PENALTY_ID', f10(7), f10(2, 0, 3), '',
+                             '', '*CONTACT_FORCE_TRANSDUCER_PENALTY_ID', f10(8), f10(1, 0, 3),
+                             '', '']
     blocks = [nodes_card(x), elements_card('ELEMENT_SOLID', c1, pid=1),
               elements_card('ELEMENT_SOLID', c2 + n1, pid=2, first_id=len(c1) + 1),
               ['*PART', 'bar 1', f10(1, 1, 1), '*PART', 'bar 2', f10(2, 1, 1),
@@ -63,6 +69,21 @@ def impact(kind):
     checks.check(rc == 0, '%s: run succeeds' % name, text[-600:])
     if rc != 0:
         return
+    if kind == 'tets':
+        rc_all = read_rcforc(os.path.join(out, 'rcforc'))
+        worst = 0.0
+        for tid, side in ((7, 'master'), (8, 'slave')):
+            for c in ('x', 'y', 'z'):
+                worst = max(worst, np.max(abs(rc_all[tid]['slave'][c] - rc_all[1][side][c])))
+        scale = np.max(abs(rc_all[1]['slave']['x']))
+        print('    force transducers on bar 2 and bar 1 against the contact\'s master and slave '
+              'resultants: largest difference %.1e of the peak force %.4e N' % (worst / scale,
+                                                                                 scale))
+        # (the same forces summed node by node instead of pair by pair: round-off apart at
+        # most; rcforc prints 12 digits)
+        checks.check(worst <= 1e-10 * scale, 'force transducers: the contact forces on each '
+                     'bar (the contact\'s resultants to 1e-10)',
+                     '%.3e' % (worst / scale))
     if kind == 'nodes':
         checks.check('read as *CONTACT_AUTOMATIC_SURFACE_TO_SURFACE_MORTAR' in text,
                      'nodes: the nodes-to-surface contact is read as the mortar contact, with '
