@@ -13,7 +13,8 @@ module mefem_keyword_reader
   use mefem_deck_source, only: deck_open, deck_next_line, deck_close, location, &
                                LINE_KEYWORD, LINE_DATA, LINE_EOF
   use mefem_cards, only: reader_t, card_t, next_card, keyword_error, keyword_where
-  use mefem_model, only: model_t, ON_NODE, ON_NODE_SET, ON_PART
+  use mefem_model, only: model_t, ON_NODE, ON_NODE_SET, ON_PART, WALL_FLAT, WALL_PRISM, &
+                         WALL_CYLINDER, WALL_SPHERE
   use mefem_read_mesh, only: read_node, read_element_solid, read_element_shell, read_part, &
                              read_section_solid, read_section_shell, read_hourglass
   use mefem_read_controls, only: read_keyword_card, read_title, read_parameter, &
@@ -36,6 +37,7 @@ module mefem_keyword_reader
                                    read_constrained_rigid_bodies, read_constrained_extra_nodes, &
                                    read_load_body, read_load_body_parts
   use mefem_read_contact, only: read_contact_surface_to_surface, read_rigidwall_planar, &
+                                read_rigidwall_geometric, &
                                 FORM_SURFACE_TO_SURFACE, FORM_SINGLE_SURFACE, &
                                 FORM_NODES_TO_SURFACE, FORM_TIED, FORM_TIED_NODES, &
                                 FORM_TRANSDUCER
@@ -68,7 +70,8 @@ module mefem_keyword_reader
                         H_MAT_PLASTIC_KINEMATIC = 53, H_CONSTRAINED_RIGID_BODIES = 54, &
                         H_CONSTRAINED_EXTRA_NODES = 55, H_CONTACT_SINGLE_SURFACE = 56, &
                         H_CONTACT_NODES_TO_SURFACE = 57, H_CONTACT_TIED = 58, &
-                        H_CONTACT_TRANSDUCER = 59
+                        H_CONTACT_TRANSDUCER = 59, H_RIGIDWALL_FLAT = 60, &
+                        H_RIGIDWALL_PRISM = 61, H_RIGIDWALL_CYLINDER = 62, H_RIGIDWALL_SPHERE = 63
 
   !> One registered keyword.
   type :: keyword_entry_t
@@ -77,7 +80,7 @@ module mefem_keyword_reader
     character(len=64) :: options = ''    !< options accepted, as ' OPT1 OPT2 '
   end type keyword_entry_t
 
-  integer, parameter :: N_ENTRIES = 71
+  integer, parameter :: N_ENTRIES = 75
   type(keyword_entry_t), parameter :: REGISTRY(N_ENTRIES) = [ &
     keyword_entry_t('NODE', H_NODE, ' '), &
     keyword_entry_t('ELEMENT_SOLID', H_ELEMENT_SOLID, ' '), &
@@ -148,6 +151,11 @@ module mefem_keyword_reader
     keyword_entry_t('CONTACT_FORMING_SURFACE_TO_SURFACE', H_CONTACT_SURFACE_TO_SURFACE, &
                     ' ID TITLE MPP '), &
     keyword_entry_t('RIGIDWALL_PLANAR', H_RIGIDWALL_PLANAR, ' ID '), &
+    keyword_entry_t('RIGIDWALL_GEOMETRIC_FLAT', H_RIGIDWALL_FLAT, ' MOTION ID DISPLAY '), &
+    keyword_entry_t('RIGIDWALL_GEOMETRIC_PRISM', H_RIGIDWALL_PRISM, ' MOTION ID DISPLAY '), &
+    keyword_entry_t('RIGIDWALL_GEOMETRIC_CYLINDER', H_RIGIDWALL_CYLINDER, &
+                    ' MOTION ID DISPLAY '), &
+    keyword_entry_t('RIGIDWALL_GEOMETRIC_SPHERE', H_RIGIDWALL_SPHERE, ' MOTION ID DISPLAY '), &
     keyword_entry_t('CONSTRAINED_RIGID_BODIES', H_CONSTRAINED_RIGID_BODIES, ' '), &
     keyword_entry_t('CONSTRAINED_EXTRA_NODES', H_CONSTRAINED_EXTRA_NODES, ' NODE SET '), &
     ! controls and output requests (matched before the DATABASE_ skip rule)
@@ -468,6 +476,14 @@ contains
       call read_constrained_extra_nodes(rd, options, model)
     case (H_RIGIDWALL_PLANAR)
       call read_rigidwall_planar(rd, options, model)
+    case (H_RIGIDWALL_FLAT)
+      call read_rigidwall_geometric(rd, options, model, WALL_FLAT)
+    case (H_RIGIDWALL_PRISM)
+      call read_rigidwall_geometric(rd, options, model, WALL_PRISM)
+    case (H_RIGIDWALL_CYLINDER)
+      call read_rigidwall_geometric(rd, options, model, WALL_CYLINDER)
+    case (H_RIGIDWALL_SPHERE)
+      call read_rigidwall_geometric(rd, options, model, WALL_SPHERE)
     case (H_CONTROL_TIMESTEP)
       call read_control_timestep(rd, model)
     case (H_CONTROL_SOLUTION)

@@ -18,11 +18,12 @@ module mefem_read_contact
   use mefem_card_helpers, only: has_option, read_id_card, quoted_real, reject_extra_cards, &
                                 skip_extra_cards, read_id_option
   use mefem_deck_source, only: deck_push_back
-  use mefem_model, only: model_t, contact_t, rigid_wall_t, source_t, FS_FROM_PARTS
+  use mefem_model, only: model_t, contact_t, rigid_wall_t, source_t, FS_FROM_PARTS, &
+                         WALL_PLANE, WALL_FLAT, WALL_PRISM, WALL_CYLINDER, WALL_SPHERE
   implicit none
   private
 
-  public :: read_contact_surface_to_surface, read_rigidwall_planar
+  public :: read_contact_surface_to_surface, read_rigidwall_planar, read_rigidwall_geometric
 
   !> Forms of the contact keywords read by read_contact_surface_to_surface.
   integer, parameter, public :: FORM_SURFACE_TO_SURFACE = 1, FORM_SINGLE_SURFACE = 2, &
@@ -368,6 +369,175 @@ contains
       end if
     end do
   end subroutine read_rigidwall_planar
+
+  !> *RIGIDWALL_GEOMETRIC_FLAT, _PRISM, _CYLINDER, _SPHERE (options MOTION, ID, DISPLAY): one
+  !> wall per keyword. [ID card] / NSID NSIDEX BOXID BIRTH DEATH / XT YT ZT XH YH ZH FRIC /
+  !> the shape's card (FLAT: XHEV YHEV ZHEV LENL LENM; PRISM: ... LENP; CYLINDER: RADCYL
+  !> LENCYL NSEGS; SPHERE: RADSPH) / [MOTION: LCID OPT VX VY VZ] / [DISPLAY: PID RO E PR, not
+  !> used]. A FLAT wall without edges (LENL = LENM = 0) is a plane, as *RIGIDWALL_PLANAR.
+  subroutine read_rigidwall_geometric(rd, options, model, shape)
+    type(reader_t), intent(inout) :: rd          !< reading state
+    character(len=*), intent(in) :: options      !< keyword options
+    type(model_t), intent(inout) :: model        !< model appended to
+    integer, intent(in) :: shape                 !< WALL_FLAT, _PRISM, _CYLINDER, _SPHERE
+    type(rigid_wall_t) :: wall
+    type(card_t) :: card, card2, card3, card4
+    logical :: got, ok, bad
+    integer :: boxid, nsegs
+    character(len=80) :: heading
+    character(len=:), allocatable :: who
+    nsegs = 0                                    ! (NSEGS: segments for display, not used)
+    wall = rigid_wall_t()
+    wall%shape = shape
+    wall%keyword = rd%keyword
+    call read_id_option(rd, options, wall%id, heading, ok)
+    if (.not. ok) return
+    who = 'rigid wall'
+    if (wall%id /= 0) who = 'rigid wall '//itoa(wall%id)
+    call next_card(rd, card, got, keep_blank=.true.)
+    if (.not. got) then
+      call keyword_error(rd, 'missing card 1 (NSID NSIDEX BOXID BIRTH DEATH)')
+      return
+    end if
+    call split_card(rd, card, W_10)
+    call get_int(card, 1, 'NSID', wall%node_set_id)
+    call get_int(card, 2, 'NSIDEX', wall%exempt_set_id)
+    call get_int(card, 3, 'BOXID', boxid)
+    call get_real(card, 4, 'BIRTH', wall%birth)
+    call get_real(card, 5, 'DEATH', wall%death, default=1.0e20_wp)
+    if (wall%death == 0.0_wp) wall%death = 1.0e20_wp
+    wall%src = source_t(card%file, card%line)
+    call next_card(rd, card2, got, keep_blank=.true.)
+    if (.not. got) then
+      call card_error(card, who//': missing card 2 (XT YT ZT XH YH ZH FRIC)')
+      return
+    end if
+    call split_card(rd, card2, W_10)
+    call get_real(card2, 1, 'XT', wall%tail(1))
+    call get_real(card2, 2, 'YT', wall%tail(2))
+    call get_real(card2, 3, 'ZT', wall%tail(3))
+    call get_real(card2, 4, 'XH', wall%head(1))
+    call get_real(card2, 5, 'YH', wall%head(2))
+    call get_real(card2, 6, 'ZH', wall%head(3))
+    call get_real(card2, 7, 'FRIC', wall%friction)
+    call next_card(rd, card3, got, keep_blank=.true.)
+    if (.not. got) then
+      call card_error(card2, who//': missing card 3 (the '//trim(shape_name(shape))// &
+          ' wall''s dimensions)')
+      return
+    end if
+    call split_card(rd, card3, W_10)
+    select case (shape)
+    case (WALL_FLAT, WALL_PRISM)
+      call get_real(card3, 1, 'XHEV', wall%edge(1))
+      call get_real(card3, 2, 'YHEV', wall%edge(2))
+      call get_real(card3, 3, 'ZHEV', wall%edge(3))
+      call get_real(card3, 4, 'LENL', wall%length_l)
+      call get_real(card3, 5, 'LENM', wall%length_m)
+      if (shape == WALL_PRISM) call get_real(card3, 6, 'LENP', wall%length_p)
+    case (WALL_CYLINDER)
+      call get_real(card3, 1, 'RADCYL', wall%radius)
+      call get_real(card3, 2, 'LENCYL', wall%length)
+      call get_int(card3, 3, 'NSEGS', nsegs)
+    case (WALL_SPHERE)
+      call get_real(card3, 1, 'RADSPH', wall%radius)
+    end select
+    if (has_option(options, 'MOTION')) then
+      call next_card(rd, card4, got, keep_blank=.true.)
+      if (.not. got) then
+        call card_error(card3, who//': missing the MOTION card (LCID OPT VX VY VZ)')
+        return
+      end if
+      call split_card(rd, card4, W_10)
+      call get_int(card4, 1, 'LCID', wall%motion_curve_id, required=.true.)
+      call get_int(card4, 2, 'OPT', wall%motion_option)
+      call get_real(card4, 3, 'VX', wall%motion_direction(1))
+      call get_real(card4, 4, 'VY', wall%motion_direction(2))
+      call get_real(card4, 5, 'VZ', wall%motion_direction(3))
+      if (.not. card4%bad) then
+        if (.not. any(wall%motion_option == [0, 1])) then
+          call card_error(card4, who//': field OPT must be 0 (LCID is the velocity) or 1 '// &
+              '(the displacement) (got '//itoa(wall%motion_option)//')')
+          card4%bad = .true.
+        else if (.not. norm2(wall%motion_direction) > 0.0_wp) then
+          call card_error(card4, who//': the direction VX VY VZ of the motion is zero')
+          card4%bad = .true.
+        else
+          wall%motion_direction = wall%motion_direction/norm2(wall%motion_direction)
+        end if
+      end if
+      if (card4%bad) return
+    end if
+    if (has_option(options, 'DISPLAY')) then
+      call next_card(rd, card4, got, keep_blank=.true.)     ! PID RO E PR: for display only
+    end if
+    call reject_extra_cards(rd, who)
+    if (card%bad .or. card2%bad .or. card3%bad) return
+    bad = .false.
+    if (wall%node_set_id < 0 .or. wall%exempt_set_id < 0) call fail(card, who// &
+        ': fields NSID/NSIDEX must not be negative')
+    if (boxid /= 0) call fail(card, who//': field BOXID = '//itoa(boxid)//': boxes '// &
+        '(*DEFINE_BOX) are not supported')
+    if (wall%birth >= wall%death) call fail(card, who//': field BIRTH ('//rtoa(wall%birth)// &
+        ') must be before DEATH ('//rtoa(wall%death)//')')
+    if (shape /= WALL_SPHERE .and. all(wall%head == wall%tail)) call fail(card2, who// &
+        ': the head (XH YH ZH) equals the tail (XT YT ZT): the wall''s axis is undefined')
+    if (wall%friction < 0.0_wp .or. wall%friction > 1.0_wp) call fail(card2, who// &
+        ': field FRIC must be between 0 and 1 '//quoted_real(wall%friction))
+    select case (shape)
+    case (WALL_FLAT, WALL_PRISM)
+      if (wall%length_l < 0.0_wp .or. wall%length_m < 0.0_wp .or. wall%length_p < 0.0_wp) &
+        call fail(card3, who//': the edge lengths must not be negative')
+      if (shape == WALL_PRISM .and. .not. (wall%length_l > 0.0_wp .and. wall%length_m > &
+          0.0_wp .and. wall%length_p > 0.0_wp)) call fail(card3, who//': a prism needs '// &
+          'LENL, LENM and LENP > 0')
+      if (wall%length_l > 0.0_wp .or. wall%length_m > 0.0_wp) then
+        if (any(wall%head /= wall%tail)) then          ! (else reported above)
+          if (norm2(wall%edge - dot_product(wall%edge, axis(wall))*axis(wall)) <= &
+              1.0e-12_wp*norm2(wall%edge) .or. all(wall%edge == 0.0_wp)) call fail(card3, &
+              who//': XHEV YHEV ZHEV must not be zero or along the wall''s normal (it gives '// &
+              'the direction of the l edge)')
+        end if
+      end if
+      if (shape == WALL_FLAT .and. wall%length_l == 0.0_wp .and. wall%length_m == 0.0_wp) &
+        wall%shape = WALL_PLANE
+    case (WALL_CYLINDER, WALL_SPHERE)
+      if (.not. wall%radius > 0.0_wp) call fail(card3, who//': the radius must be > 0 '// &
+          quoted_real(wall%radius))
+      if (wall%length < 0.0_wp) call fail(card3, who//': field LENCYL must not be negative')
+    end select
+    if (.not. bad) call add_rigid_wall(model, wall)
+  contains
+    !> Report an error and remember it.
+    subroutine fail(where_card, message)
+      type(card_t), intent(in) :: where_card     !< the card with the field
+      character(len=*), intent(in) :: message    !< what is wrong
+      call card_error(where_card, message)
+      bad = .true.
+    end subroutine fail
+    !> Unit vector from the tail to the head.
+    function axis(w) result(n)
+      type(rigid_wall_t), intent(in) :: w        !< the wall
+      real(wp) :: n(3)
+      n = (w%head - w%tail)/norm2(w%head - w%tail)
+    end function axis
+  end subroutine read_rigidwall_geometric
+
+  !> 'flat', 'prism', 'cylinder' or 'sphere'.
+  pure function shape_name(shape) result(name)
+    integer, intent(in) :: shape                 !< WALL_*
+    character(len=8) :: name
+    select case (shape)
+    case (WALL_PRISM)
+      name = 'prism'
+    case (WALL_CYLINDER)
+      name = 'cylinder'
+    case (WALL_SPHERE)
+      name = 'sphere'
+    case default
+      name = 'flat'
+    end select
+  end function shape_name
 
   !> LS-DYNA reads a zero scale factor as its default, 1.
   subroutine zero_means_one(x)

@@ -247,13 +247,28 @@ module mefem_model
                                 SURFACE_PART = 3, SURFACE_NODE_SET = 4, SURFACE_ALL_PARTS = 5, &
                                 SURFACE_ALL_BUT_SET = 6
 
-  !> *RIGIDWALL_PLANAR.
+  !> Shapes of rigid walls: *RIGIDWALL_PLANAR and the infinite *RIGIDWALL_GEOMETRIC_FLAT are
+  !> planes; the others are *RIGIDWALL_GEOMETRIC_FLAT with edges, _PRISM, _CYLINDER, _SPHERE.
+  integer, parameter, public :: WALL_PLANE = 1, WALL_FLAT = 2, WALL_PRISM = 3, &
+                                WALL_CYLINDER = 4, WALL_SPHERE = 5
+
+  !> *RIGIDWALL_PLANAR and *RIGIDWALL_GEOMETRIC_... (a kinematic wall: nodes are kept out).
   type, public :: rigid_wall_t
     integer :: id = 0
+    integer :: shape = WALL_PLANE
     integer :: node_set_id = 0, node_set = 0, exempt_set_id = 0, exempt_set = 0
     real(wp) :: offset = 0.0_wp, birth = 0.0_wp, death = 1.0e20_wp, stiffness_scale = 1.0_wp
     real(wp) :: tail(3) = 0.0_wp, head(3) = 0.0_wp
     real(wp) :: friction = 0.0_wp, weld_velocity = 0.0_wp
+    real(wp) :: edge(3) = 0.0_wp             !< XHEV YHEV ZHEV: the direction of the l edge
+    real(wp) :: length_l = 0.0_wp, length_m = 0.0_wp, length_p = 0.0_wp  !< LENL LENM LENP
+    real(wp) :: radius = 0.0_wp              !< RADCYL, RADSPH
+    real(wp) :: length = 0.0_wp              !< LENCYL (0: infinite)
+    integer :: motion_curve_id = 0, motion_curve = 0  !< _MOTION: LCID, its index
+    integer :: motion_option = 0             !< OPT: 0 the curve is the velocity, 1 the
+                                             !< displacement
+    real(wp) :: motion_direction(3) = 0.0_wp !< VX VY VZ (unit after reading)
+    character(len=48) :: keyword = '*RIGIDWALL_PLANAR' !< as written (messages)
     type(source_t) :: src
   end type rigid_wall_t
 

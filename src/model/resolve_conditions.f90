@@ -636,9 +636,11 @@ contains
     end do
     do k = 1, model%n_rigid_walls
       associate (wall => model%rigid_walls(k))
-        where = where_is(wall%src, '*RIGIDWALL_PLANAR')
+        where = where_is(wall%src, trim(wall%keyword))
         if (wall%node_set_id > 0) call resolve_target(look, ON_NODE_SET, wall%node_set_id, &
             wall%node_set, where)
+        if (wall%motion_curve_id > 0) call resolve_curve(look, wall%motion_curve_id, &
+            wall%motion_curve, where, 'LCID ')
         if (wall%exempt_set_id > 0) call resolve_target(look, ON_NODE_SET, &
             wall%exempt_set_id, wall%exempt_set, where, 'NSIDEX: ')
       end associate

@@ -586,8 +586,9 @@ contains
 
     ! rigid walls: the local nodes each one tests (not those of rigid bodies)
     s%nwall = model%n_rigid_walls
-    allocate(s%wall_nodes(s%nwall), s%wall_force(3, s%nwall))
+    allocate(s%wall_nodes(s%nwall), s%wall_force(3, s%nwall), s%wall_shift(3, s%nwall))
     s%wall_force = 0.0_wp
+    s%wall_shift = 0.0_wp
     do k = 1, s%nwall
       call rigid_wall_nodes(model, k, s%node_global, cells%n_mesh_nodes, s%wall_nodes(k)%nodes, &
                             skip=s%bodies%node_body > 0)

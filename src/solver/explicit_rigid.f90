@@ -12,6 +12,7 @@ module mefem_explicit_rigid
                                 rigid_body_point_motion
   use mefem_rigid_walls, only: rigid_wall_constrain
   use mefem_body_loads, only: body_acceleration
+  use mefem_curves, only: curve_value
   implicit none
   private
 
@@ -119,15 +120,29 @@ contains
     type(explicit_state_t), intent(inout) :: s        !< local state
     real(wp), intent(in) :: t_new                     !< t^{n+1}
     real(wp), intent(in) :: dt_old, dt                !< dt^{n-1/2}, dt^{n+1/2}
-    real(wp) :: dt_avg
+    real(wp) :: dt_avg, shift(3), velocity(3)
     integer :: k, j, n
     dt_avg = 0.5_wp*(dt_old + dt)
     do k = 1, s%nwall
-      associate (nodes => s%wall_nodes(k)%nodes)
+      associate (nodes => s%wall_nodes(k)%nodes, wall => model%rigid_walls(k))
+        ! a moving wall (_MOTION): its displacement at t^{n+1} (OPT 1: the curve's value; OPT
+        ! 0: advanced with the curve's velocity at t^{n+1/2}) and its velocity over the step
+        shift = s%wall_shift(:, k)
+        if (wall%motion_curve > 0) then
+          if (wall%motion_option == 1) then
+            shift = curve_value(model%curves(wall%motion_curve), t_new)*wall%motion_direction
+          else
+            shift = shift + dt*curve_value(model%curves(wall%motion_curve), &
+                                           t_new - 0.5_wp*dt)*wall%motion_direction
+          end if
+        end if
+        velocity = 0.0_wp
+        if (dt > 0.0_wp) velocity = (shift - s%wall_shift(:, k))/dt
+        s%wall_shift(:, k) = shift
         s%v_trial(:, nodes) = s%v(:, nodes)
-        call rigid_wall_constrain(model%rigid_walls(k), s%dim, s%x0, s%u, s%v, s%u_old, &
-                                  s%mass, dt, t_new, nodes, s%owned, s%wall_force(:, k), &
-                                  dt_velocity=dt_avg)
+        call rigid_wall_constrain(wall, s%dim, s%x0, s%u, s%v, s%u_old, s%mass, dt, t_new, &
+                                  nodes, s%owned, s%wall_force(:, k), dt_velocity=dt_avg, &
+                                  shift=shift, wall_velocity=velocity)
         do j = 1, size(nodes)
           n = nodes(j)
           if (.not. s%owned(n)) cycle

@@ -223,6 +223,7 @@ module mefem_explicit_state
     integer :: nwall = 0
     type(node_list_t), allocatable :: wall_nodes(:)  !< (nwall) nodes each wall tests
     real(wp), allocatable :: wall_force(:,:)   !< (3, nwall) force of the owned nodes, last cycle
+    real(wp), allocatable :: wall_shift(:,:)   !< (3, nwall) displacement of a moving wall
     real(wp), allocatable :: u_old(:,:)        !< (dim, nnode) u^n while walls need it
     real(wp), allocatable :: v_trial(:,:)      !< (dim, nnode) v^{n+1/2} before the walls
     real(wp) :: wall_work = 0.0_wp             !< work of the walls on the owned nodes
