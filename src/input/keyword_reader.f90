@@ -26,7 +26,9 @@ module mefem_keyword_reader
                                  read_database_binary_d3plot, read_database_interval, &
                                  read_database_history_node, read_mefem_enrichment, &
                                  DATABASE_GLSTAT, DATABASE_RCFORC, DATABASE_NODOUT
-  use mefem_read_materials, only: read_mat_elastic, read_mat_piecewise_linear, &
+  use mefem_read_materials, only: read_mat_johnson_cook, read_mat_simplified_johnson_cook, &
+                                  last_material_id, &
+                                  read_mat_elastic, read_mat_piecewise_linear, &
                                   read_mat_power_law, read_mat_mooney_rivlin, read_mat_rigid, &
                                   read_mat_plastic_kinematic
   use mefem_read_sets, only: read_set_node, read_set_part, read_set_segment
@@ -71,7 +73,11 @@ module mefem_keyword_reader
                         H_CONSTRAINED_EXTRA_NODES = 55, H_CONTACT_SINGLE_SURFACE = 56, &
                         H_CONTACT_NODES_TO_SURFACE = 57, H_CONTACT_TIED = 58, &
                         H_CONTACT_TRANSDUCER = 59, H_RIGIDWALL_FLAT = 60, &
-                        H_RIGIDWALL_PRISM = 61, H_RIGIDWALL_CYLINDER = 62, H_RIGIDWALL_SPHERE = 63
+                        H_RIGIDWALL_PRISM = 61, H_RIGIDWALL_CYLINDER = 62, H_RIGIDWALL_SPHERE = 63, &
+                        H_MAT_JOHNSON_COOK = 64, H_MAT_SIMPLIFIED_JOHNSON_COOK = 65
+
+  !> Id read from the first card of a rejected keyword (skip_cards), 0 when none.
+  integer :: rejected_id = 0
 
   !> One registered keyword.
   type :: keyword_entry_t
@@ -80,7 +86,7 @@ module mefem_keyword_reader
     character(len=64) :: options = ''    !< options accepted, as ' OPT1 OPT2 '
   end type keyword_entry_t
 
-  integer, parameter :: N_ENTRIES = 75
+  integer, parameter :: N_ENTRIES = 79
   type(keyword_entry_t), parameter :: REGISTRY(N_ENTRIES) = [ &
     keyword_entry_t('NODE', H_NODE, ' '), &
     keyword_entry_t('ELEMENT_SOLID', H_ELEMENT_SOLID, ' '), &
@@ -102,6 +108,10 @@ module mefem_keyword_reader
     keyword_entry_t('MAT_POWER_LAW_PLASTICITY', H_MAT_POWER_LAW, ' TITLE '), &
     keyword_entry_t('MAT_018', H_MAT_POWER_LAW, ' TITLE '), &
     keyword_entry_t('MAT_PLASTIC_KINEMATIC', H_MAT_PLASTIC_KINEMATIC, ' TITLE '), &
+    keyword_entry_t('MAT_JOHNSON_COOK', H_MAT_JOHNSON_COOK, ' TITLE '), &
+    keyword_entry_t('MAT_015', H_MAT_JOHNSON_COOK, ' TITLE '), &
+    keyword_entry_t('MAT_SIMPLIFIED_JOHNSON_COOK', H_MAT_SIMPLIFIED_JOHNSON_COOK, ' TITLE '), &
+    keyword_entry_t('MAT_098', H_MAT_SIMPLIFIED_JOHNSON_COOK, ' TITLE '), &
     keyword_entry_t('MAT_003', H_MAT_PLASTIC_KINEMATIC, ' TITLE '), &
     keyword_entry_t('MAT_MOONEY-RIVLIN_RUBBER', H_MAT_MOONEY_RIVLIN, ' TITLE '), &
     keyword_entry_t('MAT_MOONEY_RIVLIN_RUBBER', H_MAT_MOONEY_RIVLIN, ' TITLE '), &
@@ -268,7 +278,7 @@ contains
       if (rd%deck%kind /= LINE_KEYWORD) cycle
       data_reported = .false.
       n_keywords = n_keywords + 1
-      call dispatch(rd, model, n_keywords == 1)
+      call dispatch_and_note(rd, model, n_keywords == 1)
     end do
     if (n_keywords == 0) call input_error(path, &
         'the deck holds no keyword (an LS-DYNA keyword deck starts with *KEYWORD)')
@@ -399,6 +409,10 @@ contains
       call read_mat_piecewise_linear(rd, options, model)
     case (H_MAT_PLASTIC_KINEMATIC)
       call read_mat_plastic_kinematic(rd, options, model)
+    case (H_MAT_JOHNSON_COOK)
+      call read_mat_johnson_cook(rd, options, model)
+    case (H_MAT_SIMPLIFIED_JOHNSON_COOK)
+      call read_mat_simplified_johnson_cook(rd, options, model)
     case (H_MAT_POWER_LAW)
       call read_mat_power_law(rd, options, model)
     case (H_MAT_MOONEY_RIVLIN)
@@ -513,6 +527,35 @@ contains
     end select
   end subroutine dispatch
 
+  !> dispatch, then note the id of a material whose keyword added no material (rejected: its
+  !> errors are reported) or of an unsupported *MAT_ or *SECTION_ keyword, so that a part
+  !> naming it is not reported again (model%rejected_material_ids, rejected_section_ids).
+  subroutine dispatch_and_note(rd, model, first)
+    type(reader_t), intent(inout) :: rd     !< reading state at a keyword line
+    type(model_t), intent(inout) :: model   !< the model read
+    logical, intent(in) :: first            !< this is the deck's first keyword
+    integer :: n_materials, id
+    n_materials = model%n_materials
+    id = last_material_id()                 ! (forget the last keyword's)
+    rejected_id = 0
+    call dispatch(rd, model, first)
+    id = last_material_id()
+    if (starts_with(rd%keyword, '*MAT_') .and. model%n_materials == n_materials) then
+      if (id == 0) id = rejected_id
+      if (id /= 0) call append_id(model%rejected_material_ids, id)
+    else if (starts_with(rd%keyword, '*SECTION_') .and. rejected_id /= 0) then
+      call append_id(model%rejected_section_ids, rejected_id)
+    end if
+  contains
+    !> Append one id to a list (allocated on first use).
+    subroutine append_id(list, value)
+      integer, allocatable, intent(inout) :: list(:)  !< the list
+      integer, intent(in) :: value                    !< the id
+      if (.not. allocated(list)) allocate(list(0))
+      list = [list, value]
+    end subroutine append_id
+  end subroutine dispatch_and_note
+
   !> A keyword without handler: skip it with a warning if it is output or cosmetic,
   !> otherwise report it as an error (its cards are skipped either way).
   subroutine skip_or_reject(rd, name)
@@ -584,10 +627,24 @@ contains
   subroutine skip_cards(rd)
     type(reader_t), intent(inout) :: rd   !< reading state
     type(card_t) :: card
-    logical :: got
+    logical :: got, title
+    integer :: n, status
+    character(len=20) :: field
+    ! an unsupported *MAT_ or *SECTION_ keyword: its id, the first field of its first data
+    ! card (after a _TITLE card), for dispatch_and_note
+    title = index(rd%keyword, '_TITLE') > 0
+    n = 0
     do
       call next_card(rd, card, got)
       if (.not. got) exit
+      n = n + 1
+      if (.not. (starts_with(rd%keyword, '*MAT_') .or. starts_with(rd%keyword, '*SECTION_'))) &
+        cycle
+      if (n /= merge(2, 1, title) .or. card%length == 0) cycle
+      field = card%text(1:min(card%length, merge(20, 10, rd%long)))
+      if (index(field, ',') > 0) field = field(1:index(field, ',') - 1)
+      read(field, *, iostat=status) rejected_id
+      if (status /= 0) rejected_id = 0
     end do
   end subroutine skip_cards
 

@@ -1,6 +1,8 @@
 !> Keyword handlers for materials: *MAT_ELASTIC (*MAT_001), *MAT_PIECEWISE_LINEAR_PLASTICITY
-!> (*MAT_024), *MAT_POWER_LAW_PLASTICITY (*MAT_018), *MAT_MOONEY-RIVLIN_RUBBER (*MAT_027) and
-!> *MAT_RIGID (*MAT_020), each with the _TITLE option. One material per keyword occurrence.
+!> (*MAT_024), *MAT_POWER_LAW_PLASTICITY (*MAT_018), *MAT_PLASTIC_KINEMATIC (*MAT_003),
+!> *MAT_JOHNSON_COOK (*MAT_015), *MAT_SIMPLIFIED_JOHNSON_COOK (*MAT_098),
+!> *MAT_MOONEY-RIVLIN_RUBBER (*MAT_027) and *MAT_RIGID (*MAT_020), each with the _TITLE option.
+!> One material per keyword occurrence.
 !>
 !> Every value that would make the analysis meaningless is an error naming the field and
 !> quoting the value. Curve references (LCSS, LCSR) and duplicate ids are checked later by
@@ -12,17 +14,22 @@ module mefem_read_materials
                          card_error, card_warning, keyword_error
   use mefem_card_helpers, only: read_title_card, reject_extra_cards, quoted_real
   use mefem_model, only: model_t, material_t, source_t, MAT_ELASTIC, MAT_PIECEWISE_LINEAR, &
-                         MAT_PLASTIC_KINEMATIC, &
+                         MAT_PLASTIC_KINEMATIC, MAT_JOHNSON_COOK, MAT_SIMPLIFIED_JOHNSON_COOK, &
                          MAT_POWER_LAW, MAT_RIGID, MAT_MOONEY_RIVLIN
   implicit none
   private
 
+  public :: read_mat_johnson_cook, read_mat_simplified_johnson_cook, last_material_id
   public :: read_mat_elastic, read_mat_piecewise_linear, read_mat_power_law, &
             read_mat_plastic_kinematic, &
             read_mat_mooney_rivlin, read_mat_rigid, material_keyword
 
   integer, parameter :: W_10(8) = 10   !< standard 8 x 10 card
   real(wp), parameter :: NO_FAILURE = 1.0e21_wp   !< FAIL default of *MAT_024
+
+  !> MID of the material card read last (0: none yet): the keyword reader names a rejected
+  !> material by it
+  integer :: last_mid = 0
 
 contains
 
@@ -41,6 +48,12 @@ contains
       s = '*MAT_MOONEY-RIVLIN_RUBBER'
     case (MAT_RIGID)
       s = '*MAT_RIGID'
+    case (MAT_PLASTIC_KINEMATIC)
+      s = '*MAT_PLASTIC_KINEMATIC'
+    case (MAT_JOHNSON_COOK)
+      s = '*MAT_JOHNSON_COOK'
+    case (MAT_SIMPLIFIED_JOHNSON_COOK)
+      s = '*MAT_SIMPLIFIED_JOHNSON_COOK'
     case default
       s = '*MAT'
     end select
@@ -308,6 +321,198 @@ contains
     call reject_extra_cards(rd, 'material '//itoa(mat%id))
   end subroutine read_mat_plastic_kinematic
 
+  !> *MAT_JOHNSON_COOK (*MAT_015): MID RO G E PR DTF VP RATEOP / A B N C M TM TR EPSO / CP PC
+  !> SPALL IT D1 D2 D3 D4 / [D5 C2 EROD EFMIN NUMINT]. J2 plasticity with the flow stress
+  !> (A + B alpha^N)(1 + C ln(rate/EPSO))(1 - T*^M) and adiabatic heating from the plastic work
+  !> (CP > 0); without an *EOS the pressure comes from the bulk modulus of G (or E) and PR.
+  !> Solids take G (E = 2 G (1 + PR)); E serves when G is 0.
+  subroutine read_mat_johnson_cook(rd, options, model)
+    type(reader_t), intent(inout) :: rd          !< reading state
+    character(len=*), intent(in) :: options      !< keyword options
+    type(model_t), intent(inout) :: model        !< model appended to
+    type(material_t) :: mat
+    type(card_t) :: card, card2, card3, card4
+    logical :: got, bad, got4
+    real(wp) :: shear, dtf, pc, spall, damage(5), c2, erod, efmin
+    integer :: rateop, it, numint
+    character(len=:), allocatable :: who
+    mat%kind = MAT_JOHNSON_COOK
+    call read_title_card(rd, options, mat%title)
+    call first_card(rd, card, got, 'MID RO G E PR DTF VP RATEOP')
+    if (.not. got) return
+    call read_mid_ro(card, mat)
+    call get_real(card, 3, 'G', shear)
+    call get_real(card, 4, 'E', mat%young)
+    call get_real(card, 5, 'PR', mat%poisson)
+    call get_real(card, 6, 'DTF', dtf)
+    call get_real(card, 7, 'VP', mat%vp)
+    call get_int(card, 8, 'RATEOP', rateop)
+    bad = card%bad
+    who = 'material '//itoa(mat%id)//': '
+    call next_card(rd, card2, got, keep_blank=.true.)
+    if (.not. got) then
+      call card_error(card, who//'missing card 2 (A B N C M TM TR EPSO)')
+      return
+    end if
+    call split_card(rd, card2, W_10)
+    call get_real(card2, 1, 'A', mat%jc_a)
+    call get_real(card2, 2, 'B', mat%jc_b)
+    call get_real(card2, 3, 'N', mat%n_exponent)
+    call get_real(card2, 4, 'C', mat%jc_c)
+    call get_real(card2, 5, 'M', mat%jc_m)
+    call get_real(card2, 6, 'TM', mat%melt_temperature)
+    call get_real(card2, 7, 'TR', mat%room_temperature)
+    call get_real(card2, 8, 'EPSO', mat%reference_rate)
+    bad = bad .or. card2%bad
+    call next_card(rd, card3, got, keep_blank=.true.)
+    if (.not. got) then
+      call card_error(card2, who//'missing card 3 (CP PC SPALL IT D1 D2 D3 D4)')
+      return
+    end if
+    call split_card(rd, card3, W_10)
+    call get_real(card3, 1, 'CP', mat%heat_capacity)
+    call get_real(card3, 2, 'PC', pc)
+    call get_real(card3, 3, 'SPALL', spall)
+    call get_int(card3, 4, 'IT', it)
+    call get_real(card3, 5, 'D1', damage(1))
+    call get_real(card3, 6, 'D2', damage(2))
+    call get_real(card3, 7, 'D3', damage(3))
+    call get_real(card3, 8, 'D4', damage(4))
+    bad = bad .or. card3%bad
+    damage(5) = 0.0_wp
+    call next_card(rd, card4, got4, keep_blank=.true.)          ! optional
+    if (got4) then
+      call split_card(rd, card4, W_10)
+      call get_real(card4, 1, 'D5', damage(5))
+      call get_real(card4, 2, 'C2/P/XNP', c2)
+      call get_real(card4, 3, 'EROD', erod)
+      call get_real(card4, 4, 'EFMIN', efmin)
+      call get_int(card4, 5, 'NUMINT', numint)
+      bad = bad .or. card4%bad
+    end if
+    call reject_extra_cards(rd, 'material '//itoa(mat%id))
+    if (bad) return
+    ! elastic constants: G for solids (E when G is not given)
+    if (shear > 0.0_wp) then
+      mat%young = 2.0_wp*shear*(1.0_wp + mat%poisson)
+    else if (shear < 0.0_wp .or. .not. mat%young > 0.0_wp) then
+      call fail_field(card, who//'field G (shear modulus) must be > 0 (or E > 0 when G is '// &
+          'not given) '//quoted_real(shear), bad)
+    end if
+    if (.not. bad) call check_elastic(card, mat, .false.)
+    bad = bad .or. card%bad
+    if (rateop /= 0) call fail_field(card, who//'field RATEOP = '//itoa(rateop)//' is not '// &
+        'supported: 0, the Johnson-Cook rate term 1 + C ln(rate/EPSO), is', bad)
+    if (mat%vp /= 0.0_wp .and. mat%vp /= 1.0_wp) call fail_field(card, who// &
+        'field VP must be 0 or 1 '//quoted_real(mat%vp), bad)
+    call johnson_cook_strength(card2, mat, bad)
+    if (mat%jc_m < 0.0_wp) call fail_field(card2, who//'field M must not be negative '// &
+        quoted_real(mat%jc_m), bad)
+    if (mat%melt_temperature /= 0.0_wp .and. .not. mat%melt_temperature > &
+        mat%room_temperature) call fail_field(card2, who//'field TM (melting temperature) '// &
+        'must be above TR (room temperature) '//quoted_real(mat%melt_temperature), bad)
+    if (mat%heat_capacity < 0.0_wp) call fail_field(card3, who//'field CP must not be '// &
+        'negative '//quoted_real(mat%heat_capacity), bad)
+    if (mat%heat_capacity > 0.0_wp .and. mat%melt_temperature > mat%room_temperature .and. &
+        .not. mat%jc_m > 0.0_wp) call fail_field(card2, who//'field M must be > 0 for the '// &
+        'thermal softening 1 - T*^M (CP and TM are given)', bad)
+    if (bad) return
+    ! read, not modelled: say so where LS-DYNA would compute something else
+    if (mat%vp == 1.0_wp .and. mat%jc_c /= 0.0_wp) call card_warning(card, who//'VP = 1 '// &
+        '(viscoplastic) is computed as VP = 0: the yield stress is scaled by the total '// &
+        'strain rate (doc/theory.md section 4)')
+    if (dtf /= 0.0_wp) call card_warning(card, who//'DTF ignored: mefem deletes no elements')
+    if (pc /= 0.0_wp .or. spall /= 0.0_wp) call card_warning(card3, who//'PC and SPALL '// &
+        'ignored: no pressure cutoff or spall (the pressure comes from the bulk modulus)')
+    if (any(damage /= 0.0_wp)) call card_warning(card3, who//'the Johnson-Cook failure '// &
+        'D1-D5 is ignored: mefem deletes no elements')
+    call add_material(model, mat)
+  end subroutine read_mat_johnson_cook
+
+  !> *MAT_SIMPLIFIED_JOHNSON_COOK (*MAT_098): MID RO E PR VP / A B N C PSFAIL SIGMAX SIGSAT
+  !> EPSO. The Johnson-Cook flow stress without the thermal term, the hardening capped at
+  !> SIGMAX.
+  subroutine read_mat_simplified_johnson_cook(rd, options, model)
+    type(reader_t), intent(inout) :: rd          !< reading state
+    character(len=*), intent(in) :: options      !< keyword options
+    type(model_t), intent(inout) :: model        !< model appended to
+    real(wp), parameter :: UNSET = 1.0e28_wp     !< LS-DYNA's default of SIGMAX and SIGSAT
+    type(material_t) :: mat
+    type(card_t) :: card, card2
+    logical :: got, bad
+    real(wp) :: psfail, sigsat
+    character(len=:), allocatable :: who
+    mat%kind = MAT_SIMPLIFIED_JOHNSON_COOK
+    call read_title_card(rd, options, mat%title)
+    call first_card(rd, card, got, 'MID RO E PR VP')
+    if (.not. got) return
+    call read_mid_ro(card, mat)
+    call get_real(card, 3, 'E', mat%young, required=.true.)
+    call get_real(card, 4, 'PR', mat%poisson)
+    call get_real(card, 5, 'VP', mat%vp)
+    bad = card%bad
+    if (.not. bad) call check_elastic(card, mat, .true.)
+    bad = bad .or. card%bad
+    who = 'material '//itoa(mat%id)//': '
+    call next_card(rd, card2, got, keep_blank=.true.)
+    if (.not. got) then
+      call card_error(card, who//'missing card 2 (A B N C PSFAIL SIGMAX SIGSAT EPSO)')
+      return
+    end if
+    call split_card(rd, card2, W_10)
+    call get_real(card2, 1, 'A', mat%jc_a)
+    call get_real(card2, 2, 'B', mat%jc_b)
+    call get_real(card2, 3, 'N', mat%n_exponent)
+    call get_real(card2, 4, 'C', mat%jc_c)
+    call get_real(card2, 5, 'PSFAIL', psfail, default=UNSET)
+    call get_real(card2, 6, 'SIGMAX', mat%max_stress, default=UNSET)
+    call get_real(card2, 7, 'SIGSAT', sigsat, default=UNSET)
+    call get_real(card2, 8, 'EPSO', mat%reference_rate)
+    bad = bad .or. card2%bad
+    call reject_extra_cards(rd, 'material '//itoa(mat%id))
+    if (bad) return
+    if (mat%vp /= 0.0_wp .and. mat%vp /= 1.0_wp) call fail_field(card, who// &
+        'field VP must be 0 or 1 '//quoted_real(mat%vp), bad)
+    call johnson_cook_strength(card2, mat, bad)
+    if (mat%max_stress >= UNSET .or. mat%max_stress == 0.0_wp) mat%max_stress = 0.0_wp
+    if (mat%max_stress < 0.0_wp) call fail_field(card2, who//'field SIGMAX must be > 0 '// &
+        quoted_real(mat%max_stress), bad)
+    if (bad) return
+    if (mat%vp == 1.0_wp .and. mat%jc_c /= 0.0_wp) call card_warning(card, who//'VP = 1 '// &
+        '(viscoplastic) is computed as VP = 0: the yield stress is scaled by the total '// &
+        'strain rate (doc/theory.md section 4)')
+    if (psfail > 0.0_wp .and. psfail < UNSET) call card_warning(card2, who//'PSFAIL = '// &
+        rtoa(psfail)//' ignored: mefem deletes no elements')
+    if (sigsat > 0.0_wp .and. sigsat < UNSET) call card_warning(card2, who//'SIGSAT '// &
+        '(the cap of the flow stress with rate effects) is not modelled: only SIGMAX caps it')
+    call add_material(model, mat)
+  end subroutine read_mat_simplified_johnson_cook
+
+  !> The strength fields shared by *MAT_015 and *MAT_098: A > 0, B, N, C >= 0; EPSO 0 is read
+  !> as 1 (per time unit of the deck) with a warning when C is given.
+  subroutine johnson_cook_strength(card2, mat, bad)
+    type(card_t), intent(in) :: card2            !< the card of A B N C ... EPSO
+    type(material_t), intent(inout) :: mat       !< the material
+    logical, intent(inout) :: bad                !< set on any error
+    character(len=:), allocatable :: who
+    who = 'material '//itoa(mat%id)//': '
+    if (.not. mat%jc_a > 0.0_wp) call fail_field(card2, who//'field A (the yield stress) '// &
+        'must be > 0 '//quoted_real(mat%jc_a), bad)
+    if (mat%jc_b < 0.0_wp) call fail_field(card2, who//'field B must not be negative '// &
+        quoted_real(mat%jc_b), bad)
+    if (mat%n_exponent < 0.0_wp) call fail_field(card2, who//'field N must not be negative '// &
+        quoted_real(mat%n_exponent), bad)
+    if (mat%jc_c < 0.0_wp) call fail_field(card2, who//'field C must not be negative '// &
+        quoted_real(mat%jc_c), bad)
+    if (mat%reference_rate < 0.0_wp) call fail_field(card2, who//'field EPSO must not be '// &
+        'negative '//quoted_real(mat%reference_rate), bad)
+    if (mat%reference_rate == 0.0_wp) then
+      mat%reference_rate = 1.0_wp
+      if (mat%jc_c /= 0.0_wp .and. .not. bad) call card_warning(card2, who//'EPSO = 0 read '// &
+          'as 1 per time unit of the deck (the reference strain rate of C ln(rate/EPSO))')
+    end if
+  end subroutine johnson_cook_strength
+
   !> The strain-rate and failure fields of *MAT_018 and *MAT_003 (SRC, SRP on rate_card; VP
   !> and the failure strain, named fs_name, on fail_card): checked; a warning for a failure
   !> strain (mefem erodes no elements) and for VP = 1 with rate effects (computed as VP = 0).
@@ -479,11 +684,18 @@ contains
     call split_card(rd, card, W_10)
   end subroutine first_card
 
+  !> MID of the last material card read, and forget it (0: none since the last call).
+  integer function last_material_id()
+    last_material_id = last_mid
+    last_mid = 0
+  end function last_material_id
+
   !> MID (field 1, positive) and RO (field 2, positive) of a material card; sets the source.
   subroutine read_mid_ro(card, mat)
     type(card_t), intent(inout) :: card          !< card 1 of the material
     type(material_t), intent(inout) :: mat       !< the material
     call get_int(card, 1, 'MID', mat%id, required=.true.)
+    last_mid = mat%id
     call get_real(card, 2, 'RO', mat%density, required=.true.)
     mat%src = source_t(card%file, card%line)
     if (card%bad) return

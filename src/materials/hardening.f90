@@ -24,14 +24,19 @@
 !>   first/last segment's slope outside the table (as *DEFINE_CURVE is evaluated).
 !> - HARDENING_CURVE, *MAT_024 with LCSS: K = curve_value(curve, alpha) of the yield stress
 !>   vs effective plastic strain curve; K' the slope of the segment curve_value uses.
+!> - HARDENING_JOHNSON_COOK, *MAT_JOHNSON_COOK and *MAT_SIMPLIFIED_JOHNSON_COOK:
+!>   K = A + B alpha^N, capped at SIGMAX (*MAT_098) when SIGMAX > 0; K' = N B alpha^(N-1),
+!>   taken at alpha >= JC_SLOPE_STRAIN (for N < 1 the slope is infinite at alpha = 0: a
+!>   finite, very large one serves the return map's Newton steps, which bisection guards).
 !> Strain-rate effects scale K and K' by hardening_rate_factor(mat, curves, rate) of the
 !> element's effective strain rate (LS-DYNA's VP = 0 form, doc/theory.md section 4): the LCSR
 !> curve of *MAT_024 (scale against strain rate), else Cowper-Symonds 1 + (rate/C)^(1/P)
-!> (*MAT_024 C, P; *MAT_018 and *MAT_003 SRC, SRP).
+!> (*MAT_024 C, P; *MAT_018 and *MAT_003 SRC, SRP); Johnson-Cook 1 + C ln(rate/EPSO) for
+!> rate > EPSO (1 below: LS-DYNA's quasi-static threshold).
 !> At a table or curve point alpha = EPS_i the slope is that of the segment to the right.
 module mefem_hardening
   use mefem_kinds, only: wp
-  use mefem_model, only: material_t, curve_t
+  use mefem_model, only: material_t, curve_t, MAT_JOHNSON_COOK, MAT_SIMPLIFIED_JOHNSON_COOK
   use mefem_curves, only: curve_value
   implicit none
   private
@@ -40,6 +45,10 @@ module mefem_hardening
   integer, parameter, public :: HARDENING_LINEAR = 2      !< *MAT_024 SIGY + ETAN
   integer, parameter, public :: HARDENING_TABLE = 3       !< *MAT_024 EPS/ES points
   integer, parameter, public :: HARDENING_CURVE = 4       !< *MAT_024 LCSS curve
+  integer, parameter, public :: HARDENING_JOHNSON_COOK = 5 !< *MAT_015, *MAT_098
+
+  !> Plastic strain below which the Johnson-Cook slope is taken at this strain (N < 1).
+  real(wp), parameter :: JC_SLOPE_STRAIN = 1.0e-12_wp
 
   !> *MAT_018: SIGY below this value is the strain offset itself, not a stress.
   real(wp), parameter, public :: POWER_LAW_STRAIN_LIMIT = 0.02_wp
@@ -96,6 +105,18 @@ contains
         yield_stress = curve_value(curve, alpha)
         slope = segment_slope(curve%n, curve%t, curve%f, alpha)
       end associate
+    case (HARDENING_JOHNSON_COOK)
+      if (mat%n_exponent == 0.0_wp) then
+        yield_stress = mat%jc_a + mat%jc_b
+        slope = 0.0_wp
+      else
+        yield_stress = mat%jc_a + mat%jc_b*alpha**mat%n_exponent
+        slope = mat%n_exponent*mat%jc_b*max(alpha, JC_SLOPE_STRAIN)**(mat%n_exponent - 1.0_wp)
+      end if
+      if (mat%max_stress > 0.0_wp .and. yield_stress > mat%max_stress) then
+        yield_stress = mat%max_stress
+        slope = 0.0_wp
+      end if
     case default
       yield_stress = 0.0_wp
       slope = 0.0_wp
@@ -180,21 +201,27 @@ contains
     end if
   end function power_law_strain_offset
 
-  !> True when the material's yield stress depends on the strain rate: an LCSR curve (*MAT_024)
-  !> or a Cowper-Symonds C (SRC) > 0.
+  !> True when the material's yield stress depends on the strain rate: an LCSR curve (*MAT_024),
+  !> a Cowper-Symonds C (SRC) > 0, or a Johnson-Cook C /= 0.
   pure logical function rate_dependent(mat)
     type(material_t), intent(in) :: mat        !< the material's parameters
-    rate_dependent = mat%lcsr_curve > 0 .or. mat%cowper_c > 0.0_wp
+    rate_dependent = mat%lcsr_curve > 0 .or. mat%cowper_c > 0.0_wp .or. &
+                     ((mat%kind == MAT_JOHNSON_COOK .or. &
+                       mat%kind == MAT_SIMPLIFIED_JOHNSON_COOK) .and. mat%jc_c /= 0.0_wp)
   end function rate_dependent
 
-  !> Scale of the yield stress at the effective strain rate: the LCSR curve's value at the rate
-  !> (*MAT_024), else Cowper-Symonds 1 + (rate/C)^(1/P), else 1.
+  !> Scale of the yield stress at the effective strain rate: Johnson-Cook 1 + C ln(rate/EPSO)
+  !> above EPSO (*MAT_015, *MAT_098); the LCSR curve's value at the rate (*MAT_024), else
+  !> Cowper-Symonds 1 + (rate/C)^(1/P), else 1.
   pure real(wp) function hardening_rate_factor(mat, curves, strain_rate) result(factor)
     type(material_t), intent(in) :: mat        !< the material's parameters
     type(curve_t), intent(in) :: curves(:)     !< the model's curves (for LCSR)
     real(wp), intent(in) :: strain_rate        !< effective strain rate (1/time, >= 0)
     factor = 1.0_wp
-    if (mat%lcsr_curve > 0) then
+    if (mat%kind == MAT_JOHNSON_COOK .or. mat%kind == MAT_SIMPLIFIED_JOHNSON_COOK) then
+      if (strain_rate > mat%reference_rate) factor = 1.0_wp + &
+          mat%jc_c*log(strain_rate/mat%reference_rate)
+    else if (mat%lcsr_curve > 0) then
       factor = curve_value(curves(mat%lcsr_curve), strain_rate)
     else if (mat%cowper_c > 0.0_wp .and. strain_rate > 0.0_wp) then
       factor = 1.0_wp + (strain_rate/mat%cowper_c)**(1.0_wp/mat%cowper_p)

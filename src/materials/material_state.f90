@@ -11,7 +11,9 @@
 !> - HIST_ALPHA: alpha_n, the equivalent plastic strain (0 for elastic laws);
 !> - HIST_BACK .. HIST_BACK+5: the back stress of kinematic hardening (*MAT_003) in the frame
 !>   that rotates with the material, R^T b R (F = R U), Voigt order; initially 0 (other laws
-!>   leave it as it is).
+!>   leave it as it is);
+!> - HIST_TEMPERATURE (= HIST_BACK: *MAT_JOHNSON_COOK has no back stress): the temperature
+!>   rise T - TR from the plastic work; initially 0.
 !> The laws read hist_old and write hist_new; the driver keeps hist_old until the step is
 !> accepted (Newton converged), so a cut step simply discards hist_new.
 module mefem_material_state
@@ -23,6 +25,7 @@ module mefem_material_state
   integer, parameter, public :: HIST_CP = 1       !< first of 6 entries: Cbar_p^-1 (Voigt)
   integer, parameter, public :: HIST_ALPHA = 7    !< equivalent plastic strain alpha_n
   integer, parameter, public :: HIST_BACK = 8     !< first of 6 entries: rotated back stress
+  integer, parameter, public :: HIST_TEMPERATURE = HIST_BACK !< *MAT_015: T - TR
   integer, parameter, public :: NHIST = 13        !< length of a point's history
   !> Points (cells) per block of the block kernels of the explicit cell loop: the leading
   !> dimension of their structure-of-arrays arguments (entry i of every array is point i);

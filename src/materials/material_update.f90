@@ -19,20 +19,24 @@
 !> converged, unsupported kind) returns status%ok = .false. with a message naming the material,
 !> and zero stress; the driver adds the element and decides (cut the step or stop).
 !>
-!> Laws: *MAT_ELASTIC -> mefem_mat_elastic (compressible neo-Hookean); *MAT_024 and *MAT_018
-!> -> mefem_mat_j2_plasticity with the hardening law of mefem_hardening; *MAT_003 -> its
+!> Laws: *MAT_ELASTIC -> mefem_mat_elastic (compressible neo-Hookean); *MAT_024, *MAT_018,
+!> *MAT_015 and *MAT_098 -> mefem_mat_j2_plasticity with the hardening law of mefem_hardening
+!> (Johnson-Cook: the yield scale is the rate factor times the thermal factor 1 - T*^M of the
+!> point's temperature at t_n, T* = (T - TR)/(TM - TR); after the update the temperature rises
+!> by the plastic work K(alpha_{n+1}) dalpha/(rho CP), adiabatic: doc/theory.md 4); *MAT_003 -> its
 !> mixed-hardening update (mat_j2_kinematic_update; explicit: point by point); *MAT_027 ->
 !> mefem_mat_mooney_rivlin. *MAT_RIGID has no stress update (rigid bodies are moved as a
 !> whole); asking for one is reported as a failure.
 module mefem_material_update
   use mefem_kinds, only: wp
   use mefem_model, only: material_t, curve_t, MAT_ELASTIC, MAT_PIECEWISE_LINEAR, MAT_POWER_LAW, &
-                         MAT_PLASTIC_KINEMATIC, MAT_RIGID, MAT_MOONEY_RIVLIN
+                         MAT_PLASTIC_KINEMATIC, MAT_RIGID, MAT_MOONEY_RIVLIN, &
+                         MAT_JOHNSON_COOK, MAT_SIMPLIFIED_JOHNSON_COOK
   use mefem_errors, only: status_t
   use mefem_strings, only: itoa
-  use mefem_material_state, only: NHIST, BLOCK_POINTS
-  use mefem_hardening, only: HARDENING_POWER_LAW, piecewise_linear_law, hardening_rate_factor, &
-                             rate_dependent
+  use mefem_material_state, only: NHIST, BLOCK_POINTS, HIST_ALPHA, HIST_TEMPERATURE
+  use mefem_hardening, only: HARDENING_POWER_LAW, HARDENING_JOHNSON_COOK, piecewise_linear_law, &
+                             hardening_rate_factor, rate_dependent, hardening_yield
   use mefem_mat_elastic, only: mat_elastic_update, lame_constants
   use mefem_mat_j2_plasticity, only: mat_j2_update, mat_j2_update_block, mat_j2_kinematic_update
   use mefem_mat_mooney_rivlin, only: mat_mooney_rivlin_update
@@ -61,9 +65,18 @@ contains
     logical, intent(in), optional :: committed          !< hist_old already holds F (output):
                                                         !< the committed stress, no yield check
     real(wp) :: factor
+    logical :: output
     factor = 1.0_wp
     if (present(strain_rate)) factor = hardening_rate_factor(mat, curves, strain_rate)
+    output = .false.
+    if (present(committed)) output = committed
     select case (mat%kind)
+    case (MAT_JOHNSON_COOK, MAT_SIMPLIFIED_JOHNSON_COOK)
+      factor = factor*thermal_factor(mat, hist_old(HIST_TEMPERATURE))
+      call mat_j2_update(mat, curves, HARDENING_JOHNSON_COOK, f_new, hist_old, hist_new, tau, &
+                         sound_speed, status, c_tau, factor, committed)
+      if (status%ok .and. .not. output) call heat_from_plastic_work(mat, curves, factor, &
+          hist_old(HIST_ALPHA), hist_new(HIST_ALPHA), hist_new(HIST_TEMPERATURE))
     case (MAT_ELASTIC)
       call mat_elastic_update(mat, f_new, hist_old, hist_new, tau, sound_speed, status, c_tau)
     case (MAT_PIECEWISE_LINEAR)
@@ -109,11 +122,24 @@ contains
     logical, intent(out) :: ok(ld)                      !< point updated
     real(wp), intent(in), optional :: strain_rate(ld)   !< effective strain rates (0 if absent)
     real(wp) :: f_point(3, 3), tau_point(3, 3), hist_new(NHIST), sound, rate(ld), factor(ld)
+    real(wp) :: alpha_old(ld)
     type(status_t) :: status
     integer :: i
     rate(1:n) = 0.0_wp
     if (present(strain_rate)) rate(1:n) = strain_rate(1:n)
     select case (mat%kind)
+    case (MAT_JOHNSON_COOK, MAT_SIMPLIFIED_JOHNSON_COOK)
+      do i = 1, n
+        factor(i) = hardening_rate_factor(mat, curves, rate(i))* &
+                    thermal_factor(mat, hist(i, HIST_TEMPERATURE))
+        alpha_old(i) = hist(i, HIST_ALPHA)
+      end do
+      call mat_j2_update_block(mat, curves, HARDENING_JOHNSON_COOK, n, f, j, hist, tau, ok, &
+                               factor)
+      do i = 1, n
+        if (ok(i)) call heat_from_plastic_work(mat, curves, factor(i), alpha_old(i), &
+                                               hist(i, HIST_ALPHA), hist(i, HIST_TEMPERATURE))
+      end do
     case (MAT_PIECEWISE_LINEAR, MAT_POWER_LAW)
       if (present(strain_rate)) then
         do i = 1, n
@@ -152,7 +178,8 @@ contains
     real(wp), intent(out) :: lambda         !< Lame's first constant
     real(wp), intent(out) :: mu             !< shear modulus
     select case (mat%kind)
-    case (MAT_ELASTIC, MAT_PIECEWISE_LINEAR, MAT_POWER_LAW, MAT_PLASTIC_KINEMATIC)
+    case (MAT_ELASTIC, MAT_PIECEWISE_LINEAR, MAT_POWER_LAW, MAT_PLASTIC_KINEMATIC, &
+          MAT_JOHNSON_COOK, MAT_SIMPLIFIED_JOHNSON_COOK)
       call lame_constants(mat%young, mat%poisson, lambda, mu)
     case (MAT_MOONEY_RIVLIN)
       call lame_constants(4.0_wp*(mat%mr_a + mat%mr_b)*(1.0_wp + mat%poisson), mat%poisson, &
@@ -162,5 +189,37 @@ contains
       mu = 0.0_wp
     end select
   end subroutine material_elastic_moduli
+
+  !> Johnson-Cook thermal softening 1 - T*^M at the temperature rise theta = T - TR,
+  !> T* = theta/(TM - TR) (*MAT_015 with TM > TR; else 1); a molten point (T* >= 1) keeps
+  !> epsilon x its cold yield stress (no deviatoric strength, to round-off).
+  pure real(wp) function thermal_factor(mat, theta)
+    type(material_t), intent(in) :: mat                !< the material card
+    real(wp), intent(in) :: theta                      !< temperature rise
+    real(wp) :: homologous
+    thermal_factor = 1.0_wp
+    if (mat%kind /= MAT_JOHNSON_COOK .or. .not. mat%melt_temperature > mat%room_temperature) &
+      return
+    homologous = theta/(mat%melt_temperature - mat%room_temperature)
+    if (homologous <= 0.0_wp) return
+    thermal_factor = max(1.0_wp - homologous**mat%jc_m, epsilon(1.0_wp))
+  end function thermal_factor
+
+  !> Adiabatic heating of a Johnson-Cook point (*MAT_015 with CP > 0): theta += (factor
+  !> K(alpha_new)) (alpha_new - alpha_old)/(rho CP), the plastic work of the step per unit
+  !> reference volume (the yield surface holds the Kirchhoff stress) at the step's end yield
+  !> stress.
+  pure subroutine heat_from_plastic_work(mat, curves, factor, alpha_old, alpha_new, theta)
+    type(material_t), intent(in) :: mat                !< the material card
+    type(curve_t), intent(in) :: curves(:)              !< the model's curves
+    real(wp), intent(in) :: factor                     !< the step's yield scale
+    real(wp), intent(in) :: alpha_old, alpha_new       !< plastic strain before and after
+    real(wp), intent(inout) :: theta                   !< temperature rise
+    real(wp) :: yield_stress, slope
+    if (mat%kind /= MAT_JOHNSON_COOK .or. .not. mat%heat_capacity > 0.0_wp) return
+    if (.not. alpha_new > alpha_old) return
+    call hardening_yield(HARDENING_JOHNSON_COOK, mat, curves, alpha_new, yield_stress, slope)
+    theta = theta + factor*yield_stress*(alpha_new - alpha_old)/(mat%density*mat%heat_capacity)
+  end subroutine heat_from_plastic_work
 
 end module mefem_material_update

@@ -20,7 +20,8 @@ module mefem_model
   integer, parameter, public :: SECTION_SOLID = 1, SECTION_SHELL = 2
   ! material kinds
   integer, parameter, public :: MAT_ELASTIC = 1, MAT_PIECEWISE_LINEAR = 24, MAT_POWER_LAW = 18, &
-                                MAT_RIGID = 20, MAT_MOONEY_RIVLIN = 27, MAT_PLASTIC_KINEMATIC = 3
+                                MAT_RIGID = 20, MAT_MOONEY_RIVLIN = 27, MAT_PLASTIC_KINEMATIC = 3, &
+                                MAT_JOHNSON_COOK = 15, MAT_SIMPLIFIED_JOHNSON_COOK = 98
   ! targets of boundary conditions and loads
   integer, parameter, public :: ON_NODE = 1, ON_NODE_SET = 2, ON_PART = 3, ON_ALL_NODES = 4, &
                                 ON_PART_SET = 5, ON_SEGMENT_SET = 6
@@ -116,7 +117,15 @@ module mefem_model
     integer :: n_points = 0                 !< EPS/ES pairs given (MAT_024)
     real(wp) :: eps(8) = 0.0_wp, es(8) = 0.0_wp
     real(wp) :: k_strength = 0.0_wp         !< K (MAT_018)
-    real(wp) :: n_exponent = 0.0_wp         !< N (MAT_018)
+    real(wp) :: n_exponent = 0.0_wp         !< N (MAT_018, MAT_015, MAT_098)
+    ! Johnson-Cook (MAT_015, MAT_098): (A + B alpha^N)(1 + C ln(rate/EPSO))(1 - T*^M)
+    real(wp) :: jc_a = 0.0_wp, jc_b = 0.0_wp, jc_c = 0.0_wp   !< A, B, C
+    real(wp) :: jc_m = 0.0_wp               !< M (MAT_015)
+    real(wp) :: melt_temperature = 0.0_wp   !< TM (MAT_015)
+    real(wp) :: room_temperature = 0.0_wp   !< TR (MAT_015)
+    real(wp) :: reference_rate = 1.0_wp     !< EPSO
+    real(wp) :: heat_capacity = 0.0_wp      !< CP (MAT_015; 0: no heating)
+    real(wp) :: max_stress = 0.0_wp         !< SIGMAX (MAT_098; 0: no cap)
     ! Mooney-Rivlin (MAT_027)
     real(wp) :: mr_a = 0.0_wp, mr_b = 0.0_wp
     ! rigid (MAT_020)
@@ -361,6 +370,9 @@ module mefem_model
     type(rigid_constraint_t), allocatable :: rigid_constraints(:)
     type(controls_t) :: controls
     integer :: dimension = 3                  !< 2 for plane strain shells-only models
+    !> Ids of materials and sections whose keyword was rejected (unsupported, or with errors):
+    !> a part naming one is not reported again as naming an undefined one
+    integer, allocatable :: rejected_material_ids(:), rejected_section_ids(:)
   end type model_t
 
 end module mefem_model

@@ -120,10 +120,14 @@ contains
       where = location(part%src%file, part%src%line)//': *PART'
       part%section = id_map_find(section_map, part%section_id)
       part%material = id_map_find(material_map, part%material_id)
-      if (part%section == 0) call input_error(where, 'part '//itoa(part%id)//': section '// &
-          itoa(part%section_id)//' (SECID) is not defined')
-      if (part%material == 0) call input_error(where, 'part '//itoa(part%id)//': material '// &
-          itoa(part%material_id)//' (MID) is not defined')
+      ! (a section or material rejected where it is defined has been reported there)
+      if (part%section == 0 .and. .not. listed(model%rejected_section_ids, part%section_id)) &
+        call input_error(where, 'part '//itoa(part%id)//': section '// &
+                         itoa(part%section_id)//' (SECID) is not defined')
+      if (part%material == 0 .and. .not. listed(model%rejected_material_ids, &
+                                                part%material_id)) &
+        call input_error(where, 'part '//itoa(part%id)//': material '// &
+                         itoa(part%material_id)//' (MID) is not defined')
       part%hourglass = 0
       if (part%hourglass_id /= 0) then
         do h = 1, model%n_hourglasses
@@ -521,5 +525,13 @@ contains
     if (ihq == 0) ihq = DEFAULT_IHQ
     if (qm == 0.0_wp) qm = DEFAULT_QM
   end subroutine part_hourglass
+
+  !> id is in the list (an unallocated list is empty).
+  pure logical function listed(list, id)
+    integer, allocatable, intent(in) :: list(:)   !< ids
+    integer, intent(in) :: id                     !< the id looked for
+    listed = .false.
+    if (allocated(list)) listed = any(list == id)
+  end function listed
 
 end module mefem_model_resolve

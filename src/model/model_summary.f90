@@ -4,10 +4,9 @@ module mefem_model_summary
   use mefem_kinds, only: wp
   use mefem_errors, only: say, warn
   use mefem_strings, only: itoa, rtoa
-  use mefem_model, only: model_t, MAT_ELASTIC, MAT_PIECEWISE_LINEAR, MAT_POWER_LAW, MAT_RIGID, &
-                         MAT_PLASTIC_KINEMATIC, &
-                         MAT_MOONEY_RIVLIN
+  use mefem_model, only: model_t
   use mefem_model_resolve, only: formulation_name
+  use mefem_read_materials, only: material_keyword
   implicit none
   private
 
@@ -30,7 +29,7 @@ contains
       line = '  part '//itoa(model%parts(p)%id)//': '//itoa(count_p)//' elements, '// &
              formulation_name(model, p)
       if (model%parts(p)%material > 0) line = line//', '// &
-          material_name(model%materials(model%parts(p)%material)%kind)// &
+          material_keyword(model%materials(model%parts(p)%material)%kind)// &
           ' (material '//itoa(model%parts(p)%material_id)//')'
       if (len_trim(model%parts(p)%title) > 0) line = line//' "'//trim(model%parts(p)%title)//'"'
       call say(line)
@@ -42,28 +41,6 @@ contains
     call say('deck read and checked in '//rtoa(read_seconds)//' s, peak memory '// &
              rtoa(memory_mib)//' MiB per rank')
   end subroutine print_model_summary
-
-  !> Name of a material kind.
-  function material_name(kind) result(s)
-    integer, intent(in) :: kind   !< MAT_* code
-    character(len=:), allocatable :: s
-    select case (kind)
-    case (MAT_ELASTIC)
-      s = '*MAT_ELASTIC'
-    case (MAT_PIECEWISE_LINEAR)
-      s = '*MAT_PIECEWISE_LINEAR_PLASTICITY'
-    case (MAT_POWER_LAW)
-      s = '*MAT_POWER_LAW_PLASTICITY'
-    case (MAT_PLASTIC_KINEMATIC)
-      s = '*MAT_PLASTIC_KINEMATIC'
-    case (MAT_RIGID)
-      s = '*MAT_RIGID'
-    case (MAT_MOONEY_RIVLIN)
-      s = '*MAT_MOONEY-RIVLIN_RUBBER'
-    case default
-      s = 'unknown material'
-    end select
-  end function material_name
 
   !> File name of a deck without directory and extension ("input/a.k" -> "a").
   function deck_stem(path) result(s)
