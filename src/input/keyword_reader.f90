@@ -37,6 +37,7 @@ module mefem_keyword_reader
                                    read_load_segment_set, read_initial_velocity, &
                                    read_initial_velocity_node, read_initial_velocity_generation, &
                                    read_constrained_rigid_bodies, read_constrained_extra_nodes, &
+                                   read_constrained_nodal_rigid_body, read_constrained_spotweld, &
                                    read_load_body, read_load_body_parts
   use mefem_read_contact, only: read_contact_surface_to_surface, read_rigidwall_planar, &
                                 read_rigidwall_geometric, &
@@ -74,7 +75,8 @@ module mefem_keyword_reader
                         H_CONTACT_NODES_TO_SURFACE = 57, H_CONTACT_TIED = 58, &
                         H_CONTACT_TRANSDUCER = 59, H_RIGIDWALL_FLAT = 60, &
                         H_RIGIDWALL_PRISM = 61, H_RIGIDWALL_CYLINDER = 62, H_RIGIDWALL_SPHERE = 63, &
-                        H_MAT_JOHNSON_COOK = 64, H_MAT_SIMPLIFIED_JOHNSON_COOK = 65
+                        H_MAT_JOHNSON_COOK = 64, H_MAT_SIMPLIFIED_JOHNSON_COOK = 65, &
+                        H_CONSTRAINED_NODAL_RIGID_BODY = 66, H_CONSTRAINED_SPOTWELD = 67
 
   !> Id read from the first card of a rejected keyword (skip_cards), 0 when none.
   integer :: rejected_id = 0
@@ -86,7 +88,7 @@ module mefem_keyword_reader
     character(len=64) :: options = ''    !< options accepted, as ' OPT1 OPT2 '
   end type keyword_entry_t
 
-  integer, parameter :: N_ENTRIES = 79
+  integer, parameter :: N_ENTRIES = 81
   type(keyword_entry_t), parameter :: REGISTRY(N_ENTRIES) = [ &
     keyword_entry_t('NODE', H_NODE, ' '), &
     keyword_entry_t('ELEMENT_SOLID', H_ELEMENT_SOLID, ' '), &
@@ -168,6 +170,8 @@ module mefem_keyword_reader
     keyword_entry_t('RIGIDWALL_GEOMETRIC_SPHERE', H_RIGIDWALL_SPHERE, ' MOTION ID DISPLAY '), &
     keyword_entry_t('CONSTRAINED_RIGID_BODIES', H_CONSTRAINED_RIGID_BODIES, ' '), &
     keyword_entry_t('CONSTRAINED_EXTRA_NODES', H_CONSTRAINED_EXTRA_NODES, ' NODE SET '), &
+    keyword_entry_t('CONSTRAINED_NODAL_RIGID_BODY', H_CONSTRAINED_NODAL_RIGID_BODY, ' '), &
+    keyword_entry_t('CONSTRAINED_SPOTWELD', H_CONSTRAINED_SPOTWELD, ' ID '), &
     ! controls and output requests (matched before the DATABASE_ skip rule)
     keyword_entry_t('CONTROL_TIMESTEP', H_CONTROL_TIMESTEP, ' '), &
     keyword_entry_t('CONTROL_SOLUTION', H_CONTROL_SOLUTION, ' '), &
@@ -488,6 +492,10 @@ contains
       call read_constrained_rigid_bodies(rd, model)
     case (H_CONSTRAINED_EXTRA_NODES)
       call read_constrained_extra_nodes(rd, options, model)
+    case (H_CONSTRAINED_NODAL_RIGID_BODY)
+      call read_constrained_nodal_rigid_body(rd, model)
+    case (H_CONSTRAINED_SPOTWELD)
+      call read_constrained_spotweld(rd, options, model)
     case (H_RIGIDWALL_PLANAR)
       call read_rigidwall_planar(rd, options, model)
     case (H_RIGIDWALL_FLAT)

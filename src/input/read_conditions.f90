@@ -17,14 +17,15 @@ module mefem_read_conditions
   use mefem_model, only: model_t, source_t, spc_t, prescribed_motion_t, curve_t, &
                          nodal_load_t, pressure_load_t, initial_velocity_t, body_load_t, ON_NODE, &
                          ON_NODE_SET, ON_PART, ON_ALL_NODES, ON_PART_SET, rigid_constraint_t, &
-                         RIGID_MERGE, RIGID_EXTRA_NODES
+                         RIGID_MERGE, RIGID_EXTRA_NODES, RIGID_NODAL
   implicit none
   private
 
   public :: read_boundary_spc, read_prescribed_motion, read_define_curve, read_load_node, &
             read_load_segment, read_load_segment_set, read_initial_velocity, &
             read_initial_velocity_node, read_initial_velocity_generation, read_load_body, &
-            read_load_body_parts, read_constrained_rigid_bodies, read_constrained_extra_nodes
+            read_load_body_parts, read_constrained_rigid_bodies, read_constrained_extra_nodes, &
+            read_constrained_nodal_rigid_body, read_constrained_spotweld
 
   integer, parameter :: W_10(8) = 10          !< standard 8 x 10 card
   integer, parameter :: W_POINT(2) = 20       !< *DEFINE_CURVE point: 2 x E20
@@ -774,6 +775,94 @@ contains
       call add_rigid_constraint(model, item)
     end do
   end subroutine read_constrained_extra_nodes
+
+  !> *CONSTRAINED_NODAL_RIGID_BODY: cards PID CID NSID PNODE IPRT DRFLAG RRFLAG, one rigid body
+  !> of the nodes of NSID each (PID names it in messages and rbdout). CID, DRFLAG and RRFLAG
+  !> (local systems, released degrees of freedom) are not supported; PNODE is not used.
+  subroutine read_constrained_nodal_rigid_body(rd, model)
+    type(reader_t), intent(inout) :: rd          !< reading state
+    type(model_t), intent(inout) :: model        !< model appended to
+    type(card_t) :: card
+    type(rigid_constraint_t) :: item
+    logical :: got
+    integer :: cid, pnode, iprt, drflag, rrflag
+    do
+      call next_card(rd, card, got)
+      if (.not. got) exit
+      call split_card(rd, card, W_10)
+      item = rigid_constraint_t(kind=RIGID_NODAL, target_kind=ON_NODE_SET)
+      call get_int(card, 1, 'PID', item%lead_id)
+      call get_int(card, 2, 'CID', cid)
+      call get_int(card, 3, 'NSID', item%target_id, required=.true.)
+      call get_int(card, 4, 'PNODE', pnode)
+      call get_int(card, 5, 'IPRT', iprt)
+      call get_int(card, 6, 'DRFLAG', drflag)
+      call get_int(card, 7, 'RRFLAG', rrflag)
+      item%src = source_t(card%file, card%line)
+      if (card%bad) cycle
+      if (cid /= 0) then
+        call card_error(card, 'field CID = '//itoa(cid)//': local coordinate systems are not '// &
+            'supported (the body moves in the global axes)')
+      else if (drflag /= 0 .or. rrflag /= 0) then
+        call card_error(card, 'fields DRFLAG/RRFLAG: released degrees of freedom are not '// &
+            'supported (the nodes move as one rigid body)')
+      else
+        if (pnode /= 0) call card_warning(card, 'PNODE ignored: the body''s centre of mass '// &
+            'comes from its nodes'' masses')
+        call add_rigid_constraint(model, item)
+      end if
+    end do
+  end subroutine read_constrained_nodal_rigid_body
+
+  !> *CONSTRAINED_SPOTWELD (option ID: an ID card first): cards N1 N2 SN SS N M TF EP, a rigid
+  !> link of the two nodes (a rigid body of both; LS-DYNA's massless rigid spot weld). The
+  !> weld does not fail: SN, SS, EP and TF are read, with a warning when they ask for failure.
+  subroutine read_constrained_spotweld(rd, options, model)
+    type(reader_t), intent(inout) :: rd          !< reading state
+    character(len=*), intent(in) :: options      !< keyword options (ID)
+    type(model_t), intent(inout) :: model        !< model appended to
+    type(card_t) :: card
+    type(rigid_constraint_t) :: item
+    logical :: got, ok
+    integer :: id
+    real(wp) :: sn, ss, exponent_n, exponent_m, tf, ep
+    character(len=80) :: heading
+    id = 0
+    if (has_option(options, 'ID')) then
+      call next_card(rd, card, got)
+      if (.not. got) then
+        call keyword_error(rd, 'missing the ID card (SWID)')
+        return
+      end if
+      call split_card(rd, card, W_10)
+      call get_int(card, 1, 'SWID', id)
+      heading = ''
+    end if
+    ok = .true.
+    do
+      call next_card(rd, card, got)
+      if (.not. got) exit
+      call split_card(rd, card, W_10)
+      item = rigid_constraint_t(kind=RIGID_NODAL, target_kind=ON_NODE, lead_id=id)
+      call get_int(card, 1, 'N1', item%target_id, required=.true.)
+      call get_int(card, 2, 'N2', item%second_id, required=.true.)
+      call get_real(card, 3, 'SN', sn)
+      call get_real(card, 4, 'SS', ss)
+      call get_real(card, 5, 'N', exponent_n)
+      call get_real(card, 6, 'M', exponent_m)
+      call get_real(card, 7, 'TF', tf, default=1.0e20_wp)
+      call get_real(card, 8, 'EP', ep, default=1.0e20_wp)
+      item%src = source_t(card%file, card%line)
+      if (card%bad) cycle
+      if (item%target_id == item%second_id) then
+        call card_error(card, 'N1 and N2 are the same node ('//itoa(item%target_id)//')')
+        cycle
+      end if
+      if (sn > 0.0_wp .or. ss > 0.0_wp .or. tf < 1.0e20_wp .or. ep < 1.0e20_wp) &
+        call card_warning(card, 'SN, SS, TF, EP ignored: the spot weld does not fail')
+      call add_rigid_constraint(model, item)
+    end do
+  end subroutine read_constrained_spotweld
 
   !> Append a rigid-body constraint.
   subroutine add_rigid_constraint(model, item)

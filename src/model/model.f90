@@ -328,13 +328,18 @@ module mefem_model
   !> *CONSTRAINED_RIGID_BODIES (a part merged into a rigid body: lead = master PIDL, part =
   !> PIDC) or *CONSTRAINED_EXTRA_NODES_NODE/_SET (nodes added to the rigid body of part lead).
   type, public :: rigid_constraint_t
-    integer :: kind = 0                     !< RIGID_MERGE or RIGID_EXTRA_NODES
-    integer :: lead_id = 0, lead = 0        !< the body's (master) part: id, index
-    integer :: target_kind = 0              !< merge: ON_PART; extra nodes: ON_NODE/ON_NODE_SET
+    integer :: kind = 0                     !< RIGID_MERGE, RIGID_EXTRA_NODES or RIGID_NODAL
+    integer :: lead_id = 0, lead = 0        !< the body's (master) part: id, index; nodal
+                                            !< bodies: lead_id the body's PID (output), 0
+    integer :: target_kind = 0              !< merge: ON_PART; extra nodes: ON_NODE/ON_NODE_SET;
+                                            !< nodal: ON_NODE_SET, or ON_NODE (spot weld)
     integer :: target_id = 0, target = 0    !< the merged part, node or node set: id, index
+    integer :: second_id = 0, second = 0    !< spot weld: the second node
     type(source_t) :: src
   end type rigid_constraint_t
-  integer, parameter, public :: RIGID_MERGE = 1, RIGID_EXTRA_NODES = 2
+  !> Kinds of rigid_constraint_t: *CONSTRAINED_RIGID_BODIES, *CONSTRAINED_EXTRA_NODES,
+  !> *CONSTRAINED_NODAL_RIGID_BODY and *CONSTRAINED_SPOTWELD (a body of its nodes).
+  integer, parameter, public :: RIGID_MERGE = 1, RIGID_EXTRA_NODES = 2, RIGID_NODAL = 3
 
   !> The whole model.
   type, public :: model_t

@@ -17,7 +17,7 @@ module mefem_resolve_conditions
                          SURFACE_ALL_BUT_SET, &
                          ON_NODE, ON_NODE_SET, ON_PART, ON_ALL_NODES, &
                          FS_FROM_PARTS, contact_t, GENERAL_ALL, GENERAL_NODE, GENERAL_PART, &
-                         RIGID_MERGE, &
+                         RIGID_MERGE, RIGID_NODAL, &
                          GENERAL_SET, &
                          ON_PART_SET, ON_SEGMENT_SET, SET_NODE, SET_SEGMENT, SET_PART, &
                          MAT_PIECEWISE_LINEAR, MAT_RIGID
@@ -621,6 +621,19 @@ contains
     end do
     do k = 1, model%n_rigid_constraints
       associate (rc => model%rigid_constraints(k))
+        if (rc%kind == RIGID_NODAL) then
+          ! a body of its nodes: a node set (*CONSTRAINED_NODAL_RIGID_BODY) or two nodes
+          ! (*CONSTRAINED_SPOTWELD)
+          if (rc%target_kind == ON_NODE_SET) then
+            where = where_is(rc%src, '*CONSTRAINED_NODAL_RIGID_BODY')
+            call resolve_target(look, ON_NODE_SET, rc%target_id, rc%target, where, 'NSID: ')
+          else
+            where = where_is(rc%src, '*CONSTRAINED_SPOTWELD')
+            call resolve_target(look, ON_NODE, rc%target_id, rc%target, where, 'N1: ')
+            call resolve_target(look, ON_NODE, rc%second_id, rc%second, where, 'N2: ')
+          end if
+          cycle
+        end if
         where = where_is(rc%src, trim(merge('*CONSTRAINED_RIGID_BODIES', &
                                             '*CONSTRAINED_EXTRA_NODES ', rc%kind == RIGID_MERGE)))
         call resolve_target(look, ON_PART, rc%lead_id, rc%lead, where, &

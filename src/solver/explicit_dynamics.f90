@@ -38,7 +38,8 @@ module mefem_explicit_dynamics
   use mefem_strings, only: itoa, rtoa
   use mefem_sense_switch, only: sense_switch, sense_switch_warn_leftover, SENSE_STOP, &
                                 SENSE_STATUS, SENSE_STATE
-  use mefem_model, only: model_t, ON_NODE, ON_NODE_SET, MAT_RIGID, TOPO_TET4, TOPO_TRI3
+  use mefem_model, only: model_t, ON_NODE, ON_NODE_SET, MAT_RIGID, TOPO_TET4, TOPO_TRI3, &
+                         RIGID_NODAL
   use mefem_decomposition, only: decomposition_t
   use mefem_model_partition, only: element_csr
   use mefem_explicit_layout, only: explicit_layout_t, explicit_layout_build, &
@@ -499,6 +500,7 @@ contains
           if (loaded(g)) s%body_load_mass(k) = s%body_load_mass(k) + mass_global(g)
         end do
         do k = 1, s%bodies%n
+          if (s%bodies%body(k)%part == 0) cycle        ! (a body of nodes: no elements)
           if (parts(s%bodies%body(k)%part)) s%body_load_mass(k) = s%body_load_mass(k) + &
               (s%bodies%body(k)%mass - merged(k))
         end do
@@ -1339,7 +1341,7 @@ contains
     integer :: ids(s%bodies%n), b
     do b = 1, s%bodies%n
       associate (body => s%bodies%body(b))
-        ids(b) = model%parts(body%part)%id
+        ids(b) = body%id
         values(:, b) = [body%centre - body%centre0, body%velocity, body%reaction_force, &
                         body%reaction_moment]
       end associate
@@ -1413,7 +1415,8 @@ contains
         title_or_default(model%controls%title))
     if (schedule%glstat_interval > 0.0_wp .and. model%n_rigid_walls > 0) &
       call rwforc_open(results_directory(), title_or_default(model%controls%title))
-    if (schedule%glstat_interval > 0.0_wp .and. any(is_rigid_part(model))) &
+    if (schedule%glstat_interval > 0.0_wp .and. (any(is_rigid_part(model)) .or. &
+        any(model%rigid_constraints(1:model%n_rigid_constraints)%kind == RIGID_NODAL))) &
       call rbdout_open(results_directory(), title_or_default(model%controls%title))
     call history_nodes(model, nodes)
     schedule%rcforc_interval = 0.0_wp

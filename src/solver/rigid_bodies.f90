@@ -2,7 +2,9 @@
 !> rigid walls").
 !>
 !> One body per *MAT_RIGID part, or per group of them merged by *CONSTRAINED_RIGID_BODIES (the
-!> lead part's constraints), with the nodes *CONSTRAINED_EXTRA_NODES adds. Its mass, centre of mass and inertia tensor come from the
+!> lead part's constraints), with the nodes *CONSTRAINED_EXTRA_NODES adds; and one body of
+!> nodes per *CONSTRAINED_NODAL_RIGID_BODY (a node set) and *CONSTRAINED_SPOTWELD (two nodes),
+!> with the nodes' masses only. Its mass, centre of mass and inertia tensor come from the
 !> part's elements (solids split into tetrahedra, shells as plates of thickness T1; in 2D
 !> plane strain, shells of unit thickness) plus the lumped masses of deformable elements at
 !> the body's nodes ("merged" nodes belong to the body). The state of body b is its centre
@@ -33,7 +35,7 @@ module mefem_rigid_bodies
   use mefem_strings, only: itoa
   use mefem_vector_math, only: cross
   use mefem_model, only: model_t, MAT_RIGID, ELEM_SOLID, ON_PART, ON_NODE, RIGID_MERGE, &
-                         RIGID_EXTRA_NODES, TOPO_TRI3, TOPO_QUAD4, &
+                         RIGID_EXTRA_NODES, RIGID_NODAL, TOPO_TRI3, TOPO_QUAD4, &
                          TOPO_TET4, TOPO_PENTA6, TOPO_HEX8
   use mefem_curves, only: curve_value
   implicit none
@@ -74,7 +76,10 @@ module mefem_rigid_bodies
 
   !> One rigid body. Vectors are 3-vectors in 2D as well (z components zero).
   type, public :: rigid_body_t
-    integer :: part = 0                         !< part index
+    integer :: part = 0                         !< part index (0: a body of nodes)
+    integer :: id = 0                           !< its number (rbdout, messages): the part id,
+                                                !< or the nodal body's PID/SWID, else the
+                                                !< largest part id plus its position
     real(wp) :: mass = 0.0_wp                   !< total mass (elements + merged nodes)
     real(wp) :: centre0(3) = 0.0_wp             !< centre of mass, reference configuration
     real(wp) :: centre(3) = 0.0_wp              !< centre of mass at t^{n+1}
@@ -118,7 +123,7 @@ contains
     real(wp), intent(in) :: merged_mass(:)        !< (n_mesh_nodes) deformable lumped masses
     type(rigid_bodies_t), intent(out) :: bodies   !< the bodies, at rest in the reference
     type(status_t), intent(out) :: status         !< failure and why
-    integer :: p, b, e, i, node, m, k
+    integer :: p, b, e, i, node, m, k, n_part_bodies, largest_id
     integer, allocatable :: lead(:), extra(:)
     real(wp) :: mass, first(3), second(3, 3), origin(3)
     real(wp), allocatable :: body_mass(:), body_first(:,:), body_second(:,:,:), body_origin(:,:)
@@ -156,16 +161,36 @@ contains
     do p = 1, model%n_parts
       if (head(p) /= p) bodies%body_of_part(p) = bodies%body_of_part(head(p))
     end do
+    n_part_bodies = bodies%n
+    do k = 1, model%n_rigid_constraints
+      if (model%rigid_constraints(k)%kind == RIGID_NODAL) bodies%n = bodies%n + 1
+    end do
     allocate(bodies%body(bodies%n))
     do p = 1, model%n_parts
       b = bodies%body_of_part(p)
       if (b == 0 .or. head(p) /= p) cycle
       bodies%body(b)%part = p
+      bodies%body(b)%id = model%parts(p)%id
       m = model%parts(p)%material
       if (model%materials(m)%cmo == 1) then
         bodies%body(b)%held_translation = CODE_HELD(:, model%materials(m)%con1)
         bodies%body(b)%held_rotation = CODE_HELD(:, model%materials(m)%con2)
       end if
+      if (bodies%dim == 2) then
+        bodies%body(b)%held_translation(3) = .true.
+        bodies%body(b)%held_rotation(1:2) = .true.
+      end if
+    end do
+
+    ! bodies of nodes: their numbers (the 2D holds as for parts)
+    b = n_part_bodies
+    largest_id = 0
+    if (model%n_parts > 0) largest_id = maxval(model%parts(1:model%n_parts)%id)
+    do k = 1, model%n_rigid_constraints
+      if (model%rigid_constraints(k)%kind /= RIGID_NODAL) cycle
+      b = b + 1
+      bodies%body(b)%id = model%rigid_constraints(k)%lead_id
+      if (bodies%body(b)%id <= 0) bodies%body(b)%id = largest_id + b - n_part_bodies
       if (bodies%dim == 2) then
         bodies%body(b)%held_translation(3) = .true.
         bodies%body(b)%held_rotation(1:2) = .true.
@@ -180,8 +205,7 @@ contains
       b = bodies%body_of_part(model%elements%part(e))
       if (b == 0) cycle
       if (bodies%dim == 2 .and. model%elements%keyword(e) == ELEM_SOLID) then
-        call fail(status, 'rigid part '//itoa(model%parts(bodies%body(b)%part)%id)// &
-            ': element '//itoa(model%elements%id(e))//' is a solid in a 2D (plane strain) '// &
+        call fail(status, body_name(bodies, b)//': element '//itoa(model%elements%id(e))//' is a solid in a 2D (plane strain) '// &
             'model')
         return
       end if
@@ -210,6 +234,27 @@ contains
       end associate
     end do
 
+    ! *CONSTRAINED_NODAL_RIGID_BODY, *CONSTRAINED_SPOTWELD: their nodes form the body
+    b = n_part_bodies
+    do k = 1, model%n_rigid_constraints
+      associate (rc => model%rigid_constraints(k))
+        if (rc%kind /= RIGID_NODAL) cycle
+        b = b + 1
+        if (rc%target_kind == ON_NODE) then
+          extra = [rc%target, rc%second]
+        else if (rc%target > 0) then
+          extra = model%sets(rc%target)%members
+        else
+          extra = [integer ::]
+        end if
+        do i = 1, size(extra)
+          node = extra(i)
+          if (node <= 0) cycle
+          if (.not. joined(node, b, '')) return
+        end do
+      end associate
+    end do
+
     ! pass 1: mass and centre; pass 2: second moments about the centre
     allocate(body_mass(bodies%n), body_first(3, bodies%n), body_second(3, 3, bodies%n))
     call sum_moments(body_origin)
@@ -233,6 +278,17 @@ contains
         do i = 1, 3
           body%inertia0(i, i) = body%inertia0(i, i) + second(1, 1) + second(2, 2) + second(3, 3)
         end do
+        ! a body of nodes on a line (a spot weld) or at one point has no inertia about the
+        ! line (about any axis): its spin there moves none of its nodes, and no nodal force
+        ! has a moment about it; the inertia tr(S) 1 (a line's transverse inertia about every
+        ! axis; a point's mass times the unit length squared) keeps the equations regular
+        if (b > n_part_bodies .and. singular_inertia(body%inertia0)) then
+          body%inertia0 = 0.0_wp
+          do i = 1, 3
+            body%inertia0(i, i) = second(1, 1) + second(2, 2) + second(3, 3)
+            if (.not. body%inertia0(i, i) > 0.0_wp) body%inertia0(i, i) = body%mass
+          end do
+        end if
         body%centre = body%centre0
         body%centre_old = body%centre0
       end associate
@@ -248,10 +304,10 @@ contains
       character(len=*), intent(in) :: who         !< message prefix
       joined = .true.
       if (bodies%node_body(node) /= 0 .and. bodies%node_body(node) /= b) then
-        call fail(status, who//'node '//itoa(model%nodes%id(node))//' belongs to the rigid '// &
-            'bodies of parts '//itoa(model%parts(bodies%body(bodies%node_body(node))%part)%id)// &
-            ' and '//itoa(model%parts(bodies%body(b)%part)%id)//' (merge them with '// &
-            '*CONSTRAINED_RIGID_BODIES)')
+        call fail(status, who//'node '//itoa(model%nodes%id(node))//' belongs to two rigid '// &
+            'bodies, the '//body_name(bodies, bodies%node_body(node))//' and the '// &
+            body_name(bodies, b)//' (merge rigid parts with *CONSTRAINED_RIGID_BODIES; a node '// &
+            'is in one rigid body)')
         joined = .false.
         return
       end if
@@ -296,6 +352,28 @@ contains
     end subroutine sum_moments
 
   end subroutine rigid_bodies_build
+
+  !> "rigid body of part 3" or "nodal rigid body 7" (by the body's number), for messages.
+  function body_name(bodies, b) result(name)
+    type(rigid_bodies_t), intent(in) :: bodies    !< the bodies
+    integer, intent(in) :: b                      !< body
+    character(len=:), allocatable :: name
+    if (bodies%body(b)%part > 0) then
+      name = 'rigid body of part '//itoa(bodies%body(b)%id)
+    else
+      name = 'nodal rigid body '//itoa(bodies%body(b)%id)
+    end if
+  end function body_name
+
+  !> The inertia tensor has no inertia about some axis (small_solve's test).
+  pure logical function singular_inertia(inertia)
+    real(wp), intent(in) :: inertia(3, 3)         !< inertia tensor
+    real(wp) :: a(3, 3), x(3)
+    a = inertia
+    x = 0.0_wp
+    call small_solve(3, a, x, singular_inertia)
+    singular_inertia = .not. singular_inertia
+  end function singular_inertia
 
   !> Mass, first moment and second moment (sum m r r^T) of element e about origin: solids
   !> as tetrahedra, shells as triangles of thickness T1 (3D: plate with its through-thickness
@@ -405,7 +483,7 @@ contains
     end do
     do b = 1, bodies%n
       associate (body => bodies%body(b))
-        who = 'rigid part '//itoa(model%parts(body%part)%id)
+        who = body_name(bodies, b)
         if (body%mass <= 0.0_wp .and. any(.not. (body%held_translation .or. &
                                                  prescribed(1:3, b)))) then
           call fail(status, who//' has no mass but a free translation (give its shells '// &
