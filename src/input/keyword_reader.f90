@@ -122,7 +122,7 @@ module mefem_keyword_reader
     keyword_entry_t('MAT_020', H_MAT_RIGID, ' TITLE '), &
     ! sets (*SET_NODE and *SET_PART are the older names of the _LIST forms)
     keyword_entry_t('SET_NODE', H_SET_NODE, ' LIST GENERATE GENERAL TITLE '), &
-    keyword_entry_t('SET_PART', H_SET_PART, ' LIST TITLE '), &
+    keyword_entry_t('SET_PART', H_SET_PART, ' LIST GENERAL TITLE '), &
     keyword_entry_t('SET_SEGMENT', H_SET_SEGMENT, ' TITLE '), &
     ! boundary conditions, curves, loads, initial conditions
     keyword_entry_t('BOUNDARY_SPC_NODE', H_SPC_NODE, ' ID BIRTH DEATH '), &
@@ -324,7 +324,8 @@ contains
     rd%keyword = '*'//name
     rd%kw_file = rd%deck%file
     rd%kw_line = rd%deck%line
-    if (first .and. name /= 'KEYWORD') call keyword_error(rd, &
+    if (first .and. name /= 'KEYWORD' .and. .not. starts_with(name, 'KEYWORD_')) &
+      call keyword_error(rd, &
         'the deck must begin with *KEYWORD (only comments may precede it)')
     ! another LS-DYNA keyword whose name begins with a registered one
     do e = 1, N_DISTINCT

@@ -52,10 +52,11 @@ contains
     end if
   end subroutine read_set_node
 
-  !> *SET_NODE_GENERAL(_TITLE): card 1 SID DA1-DA4 SOLVER, then entries OPTION E1 .. E7 (A10,
-  !> 7 x I10) taken in order: ALL (every node), NODE (the nodes E1..E7), PART (the nodes of the
-  !> elements of parts E1..E7), SET (the nodes of node sets E1..E7), and DNODE, DPART, DSET,
-  !> which remove those. Resolved by resolve_conditions (the members in ascending node order).
+  !> *SET_NODE_GENERAL and *SET_PART_GENERAL (_TITLE): card 1 SID DA1-DA4 SOLVER, then entries
+  !> OPTION E1 .. E7 (A10, 7 x I10) taken in order: ALL (every node / part), NODE (the nodes
+  !> E1..E7; node sets only), PART (parts E1..E7; for a node set their elements' nodes), SET
+  !> (the members of sets E1..E7 of the same kind), and DNODE, DPART, DSET, which remove those.
+  !> Resolved by resolve_conditions (the members in ascending order).
   subroutine read_set_general(rd, options, model, set)
     type(reader_t), intent(inout) :: rd          !< reading state
     character(len=*), intent(in) :: options      !< keyword options
@@ -68,8 +69,17 @@ contains
         GENERAL_SET, -GENERAL_NODE, -GENERAL_PART, -GENERAL_SET]
     type(card_t) :: card
     logical :: got, bad
-    character(len=:), allocatable :: option
+    character(len=:), allocatable :: option, what, keyword, accepted
     integer :: i, k, ids(7), n_ids
+    if (set%kind == SET_PART) then
+      what = 'part set '
+      keyword = '*SET_PART_GENERAL'
+      accepted = '(ALL, PART, SET, DPART, DSET)'
+    else
+      what = 'node set '
+      keyword = '*SET_NODE_GENERAL'
+      accepted = '(ALL, NODE, PART, SET, DNODE, DPART, DSET)'
+    end if
     if (.not. read_header(rd, options, set)) then
       call skip_members(rd)
       return
@@ -87,9 +97,12 @@ contains
       do i = 1, N_OPTIONS
         if (trim(OPTION_NAME(i)) == option) k = i
       end do
+      if (set%kind == SET_PART .and. k > 0) then          ! (no nodes in a part set)
+        if (abs(OPTION_CODE(k)) == GENERAL_NODE) k = 0
+      end if
       if (k == 0) then
-        call card_error(card, 'node set '//itoa(set%id)//': option "'//option//'" of '// &
-            '*SET_NODE_GENERAL is not supported (ALL, NODE, PART, SET, DNODE, DPART, DSET)')
+        call card_error(card, what//itoa(set%id)//': option "'//option//'" of '// &
+            keyword//' is not supported '//accepted)
         bad = .true.
         cycle
       end if
@@ -97,7 +110,7 @@ contains
       do i = 1, 7
         call get_int(card, i + 1, 'E'//itoa(i), ids(n_ids + 1))
         if (ids(n_ids + 1) < 0) then
-          call card_error(card, 'node set '//itoa(set%id)//': field E'//itoa(i)// &
+          call card_error(card, what//itoa(set%id)//': field E'//itoa(i)// &
                           ' must be a positive id (got '//itoa(ids(n_ids + 1))//')')
           bad = .true.
         else if (ids(n_ids + 1) > 0) then
@@ -106,7 +119,7 @@ contains
       end do
       if (card%bad) bad = .true.
       if (OPTION_CODE(k) /= GENERAL_ALL .and. n_ids == 0 .and. .not. card%bad) then
-        call card_error(card, 'node set '//itoa(set%id)//': option '//option// &
+        call card_error(card, what//itoa(set%id)//': option '//option// &
                         ' names no ids (E1 .. E7)')
         bad = .true.
       end if
@@ -115,21 +128,25 @@ contains
       set%n = set%n + 2 + n_ids
     end do
     if (set%n == 0 .and. .not. bad) then
-      call keyword_error(rd, 'node set '//itoa(set%id)//': no entries (OPTION E1 .. E7)')
+      call keyword_error(rd, what//itoa(set%id)//': no entries (OPTION E1 .. E7)')
       bad = .true.
     end if
     if (bad) return
-    call finish_set(rd, model, set, 'node')
+    call finish_set(rd, model, set, trim(what(1:4)))
   end subroutine read_set_general
 
-  !> *SET_PART(_LIST)(_TITLE).
+  !> *SET_PART(_LIST)(_GENERAL)(_TITLE).
   subroutine read_set_part(rd, options, model)
     type(reader_t), intent(inout) :: rd          !< reading state
     character(len=*), intent(in) :: options      !< keyword options
     type(model_t), intent(inout) :: model        !< model appended to
     type(set_t) :: set
     set%kind = SET_PART
-    call read_set(rd, options, model, set, 'part', generate=.false.)
+    if (has_option(options, 'GENERAL')) then
+      call read_set_general(rd, options, model, set)
+    else
+      call read_set(rd, options, model, set, 'part', generate=.false.)
+    end if
   end subroutine read_set_part
 
   !> *SET_SEGMENT(_TITLE): N1 N2 N3 N4 per card (triangle: N4 = N3 or blank).

@@ -313,13 +313,21 @@ contains
     type(lookup_t), intent(in) :: look        !< lookups
     integer, intent(in) :: s                  !< the set
     logical, allocatable :: mask(:), part_nodes(:)
-    integer :: k, code, n, i, id, index, e, a
-    logical :: add
+    integer :: k, code, n, i, id, index, e, a, n_items
+    logical :: add, parts
     character(len=:), allocatable :: where, who
     associate (set => model%sets(s))
-      where = where_is(set%src, '*SET_NODE_GENERAL')
-      who = 'node set '//itoa(set%id)//': '
-      allocate(mask(model%nodes%n))
+      parts = set%kind == SET_PART
+      if (parts) then
+        where = where_is(set%src, '*SET_PART_GENERAL')
+        who = 'part set '//itoa(set%id)//': '
+        n_items = model%n_parts
+      else
+        where = where_is(set%src, '*SET_NODE_GENERAL')
+        who = 'node set '//itoa(set%id)//': '
+        n_items = model%nodes%n
+      end if
+      allocate(mask(n_items))
       mask = .false.
       k = 1
       do while (k <= size(set%member_ids))
@@ -343,6 +351,10 @@ contains
               call input_error(where, who//'part '//itoa(id)//' is not defined')
               cycle
             end if
+            if (parts) then
+              mask(index) = add
+              cycle
+            end if
             if (.not. allocated(part_nodes)) allocate(part_nodes(model%nodes%n))
             part_nodes = .false.
             do e = 1, model%elements%n
@@ -357,8 +369,8 @@ contains
           case (GENERAL_SET)
             index = find_set(id)
             if (index == 0) then
-              call input_error(where, who//'node set '//itoa(id)//' is not defined (or '// &
-                  'is a general set defined after this one)')
+              call input_error(where, who//trim(merge('part set', 'node set', parts))//' '// &
+                  itoa(id)//' is not defined (or is a general set defined after this one)')
             else
               do a = 1, size(model%sets(index)%members)
                 if (model%sets(index)%members(a) > 0) mask(model%sets(index)%members(a)) = add
@@ -368,20 +380,25 @@ contains
         end do
         k = k + 2 + n
       end do
-      set%members = pack([(i, i = 1, model%nodes%n)], mask)
-      set%member_ids = model%nodes%id(set%members)
+      set%members = pack([(i, i = 1, n_items)], mask)
+      if (parts) then
+        set%member_ids = model%parts(set%members)%id
+      else
+        set%member_ids = model%nodes%id(set%members)
+      end if
       set%n = size(set%members)
-      set%general = .false.                     ! (resolved: an ordinary node set now)
-      if (set%n == 0) call input_error(where, who//'its entries leave no node')
+      set%general = .false.                     ! (resolved: an ordinary set now)
+      if (set%n == 0) call input_error(where, who//'its entries leave no '// &
+                                       trim(merge('part', 'node', parts)))
     end associate
   contains
-    !> A resolved node set by id (0: none, or a general one not resolved yet).
+    !> A resolved set of the same kind by id (0: none, or a general one not resolved yet).
     integer function find_set(set_id)
       integer, intent(in) :: set_id           !< the id
       integer :: m
       find_set = 0
       do m = 1, model%n_sets
-        if (model%sets(m)%id /= set_id .or. model%sets(m)%kind /= SET_NODE) cycle
+        if (model%sets(m)%id /= set_id .or. model%sets(m)%kind /= model%sets(s)%kind) cycle
         if (model%sets(m)%general) cycle
         find_set = m
       end do

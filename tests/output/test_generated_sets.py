@@ -8,11 +8,15 @@ ranges, once, in ascending id order; its memory follows the nodes, not the range
    (when the ranges were expanded id by id, 28 such cards took 3.5 GB).
 3. *SET_NODE_GENERAL (issue 23): PART 2, NODE 1 3, DNODE 1002 gives 1 3 1001 1003 1004; ALL,
    DSET (that set) gives 2 4 1002 (nodout of an explicit run lists a history set's nodes).
+4. *SET_PART_GENERAL: ALL, DPART 2 as the parts of *LOAD_BODY_PARTS: gravity moves part 1's
+   nodes at -g t and leaves part 2's at rest.
 """
 import os
 import re
 import subprocess
 import sys
+
+import numpy as np
 
 ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), '..', '..'))
 sys.path.insert(0, os.path.join(ROOT, 'tests', 'verification'))
@@ -77,4 +81,26 @@ for sid, expected in ((8, [1, 3, 1001, 1003, 1004]), (9, [2, 4, 1002])):
         ids = list(read_nodout(os.path.join(OUT, 'general_%d' % sid, 'nodout'))['ids'])
         checks.check(ids == expected, '*SET_NODE_GENERAL %d: its entries in order (PART, '
                      'NODE, DNODE; ALL, DSET)' % sid, 'nodout ids %s' % ids)
+
+# ---- 4. *SET_PART_GENERAL ---------------------------------------------------------------------
+G = 9810.0                                                        # mm/s^2
+deck = os.path.join(OUT, 'general_parts.k')
+write_deck(deck, [TWO_PARTS, ['*SET_PART_GENERAL', '7', 'ALL', 'DPART,2',
+                              '*LOAD_BODY_Z', '1,1.0', '*LOAD_BODY_PARTS', '7',
+                              '*DEFINE_CURVE', '1', '0.0,%g' % G, '1.0,%g' % G,
+                              '*DATABASE_HISTORY_NODE', '1,2,1001,1002',
+                              '*CONTROL_TERMINATION', '1.0e-6', '*DATABASE_NODOUT', '1.0e-6']],
+           title='general part set')
+rc, text = run(deck, os.path.join(OUT, 'general_parts'))
+checks.check(rc == 0, '*SET_PART_GENERAL: the run succeeds', text[-500:])
+if rc == 0:
+    n = read_nodout(os.path.join(OUT, 'general_parts', 'nodout'))
+    vz = n['z-vel'][-1]
+    t = n['time'][-1]
+    ids = list(n['ids'])
+    print('    *SET_PART_GENERAL ALL, DPART 2 loaded by gravity: z velocities %s at t = %.1e s '
+          '(-g t = %.4e)' % (dict(zip(ids, np.round(vz, 6))), t, -G * t))
+    checks.check(np.allclose(vz[:2], -G * t, rtol=1e-9) and np.all(vz[2:] == 0.0),
+                 '*SET_PART_GENERAL: ALL, DPART 2 holds part 1 only (gravity moves it alone)',
+                 'z velocities %s' % vz)
 checks.exit()
