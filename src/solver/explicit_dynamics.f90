@@ -173,6 +173,8 @@ contains
                                           0.0_wp, timing)
     call bound_step(model, t, .true., dt)
     dt_first = dt
+    call say('explicit: first time step '//rtoa(dt_first)//' s')
+    if (s%mass_scaling) call report_added_mass(s)
     call warn_output_every_step(model, dt_first, 'the first time step', 'cycle', .true.)
     dt_floor = model%controls%dt_min_fraction*dt_first
     dt_old = 0.0_wp
@@ -612,6 +614,23 @@ contains
     end function rigid_of
 
   end subroutine set_up
+
+  !> Mass scaling (DT2MS < 0): the mass it adds at the start, on the run log (glstat's
+  !> "added mass" and "percentage increase" follow it over the run).
+  subroutine report_added_mass(s)
+    type(explicit_state_t), intent(in) :: s           !< local state (first cell loop done)
+    real(wp) :: sums(2)
+    integer :: n
+    sums = 0.0_wp
+    do n = 1, s%nnode
+      if (.not. s%owned(n) .or. .not. s%active(n) .or. s%bubble(n)) cycle
+      sums(1) = sums(1) + s%mass(n) - s%physical_mass(n)
+      sums(2) = sums(2) + s%physical_mass(n)
+    end do
+    call comm_sum(sums)
+    call say('explicit: mass scaling adds '//rtoa(sums(1))//' at the start ('// &
+             rtoa(100.0_wp*sums(1)/max(sums(2), tiny(1.0_wp)))//' % of the deformable mass)')
+  end subroutine report_added_mass
 
   !> SPCs with BIRTH/DEATH: the fixed dofs at time t (only when some SPC has them; O(model)).
   subroutine update_fixed_dofs(model, s, t)
