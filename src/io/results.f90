@@ -8,7 +8,8 @@ module mefem_results
   use mefem_kinds, only: wp
   use mefem_comm, only: comm_is_root, comm_barrier, comm_any
   use mefem_errors, only: fatal
-  use mefem_file_system, only: make_directory
+  use mefem_file_system, only: make_directory, remove_file
+  use mefem_errors, only: say
   use mefem_strings, only: itoa
   use mefem_model, only: model_t, SET_NODE
   use mefem_output_mesh, only: output_mesh_t, output_field_t
@@ -42,6 +43,7 @@ contains
       if (comm_is_root()) call fatal('cannot use the output directory "'//dir//'": '//reason)
       call fatal('cannot use the output directory "'//dir//'"')
     end if
+    if (comm_is_root()) call remove_earlier_results(dir, basename)
     call comm_barrier()
     call fill_output_mesh(decomp, model%nodes%x, model%nodes%id, model%elements%topology, &
                           model%elements%id, model%elements%part_id, piece)
@@ -58,6 +60,66 @@ contains
     call vtk_write_state(out_dir, stem, step, time, piece, point_fields, cell_fields)
     call h5_output_write_state(step, time, point_fields, cell_fields)
   end subroutine results_write_state
+
+  !> Remove the result files an earlier run of the same stem left in dir, so that the
+  !> directory holds this run's results only (a state of an earlier, longer or wider run would
+  !> otherwise stay beside them): the states stem_SSSSSS.vtu, .pvtu and their pieces
+  !> stem_SSSSSS_RRRR.vtu (SSSSSS from 0 up to the first state without any file), stem.pvd,
+  !> stem.h5, and the histories glstat, nodout, rcforc, rwforc, rbdout. Says how many it
+  !> removed.
+  subroutine remove_earlier_results(dir, basename)
+    character(len=*), intent(in) :: dir              !< output directory
+    character(len=*), intent(in) :: basename         !< stem of the file names
+    character(len=6), parameter :: HISTORIES(5) = [character(len=6) :: 'glstat', 'nodout', &
+        'rcforc', 'rwforc', 'rbdout']
+    character(len=:), allocatable :: state
+    integer :: step, rank, count
+    logical :: removed, any_file
+    count = 0
+    step = 0
+    do
+      state = dir//'/'//basename//'_'//padded(step, 6)
+      any_file = .false.
+      call remove_file(state//'.vtu', removed)
+      call tally()
+      call remove_file(state//'.pvtu', removed)
+      call tally()
+      rank = 0
+      do
+        call remove_file(state//'_'//padded(rank, 4)//'.vtu', removed)
+        if (.not. removed) exit
+        call tally()
+        rank = rank + 1
+      end do
+      if (.not. any_file) exit
+      step = step + 1
+    end do
+    call remove_file(dir//'/'//basename//'.pvd', removed)
+    call tally()
+    call remove_file(dir//'/'//basename//'.h5', removed)
+    call tally()
+    do step = 1, size(HISTORIES)
+      call remove_file(dir//'/'//trim(HISTORIES(step)), removed)
+      call tally()
+    end do
+    if (count > 0) call say('results: removed '//itoa(count)//' files of an earlier run '// &
+                            'from '//dir)
+  contains
+    !> Count a removed file.
+    subroutine tally()
+      if (.not. removed) return
+      count = count + 1
+      any_file = .true.
+    end subroutine tally
+    !> n with leading zeros to width digits.
+    function padded(n, width) result(text)
+      integer, intent(in) :: n, width              !< number, digits
+      character(len=width) :: text
+      character(len=16) :: format
+      write(format, '(a,i0,a,i0,a)') '(i', width, '.', width, ')'
+      write(text, format) n
+    end function padded
+  end subroutine remove_earlier_results
 
   !> The output directory given to results_open (for the time-history files).
   function results_directory() result(dir)

@@ -5,7 +5,7 @@ module mefem_file_system
   implicit none
   private
 
-  public :: make_directory, canonical_path
+  public :: make_directory, canonical_path, remove_file
 
   integer, parameter :: PATH_BUFFER = 4096                 !< PATH_MAX of Linux
 
@@ -18,6 +18,11 @@ module mefem_file_system
       character(kind=c_char), intent(in) :: path(*)
       integer(c_int), value :: mode
     end function c_mkdir
+    !> C remove(3).
+    integer(c_int) function c_remove(path) bind(C, name='remove')
+      import :: c_int, c_char
+      character(kind=c_char), intent(in) :: path(*)
+    end function c_remove
     !> POSIX realpath(3) into a caller's buffer of PATH_BUFFER bytes.
     type(c_ptr) function c_realpath(path, resolved) bind(C, name='realpath')
       import :: c_ptr, c_char
@@ -27,6 +32,17 @@ module mefem_file_system
   end interface
 
 contains
+
+  !> Remove a file if it exists; removed says whether one was removed.
+  subroutine remove_file(path, removed)
+    character(len=*), intent(in) :: path                 !< the file
+    logical, intent(out) :: removed                      !< it existed and is gone
+    logical :: exists
+    inquire(file=path, exist=exists)
+    removed = .false.
+    if (.not. exists) return
+    removed = c_remove(path//c_null_char) == 0
+  end subroutine remove_file
 
   !> The absolute path of an existing file with every link, '.' and '..' resolved (two names
   !> of one file give the same text); the path as given when that fails.

@@ -7,7 +7,10 @@ one rank and on two (printed once, no hang).
 3. an existing directory where no file can be created (/sys, read-only for root too): "files
    cannot be created in ..." with the system's answer;
 4. a new nested directory is created and the run writes its results there;
-5. an empty name (-o ""): an error (it wrote the HDF5 file into / before).
+5. an empty name (-o ""): an error (it wrote the HDF5 file into / before);
+6. a directory holding an earlier run of the same deck: that run's files are removed first
+   (a 2-rank run of 4 states, then a 1-rank run of 2 states: only the new states' files are
+   left, and the log says how many it removed), other files are kept.
 """
 import os
 import shutil
@@ -87,8 +90,62 @@ def main():
         made = os.path.isfile(os.path.join(nested, 'taylor_bar.pvd'))
         report(rc == 0 and made, 'missing parents are created and the run writes there',
                f'exit {rc}, pvd written {made}: {text[-300:]}')
+        earlier_run(scratch)
     finally:
         shutil.rmtree(scratch, ignore_errors=True)
+
+
+BLOCK_DECK = """*KEYWORD
+*NODE
+       1             0.0             0.0             0.0
+       2             1.0             0.0             0.0
+       3             0.0             1.0             0.0
+       4             0.0             0.0             1.0
+       5             1.0             1.0             1.0
+*ELEMENT_SOLID
+       1       1       1       2       3       4       4       4       4       4
+       2       1       2       3       4       5       5       5       5       5
+*PART
+block
+         1         1         1
+*SECTION_SOLID
+         1        10
+*MAT_ELASTIC
+         1    7.8e-9     2.1e5       0.3
+*INITIAL_VELOCITY
+         0
+    1000.0       0.0       0.0
+*CONTROL_TERMINATION
+%10.3e
+*DATABASE_BINARY_D3PLOT
+    1.0e-6
+*DATABASE_GLSTAT
+    1.0e-6
+*END
+"""
+
+
+def earlier_run(scratch):
+    """Case 6: results of an earlier run in the output directory."""
+    out = os.path.join(scratch, 'rerun')
+    deck = os.path.join(scratch, 'block.k')
+    with open(deck, 'w') as handle:
+        handle.write(BLOCK_DECK % 3.0e-6)               # states at 0, 1, 2, 3 us
+    rc, text = run(2, out, deck)
+    first = sorted(os.listdir(out)) if rc == 0 else []
+    with open(os.path.join(out, 'notes.txt'), 'w') as handle:
+        handle.write('a user file\n')
+    with open(deck, 'w') as handle:
+        handle.write(BLOCK_DECK % 1.0e-6)               # states at 0, 1 us
+    rc2, text2 = run(1, out, deck)
+    second = sorted(os.listdir(out)) if rc2 == 0 else []
+    wanted = ['block.h5', 'block.pvd', 'block_000000.vtu', 'block_000001.vtu', 'glstat',
+              'notes.txt']
+    removed = [line for line in text2.splitlines() if 'files of an earlier run' in line]
+    report(rc == 0 and rc2 == 0 and 'block_000003.pvtu' in first and second == wanted and
+           len(removed) == 1 and 'removed %d files' % (len(first) - 0) in removed[0],
+           'an earlier run\'s results are removed before the new run writes (the others kept)',
+           f'exits {rc} {rc2}; before {first}; after {second}; log {removed}')
 
 
 if __name__ == '__main__':
