@@ -9,7 +9,7 @@ module mefem_results
   use mefem_comm, only: comm_is_root, comm_barrier, comm_any
   use mefem_errors, only: fatal
   use mefem_file_system, only: make_directory, remove_file
-  use mefem_errors, only: say
+  use mefem_errors, only: say, log_open
   use mefem_strings, only: itoa
   use mefem_model, only: model_t, SET_NODE
   use mefem_output_mesh, only: output_mesh_t, output_field_t
@@ -44,6 +44,7 @@ contains
       call fatal('cannot use the output directory "'//dir//'"')
     end if
     if (comm_is_root()) call remove_earlier_results(dir, basename)
+    call log_open(dir//'/mefem.log')
     call comm_barrier()
     call fill_output_mesh(decomp, model%nodes%x, model%nodes%id, model%elements%topology, &
                           model%elements%id, model%elements%part_id, piece)

@@ -6,16 +6,19 @@
 !> - fatal: an unrecoverable error; printed, then every rank stops with a non-zero code.
 !> Only rank 0 prints input messages (every rank reads the same deck and finds the same
 !> problems). status_t carries a failure out of a kernel to the driver that can react.
+!> Every line printed on rank 0 (say, warn, input_error, fatal) also goes to the run's log
+!> file once log_open has named it (<output>/mefem.log); the lines printed before that are
+!> kept and written first, so the file holds the whole run, deck checks included.
 module mefem_errors
   use, intrinsic :: iso_fortran_env, only: error_unit, output_unit
   use, intrinsic :: iso_c_binding, only: c_int
   use mefem_comm, only: comm_is_root, comm_abort, comm_finalize, comm_barrier
-  use mefem_text_file, only: text_put_stdout
+  use mefem_text_file, only: text_put_stdout, text_open, text_put, text_flush, text_close
   implicit none
   private
 
   public :: input_error, input_error_count, reset_input_errors
-  public :: warn, warn_once, fatal, fatal_local, fatal_abort, say, terminate
+  public :: warn, warn_once, fatal, fatal_local, fatal_abort, say, terminate, log_open
   public :: status_t
 
   integer, parameter :: MAX_PRINTED = 500   !< input errors printed before the rest is only counted
@@ -23,6 +26,8 @@ module mefem_errors
 
   integer :: n_input_errors = 0
   integer :: n_warn_keys = 0
+  integer :: log_handle = 0                 !< the log file (mefem_text_file), 0: not open
+  character(len=:), allocatable :: early_log !< lines printed before the log file opened
   character(len=80) :: warn_keys(MAX_WARN_KEYS)
 
   !> Outcome of an operation that can fail because of the user's data.
@@ -50,11 +55,14 @@ contains
     if (n_input_errors <= MAX_PRINTED) then
       if (len_trim(where) > 0) then
         write(error_unit, '(a)') trim(where)//': '//trim(message)
+        call log_line(trim(where)//': '//trim(message))
       else
         write(error_unit, '(a)') 'mefem: '//trim(message)
+        call log_line('mefem: '//trim(message))
       end if
     else if (n_input_errors == MAX_PRINTED + 1) then
       write(error_unit, '(a)') 'mefem: further input errors are counted but not printed'
+      call log_line('mefem: further input errors are counted but not printed')
     end if
     ! unbuffered in effect: a log redirected to a file keeps every message in order with the
     ! standard output's, and keeps it if the run is killed
@@ -80,6 +88,7 @@ contains
     if (comm_is_root()) then
       write(error_unit, '(a)') 'warning: '//trim(message)
       call flush_output()
+      call log_line('warning: '//trim(message))
     end if
   end subroutine warn
 
@@ -113,13 +122,17 @@ contains
         flush(error_unit)
         call comm_abort(1)
       end if
+      call log_line(trim(message))
     end if
   end subroutine say
 
   !> An error every rank detects alike: print on rank 0, finish MPI, exit with code 1.
   subroutine fatal(message)
     character(len=*), intent(in) :: message  !< what went wrong and where
-    if (comm_is_root()) write(error_unit, '(a)') 'mefem: error: '//trim(message)
+    if (comm_is_root()) then
+      write(error_unit, '(a)') 'mefem: error: '//trim(message)
+      call log_line('mefem: error: '//trim(message))
+    end if
     call terminate(1)
   end subroutine fatal
 
@@ -131,6 +144,7 @@ contains
     if (comm_is_root()) then
       write(error_unit, '(a)') 'mefem: error: '//trim(message)
       call flush_output()
+      call log_line('mefem: error: '//trim(message))
     end if
     call comm_barrier()
     call comm_abort(1)
@@ -154,10 +168,68 @@ contains
   !> Finish MPI and end the program with the given exit code (0 = success).
   subroutine terminate(code)
     integer, intent(in) :: code   !< process exit code
+    logical :: ok
+    character(len=:), allocatable :: reason
     flush(output_unit)
     flush(error_unit)
+    if (log_handle > 0) call text_close(log_handle, ok, reason)
+    log_handle = 0
     call comm_finalize()
     call c_exit(int(code, c_int))
   end subroutine terminate
+
+  !> The run's log file (rank 0): open path, write the lines printed so far, and tee every
+  !> later line into it. A log that cannot be written stops the run (as the histories do).
+  subroutine log_open(path)
+    character(len=*), intent(in) :: path     !< e.g. <output>/mefem.log
+    logical :: ok
+    character(len=:), allocatable :: reason
+    integer :: start, finish
+    if (.not. comm_is_root()) return
+    if (log_handle > 0) call text_close(log_handle, ok, reason)
+    call text_open(path, .false., log_handle, ok, reason)
+    if (.not. ok) call log_failed(path, reason)
+    if (allocated(early_log)) then
+      start = 1
+      do while (start <= len(early_log))
+        finish = index(early_log(start:), new_line('a')) + start - 1
+        call text_put(log_handle, early_log(start:finish - 1), ok, reason)
+        if (.not. ok) call log_failed(path, reason)
+        start = finish + 1
+      end do
+      deallocate(early_log)
+    end if
+    call text_flush(log_handle, ok, reason)
+    if (.not. ok) call log_failed(path, reason)
+  contains
+    !> Stop: the log file is not writable.
+    subroutine log_failed(where, why)
+      character(len=*), intent(in) :: where, why   !< file and the system's reason
+      log_handle = 0
+      write(error_unit, '(a)') 'mefem: error: cannot write the log file '//where//': '//why
+      flush(error_unit)
+      call comm_abort(1)
+    end subroutine log_failed
+  end subroutine log_open
+
+  !> One line of rank 0's output into the log file (kept in memory until it opens).
+  subroutine log_line(text)
+    character(len=*), intent(in) :: text     !< the line
+    logical :: ok
+    character(len=:), allocatable :: reason
+    if (log_handle > 0) then
+      call text_put(log_handle, text, ok, reason)
+      if (ok) call text_flush(log_handle, ok, reason)
+      if (.not. ok) then
+        log_handle = 0
+        write(error_unit, '(a)') 'mefem: error: cannot write the log file: '//reason
+        flush(error_unit)
+        call comm_abort(1)
+      end if
+    else
+      if (.not. allocated(early_log)) early_log = ''
+      early_log = early_log//text//new_line('a')
+    end if
+  end subroutine log_line
 
 end module mefem_errors

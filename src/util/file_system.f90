@@ -33,14 +33,23 @@ module mefem_file_system
 
 contains
 
-  !> Remove a file if it exists; removed says whether one was removed.
+  !> Remove a file if it exists and is not a symbolic link (a link a user put there, e.g. to
+  !> /dev/null, is kept); removed says whether one was removed.
   subroutine remove_file(path, removed)
     character(len=*), intent(in) :: path                 !< the file
     logical, intent(out) :: removed                      !< it existed and is gone
     logical :: exists
+    integer :: slash
     inquire(file=path, exist=exists)
     removed = .false.
     if (.not. exists) return
+    ! a link resolves elsewhere than its directory's own entry of its name
+    slash = index(path, '/', back=.true.)
+    if (slash > 0) then
+      if (canonical_path(path) /= canonical_path(path(1:slash - 1))//path(slash:)) return
+    else
+      if (canonical_path(path) /= canonical_path('.')//'/'//path) return
+    end if
     removed = c_remove(path//c_null_char) == 0
   end subroutine remove_file
 

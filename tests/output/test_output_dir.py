@@ -10,7 +10,8 @@ one rank and on two (printed once, no hang).
 5. an empty name (-o ""): an error (it wrote the HDF5 file into / before);
 6. a directory holding an earlier run of the same deck: that run's files are removed first
    (a 2-rank run of 4 states, then a 1-rank run of 2 states: only the new states' files are
-   left, and the log says how many it removed), other files are kept.
+   left, and the log says how many it removed), other files are kept; mefem.log holds every
+   line the run printed.
 """
 import os
 import shutil
@@ -140,12 +141,19 @@ def earlier_run(scratch):
     rc2, text2 = run(1, out, deck)
     second = sorted(os.listdir(out)) if rc2 == 0 else []
     wanted = ['block.h5', 'block.pvd', 'block_000000.vtu', 'block_000001.vtu', 'glstat',
-              'notes.txt']
+              'mefem.log', 'notes.txt']
     removed = [line for line in text2.splitlines() if 'files of an earlier run' in line]
     report(rc == 0 and rc2 == 0 and 'block_000003.pvtu' in first and second == wanted and
-           len(removed) == 1 and 'removed %d files' % (len(first) - 0) in removed[0],
+           len(removed) == 1 and 'removed %d files' % (len(first) - 1) in removed[0],
            'an earlier run\'s results are removed before the new run writes (the others kept)',
            f'exits {rc} {rc2}; before {first}; after {second}; log {removed}')
+    # the run's log file: every line of the screen, from the first to the last
+    log = open(os.path.join(out, 'mefem.log')).read().splitlines() if rc2 == 0 else []
+    screen = [line for line in text2.splitlines() if line.strip()]
+    report(len(log) > 5 and log[0].startswith('mefem ') and log[-1].startswith('wall time') and
+           all(line in log for line in screen),
+           'mefem.log holds every line the run printed, in order',
+           f'{len(log)} lines; first {log[:1]}, last {log[-1:]}')
 
 
 if __name__ == '__main__':
