@@ -17,7 +17,7 @@ SHELL := /bin/bash
 # ---- packages -------------------------------------------------------------------------
 DEB_BUILD := gfortran make openmpi-bin libopenmpi-dev libmumps-dev libmetis-dev \
              libhdf5-openmpi-dev hdf5-tools liblapack-dev libblas-dev libopenblas-dev
-DEB_TEST  := python3 python3-numpy python3-h5py python3-vtk9 python3-matplotlib
+DEB_TEST  := python3 python3-numpy python3-h5py python3-vtk9 python3-matplotlib python3-meshio
 DEB_ALL   := $(DEB_BUILD) $(DEB_TEST)
 SUDO      := $(if $(filter 0,$(shell id -u)),,sudo)
 

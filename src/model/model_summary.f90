@@ -1,11 +1,13 @@
-!> The run log's description of the model: counts, parts with their element formulation
-!> and material, and the analysis controls, so users see what mefem understood.
+!> The run log's description of the model: counts, extent, parts with their element
+!> formulation, material and mass, and the analysis controls, so users see what mefem
+!> understood (a mass or an extent a factor 1000 off shows a unit slip).
 module mefem_model_summary
   use mefem_kinds, only: wp
   use mefem_errors, only: say, warn
   use mefem_strings, only: itoa, rtoa
-  use mefem_model, only: model_t
-  use mefem_model_resolve, only: formulation_name
+  use mefem_model, only: model_t, SECTION_SHELL
+  use mefem_output_mesh, only: NODES_OF_TOPO
+  use mefem_model_resolve, only: formulation_name, element_measure
   use mefem_read_materials, only: material_keyword
   implicit none
   private
@@ -20,27 +22,63 @@ contains
     real(wp), intent(in) :: read_seconds   !< wall time spent reading and checking
     real(wp), intent(in) :: memory_mib     !< peak memory so far (MiB)
     integer :: p, count_p
+    real(wp) :: mass(model%n_parts), extent(3)
     character(len=:), allocatable :: line
     call say('model: '//itoa(model%nodes%n)//' nodes, '//itoa(model%elements%n)// &
              ' elements, '//itoa(model%n_parts)//' parts, '//itoa(model%dimension)//'D'// &
              merge(' (plane strain)', '               ', model%dimension == 2))
+    if (model%nodes%n > 0) then
+      extent = maxval(model%nodes%x(:, 1:model%nodes%n), dim=2) - &
+               minval(model%nodes%x(:, 1:model%nodes%n), dim=2)
+      call say('  extent '//rtoa(extent(1))//' x '//rtoa(extent(2))//' x '// &
+               rtoa(extent(3))//' (length units of the deck)')
+    end if
+    mass = part_masses(model)
     do p = 1, model%n_parts
       count_p = count(model%elements%part(1:model%elements%n) == p)
       line = '  part '//itoa(model%parts(p)%id)//': '//itoa(count_p)//' elements, '// &
              formulation_name(model, p)
       if (model%parts(p)%material > 0) line = line//', '// &
           material_keyword(model%materials(model%parts(p)%material)%kind)// &
-          ' (material '//itoa(model%parts(p)%material_id)//')'
+          ' (material '//itoa(model%parts(p)%material_id)//'), mass '//rtoa(mass(p))
       if (len_trim(model%parts(p)%title) > 0) line = line//' "'//trim(model%parts(p)%title)//'"'
       call say(line)
       if (count_p == 0) call warn('part '//itoa(model%parts(p)%id)//' has no elements (a '// &
           'mesh file missing from the *INCLUDE list, or an element card with the wrong PID?)')
     end do
+    line = '  total mass '//rtoa(sum(mass))//' (density x volume in the deck''s units'
+    if (model%dimension == 2) line = line//', per unit thickness'
+    call say(line//')')
     if (model%controls%have_termination) call say('  end time '// &
         rtoa(model%controls%end_time))
     call say('deck read and checked in '//rtoa(read_seconds)//' s, peak memory '// &
              rtoa(memory_mib)//' MiB per rank')
   end subroutine print_model_summary
+
+  !> Mass of each part: density times the elements' volume (shells: area times the section's
+  !> thickness T1; plane strain: per unit thickness), in the reference configuration.
+  function part_masses(model) result(mass)
+    type(model_t), intent(in) :: model     !< resolved model
+    real(wp) :: mass(model%n_parts)
+    real(wp) :: xe(3, 8), measure, thickness
+    integer :: e, i, nn, p
+    mass = 0.0_wp
+    do e = 1, model%elements%n
+      p = model%elements%part(e)
+      if (p <= 0 .or. model%parts(p)%material <= 0) cycle
+      nn = NODES_OF_TOPO(model%elements%topology(e))
+      do i = 1, nn
+        xe(:, i) = model%nodes%x(:, model%elements%conn(i, e))
+      end do
+      measure = abs(element_measure(model%elements%topology(e), xe(:, 1:nn)))
+      thickness = 1.0_wp
+      if (model%dimension == 3 .and. model%parts(p)%section > 0) then
+        if (model%sections(model%parts(p)%section)%kind == SECTION_SHELL) &
+            thickness = model%sections(model%parts(p)%section)%thickness(1)
+      end if
+      mass(p) = mass(p) + model%materials(model%parts(p)%material)%density*measure*thickness
+    end do
+  end function part_masses
 
   !> File name of a deck without directory and extension ("input/a.k" -> "a").
   function deck_stem(path) result(s)
