@@ -12,7 +12,9 @@
 !>   (psibar = enrichment_t%mass_fraction), the consistent load on b_e.
 !> A standard linear element gives rho V/(dim+1) per corner, a hexahedron rho int N_I dV per
 !> corner (rho V/8 when it is a parallelepiped). Nodes of rigid parts only get no
-!> mass here (rigid bodies carry their own). Every rank computes all masses from the global
+!> mass here (rigid bodies carry their own). The masses of *ELEMENT_MASS and
+!> *ELEMENT_MASS_PART (model%nodes%added_mass) are added at their mesh nodes, rigid parts'
+!> too (a rigid body takes the masses at its nodes as point masses). Every rank computes all masses from the global
 !> model, elements in ascending order, so the values are the same bits on every rank and for
 !> any number of ranks; a rank takes its share as mass(layout%node_global).
 module mefem_lumped_mass
@@ -71,6 +73,8 @@ contains
         end if
       end if
     end do
+    if (allocated(model%nodes%added_mass)) mass(1:model%nodes%n) = mass(1:model%nodes%n) + &
+                                                                   model%nodes%added_mass
   end subroutine lumped_mass
 
   !> Area (2D, x-y plane) or volume (3D) of a simplex, unsigned.

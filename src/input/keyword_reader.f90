@@ -16,7 +16,8 @@ module mefem_keyword_reader
   use mefem_model, only: model_t, ON_NODE, ON_NODE_SET, ON_PART, WALL_FLAT, WALL_PRISM, &
                          WALL_CYLINDER, WALL_SPHERE
   use mefem_read_mesh, only: read_node, read_element_solid, read_element_shell, read_part, &
-                             read_section_solid, read_section_shell, read_hourglass
+                             read_section_solid, read_section_shell, read_hourglass, &
+                             read_element_mass, read_element_mass_part
   use mefem_read_controls, only: read_keyword_card, read_title, read_parameter, &
                                  read_parameter_expression, &
                                  read_control_termination, read_control_timestep, &
@@ -76,7 +77,8 @@ module mefem_keyword_reader
                         H_CONTACT_TRANSDUCER = 59, H_RIGIDWALL_FLAT = 60, &
                         H_RIGIDWALL_PRISM = 61, H_RIGIDWALL_CYLINDER = 62, H_RIGIDWALL_SPHERE = 63, &
                         H_MAT_JOHNSON_COOK = 64, H_MAT_SIMPLIFIED_JOHNSON_COOK = 65, &
-                        H_CONSTRAINED_NODAL_RIGID_BODY = 66, H_CONSTRAINED_SPOTWELD = 67
+                        H_CONSTRAINED_NODAL_RIGID_BODY = 66, H_CONSTRAINED_SPOTWELD = 67, &
+                        H_ELEMENT_MASS = 68, H_ELEMENT_MASS_PART = 69
 
   !> Id read from the first card of a rejected keyword (skip_cards), 0 when none.
   integer :: rejected_id = 0
@@ -88,11 +90,13 @@ module mefem_keyword_reader
     character(len=64) :: options = ''    !< options accepted, as ' OPT1 OPT2 '
   end type keyword_entry_t
 
-  integer, parameter :: N_ENTRIES = 81
+  integer, parameter :: N_ENTRIES = 83
   type(keyword_entry_t), parameter :: REGISTRY(N_ENTRIES) = [ &
     keyword_entry_t('NODE', H_NODE, ' '), &
     keyword_entry_t('ELEMENT_SOLID', H_ELEMENT_SOLID, ' '), &
     keyword_entry_t('ELEMENT_SHELL', H_ELEMENT_SHELL, ' '), &
+    keyword_entry_t('ELEMENT_MASS', H_ELEMENT_MASS, ' NODE SET '), &
+    keyword_entry_t('ELEMENT_MASS_PART', H_ELEMENT_MASS_PART, ' SET '), &
     keyword_entry_t('PART', H_PART, ' CONTACT '), &
     keyword_entry_t('SECTION_SOLID', H_SECTION_SOLID, ' TITLE '), &
     keyword_entry_t('SECTION_SHELL', H_SECTION_SHELL, ' TITLE '), &
@@ -390,6 +394,10 @@ contains
       call read_element_solid(rd, options, model)
     case (H_ELEMENT_SHELL)
       call read_element_shell(rd, options, model)
+    case (H_ELEMENT_MASS)
+      call read_element_mass(rd, options, model)
+    case (H_ELEMENT_MASS_PART)
+      call read_element_mass_part(rd, options, model)
     case (H_PART)
       call read_part(rd, options, model)
     case (H_SECTION_SOLID)

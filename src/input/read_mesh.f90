@@ -1,5 +1,5 @@
-!> Keyword handlers for the mesh: *NODE, *ELEMENT_SOLID, *ELEMENT_SHELL, *PART,
-!> *SECTION_SOLID, *SECTION_SHELL, *HOURGLASS. Every handler reads all data cards of one keyword
+!> Keyword handlers for the mesh: *NODE, *ELEMENT_SOLID, *ELEMENT_SHELL, *ELEMENT_MASS,
+!> *ELEMENT_MASS_PART, *PART, *SECTION_SOLID, *SECTION_SHELL, *HOURGLASS. Every handler reads all data cards of one keyword
 !> occurrence and appends to the model; ids are resolved later (model_resolve).
 module mefem_read_mesh
   use mefem_kinds, only: wp
@@ -7,16 +7,20 @@ module mefem_read_mesh
   use mefem_cards, only: LONG_WIDTH, reader_t, card_t, next_card, split_card, get_int, get_real, &
                          card_error, keyword_error
   use mefem_model, only: model_t, nodes_t, elements_t, part_t, section_t, source_t, &
-                         hourglass_t, ELEM_SOLID, ELEM_SHELL, SECTION_SOLID, SECTION_SHELL
+                         hourglass_t, added_mass_t, ELEM_SOLID, ELEM_SHELL, SECTION_SOLID, &
+                         SECTION_SHELL, ON_NODE, ON_NODE_SET, ON_PART, ON_PART_SET
   implicit none
   private
 
   public :: read_node, read_element_solid, read_element_shell, read_part, read_section_solid, &
-            read_section_shell, read_hourglass, has_option
+            read_section_shell, read_hourglass, has_option, read_element_mass, &
+            read_element_mass_part
 
   integer, parameter :: W_NODE(6) = [8, 16, 16, 16, 8, 8]    !< *NODE field widths
   integer, parameter :: W_I8(10) = 8                          !< element cards: I8 fields
   integer, parameter :: W_10(8) = 10                          !< standard 8 x 10 card
+  integer, parameter :: W_MASS(4) = [8, 8, 16, 8]             !< *ELEMENT_MASS: EID NID MASS PID
+  integer, parameter :: W_MASS_PART(4) = [8, 16, 16, 16]      !< PID ADDMASS FINMASS LCID
   !> largest |coordinate| accepted: volumes (cubes of coordinate differences) stay far from
   !> overflow (1e308), and no unit system puts a real part beyond 1e30 of its length unit
   real(wp), parameter :: COORDINATE_LIMIT = 1.0e30_wp
@@ -161,6 +165,104 @@ contains
       call add_element(model%elements, eid, pid, ELEM_SHELL, nodes, card)
     end do
   end subroutine read_element_shell
+
+  !> *ELEMENT_MASS (EID NID MASS PID, repeated: a point mass on a node) and
+  !> *ELEMENT_MASS_NODE_SET (the same with a node set, MASS shared equally by its nodes).
+  subroutine read_element_mass(rd, options, model)
+    type(reader_t), intent(inout) :: rd          !< reading state
+    character(len=*), intent(in) :: options      !< keyword options
+    type(model_t), intent(inout) :: model        !< model appended to
+    type(card_t) :: card
+    type(added_mass_t) :: item
+    logical :: got, node_set
+    integer :: pid
+    node_set = trim(adjustl(options)) == 'NODE SET'
+    if (len_trim(options) > 0 .and. .not. node_set) then
+      call keyword_error(rd, 'option _'//trim(adjustl(options))//' is not supported '// &
+                         '(_NODE_SET is)')
+    end if
+    do
+      call next_card(rd, card, got)
+      if (.not. got) exit
+      call split_card(rd, card, W_MASS)
+      item = added_mass_t()
+      item%target_kind = merge(ON_NODE_SET, ON_NODE, node_set)
+      call get_int(card, 1, 'EID', item%element_id)
+      call get_int(card, 2, trim(merge('NSID', 'NID ', node_set)), item%target_id, &
+                   required=.true.)
+      call get_real(card, 3, 'MASS', item%mass, required=.true.)
+      call get_int(card, 4, 'PID', pid)
+      if (card%bad) cycle
+      if (item%target_id <= 0) then
+        call card_error(card, 'field '//trim(merge('NSID', 'NID ', node_set))// &
+                        ' must be positive (got '//itoa(item%target_id)//')')
+      else if (item%mass < 0.0_wp) then
+        call card_error(card, 'field MASS must not be negative (got '//rtoa(item%mass)//')')
+      else
+        item%src = source_t(card%file, card%line)
+        call add_mass(model, item)
+      end if
+    end do
+  end subroutine read_element_mass
+
+  !> *ELEMENT_MASS_PART (PID ADDMASS FINMASS LCID, repeated) and *ELEMENT_MASS_PART_SET (a
+  !> part set): non-structural mass spread over the part's nodes in proportion to their
+  !> share of its mass; FINMASS > 0 asks for the mass that makes the part's total FINMASS.
+  subroutine read_element_mass_part(rd, options, model)
+    type(reader_t), intent(inout) :: rd          !< reading state
+    character(len=*), intent(in) :: options      !< keyword options
+    type(model_t), intent(inout) :: model        !< model appended to
+    type(card_t) :: card
+    type(added_mass_t) :: item
+    logical :: got, part_set
+    integer :: lcid
+    part_set = has_option(options, 'SET')
+    if (len_trim(options) > 0 .and. .not. part_set) then
+      call keyword_error(rd, 'options "'//trim(adjustl(options))//'" are not supported '// &
+                         '(SET is)')
+    end if
+    do
+      call next_card(rd, card, got)
+      if (.not. got) exit
+      call split_card(rd, card, W_MASS_PART)
+      item = added_mass_t()
+      item%target_kind = merge(ON_PART_SET, ON_PART, part_set)
+      call get_int(card, 1, trim(merge('PSID', 'PID ', part_set)), item%target_id, &
+                   required=.true.)
+      call get_real(card, 2, 'ADDMASS', item%mass)
+      call get_real(card, 3, 'FINMASS', item%final_mass)
+      call get_int(card, 4, 'LCID', lcid)
+      if (card%bad) cycle
+      if (item%target_id <= 0) then
+        call card_error(card, 'field '//trim(merge('PSID', 'PID ', part_set))// &
+                        ' must be positive (got '//itoa(item%target_id)//')')
+      else if (item%mass < 0.0_wp .or. item%final_mass < 0.0_wp) then
+        call card_error(card, 'fields ADDMASS and FINMASS must not be negative (got '// &
+                        rtoa(item%mass)//', '//rtoa(item%final_mass)//')')
+      else if (lcid /= 0) then
+        call card_error(card, 'field LCID = '//itoa(lcid)//': mass that varies in time is '// &
+                        'not supported (LCID must be 0)')
+      else
+        item%src = source_t(card%file, card%line)
+        call add_mass(model, item)
+      end if
+    end do
+  end subroutine read_element_mass_part
+
+  !> Append an added mass.
+  subroutine add_mass(model, item)
+    type(model_t), intent(inout) :: model      !< model appended to
+    type(added_mass_t), intent(in) :: item     !< the record
+    type(added_mass_t), allocatable :: grown(:)
+    if (.not. allocated(model%added_masses)) allocate(model%added_masses(0))
+    if (model%n_added_masses == size(model%added_masses)) then
+      allocate(grown(max(8, 2*model%n_added_masses)))
+      grown(1:model%n_added_masses) = model%added_masses(1:model%n_added_masses)
+      call move_alloc(grown, model%added_masses)
+    end if
+    model%n_added_masses = model%n_added_masses + 1
+    model%added_masses(model%n_added_masses) = item
+  end subroutine add_mass
 
   !> Check and append one element (node ids are resolved later).
   subroutine add_element(elements, eid, pid, keyword, nodes, card)

@@ -46,6 +46,8 @@ module mefem_model
     real(wp), allocatable :: x(:,:)         !< (3,n) coordinates
     integer, allocatable :: tc(:), rc(:)    !< (n) translational/rotational constraint codes
     type(source_t), allocatable :: src(:)   !< (n)
+    real(wp), allocatable :: added_mass(:)  !< (n) mass of *ELEMENT_MASS(_PART) (after
+                                            !< resolve; zero where none)
   end type nodes_t
 
   !> All elements, solids and shells alike (up to 8 corner nodes).
@@ -341,6 +343,17 @@ module mefem_model
   !> *CONSTRAINED_NODAL_RIGID_BODY and *CONSTRAINED_SPOTWELD (a body of its nodes).
   integer, parameter, public :: RIGID_MERGE = 1, RIGID_EXTRA_NODES = 2, RIGID_NODAL = 3
 
+  !> *ELEMENT_MASS(_NODE_SET) and *ELEMENT_MASS_PART(_SET): mass added at nodes.
+  type, public :: added_mass_t
+    integer :: target_kind = ON_NODE        !< ON_NODE, ON_NODE_SET, ON_PART or ON_PART_SET
+    integer :: target_id = 0, target = 0    !< node, node set, part or part set: id, index
+    integer :: element_id = 0               !< EID (*ELEMENT_MASS)
+    real(wp) :: mass = 0.0_wp               !< MASS (on a node, or shared equally by a set's
+                                            !< nodes), ADDMASS (parts)
+    real(wp) :: final_mass = 0.0_wp         !< FINMASS (parts; 0: ADDMASS is used)
+    type(source_t) :: src
+  end type added_mass_t
+
   !> The whole model.
   type, public :: model_t
     type(nodes_t) :: nodes
@@ -373,6 +386,8 @@ module mefem_model
     type(rigid_wall_t), allocatable :: rigid_walls(:)
     integer :: n_rigid_constraints = 0
     type(rigid_constraint_t), allocatable :: rigid_constraints(:)
+    integer :: n_added_masses = 0
+    type(added_mass_t), allocatable :: added_masses(:)
     type(controls_t) :: controls
     integer :: dimension = 3                  !< 2 for plane strain shells-only models
     !> Ids of materials and sections whose keyword was rejected (unsupported, or with errors):

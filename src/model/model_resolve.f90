@@ -13,13 +13,13 @@ module mefem_model_resolve
   use mefem_id_map, only: id_map_t, id_map_build, id_map_find
   use mefem_model, only: model_t, source_t, ELEM_SOLID, ELEM_SHELL, SECTION_SOLID, &
                          SECTION_SHELL, MAT_RIGID, TOPO_TRI3, TOPO_QUAD4, TOPO_TET4, &
-                         TOPO_PENTA6, TOPO_HEX8
+                         TOPO_PENTA6, TOPO_HEX8, ON_NODE, ON_NODE_SET, ON_PART, ON_PART_SET
   use mefem_output_mesh, only: NODES_OF_TOPO
   use mefem_resolve_conditions, only: resolve_conditions
   implicit none
   private
 
-  public :: model_resolve, element_measure, formulation_name, part_hourglass, &
+  public :: model_resolve, element_measure, element_mass, formulation_name, part_hourglass, &
             hexahedral_formulation
 
   ! element formulations mefem computes (ELFORM of *SECTION_SOLID / *SECTION_SHELL)
@@ -84,6 +84,9 @@ contains
       call resolve_part(model, k, section_map, material_map)
     end do
     call resolve_elements(model, node_map, part_map)
+    allocate(model%nodes%added_mass(model%nodes%n))
+    model%nodes%added_mass = 0.0_wp
+    if (input_error_count() == 0) call distribute_added_masses(model)
     ! an empty model is worth a message only when nothing else was wrong (an unreadable deck
     ! has no nodes as a consequence)
     if (input_error_count() == 0) then
@@ -433,6 +436,95 @@ contains
     end do
   end function element_measure
 
+
+  !> Mass of element e: density times volume (shells: area times the section's thickness T1;
+  !> plane strain: per unit thickness), in the reference configuration.
+  real(wp) function element_mass(model, e)
+    type(model_t), intent(in) :: model     !< resolved model
+    integer, intent(in) :: e               !< element index
+    real(wp) :: xe(3, 8), thickness
+    integer :: i, nn, p
+    element_mass = 0.0_wp
+    p = model%elements%part(e)
+    if (p <= 0) return
+    if (model%parts(p)%material <= 0) return
+    nn = NODES_OF_TOPO(model%elements%topology(e))
+    do i = 1, nn
+      xe(:, i) = model%nodes%x(:, model%elements%conn(i, e))
+    end do
+    thickness = 1.0_wp
+    if (model%dimension == 3 .and. model%parts(p)%section > 0) then
+      if (model%sections(model%parts(p)%section)%kind == SECTION_SHELL) &
+          thickness = model%sections(model%parts(p)%section)%thickness(1)
+    end if
+    element_mass = model%materials(model%parts(p)%material)%density* &
+                   abs(element_measure(model%elements%topology(e), xe(:, 1:nn)))*thickness
+  end function element_mass
+
+  !> model%nodes%added_mass from *ELEMENT_MASS (on a node; a node set's nodes share MASS
+  !> equally) and *ELEMENT_MASS_PART (ADDMASS, or FINMASS less the parts' mass, spread over
+  !> the nodes of the part or part set in proportion to their share of its element mass: an
+  !> element's mass split equally among its corners, as the lumped mass of a linear element).
+  subroutine distribute_added_masses(model)
+    type(model_t), intent(inout) :: model     !< resolved model
+    real(wp), allocatable :: share(:)
+    logical, allocatable :: in_parts(:)
+    real(wp) :: total, added, me
+    integer :: k, e, i, nn
+    character(len=:), allocatable :: where
+    do k = 1, model%n_added_masses
+      associate (am => model%added_masses(k))
+        if (am%target <= 0) cycle
+        select case (am%target_kind)
+        case (ON_NODE)
+          model%nodes%added_mass(am%target) = model%nodes%added_mass(am%target) + am%mass
+        case (ON_NODE_SET)
+          associate (members => model%sets(am%target)%members)
+            if (size(members) == 0) cycle
+            do i = 1, size(members)
+              model%nodes%added_mass(members(i)) = model%nodes%added_mass(members(i)) + &
+                                                   am%mass/real(size(members), wp)
+            end do
+          end associate
+        case (ON_PART, ON_PART_SET)
+          where = location(am%src%file, am%src%line)//': *ELEMENT_MASS_PART'
+          allocate(in_parts(model%n_parts), share(model%nodes%n))
+          in_parts = .false.
+          if (am%target_kind == ON_PART) then
+            in_parts(am%target) = .true.
+          else
+            in_parts(model%sets(am%target)%members) = .true.
+          end if
+          share = 0.0_wp
+          total = 0.0_wp
+          do e = 1, model%elements%n
+            if (.not. in_parts(model%elements%part(e))) cycle
+            me = element_mass(model, e)
+            nn = NODES_OF_TOPO(model%elements%topology(e))
+            do i = 1, nn
+              share(model%elements%conn(i, e)) = share(model%elements%conn(i, e)) + &
+                                                 me/real(nn, wp)
+            end do
+            total = total + me
+          end do
+          added = am%mass
+          if (am%final_mass > 0.0_wp) added = am%final_mass - total
+          if (.not. total > 0.0_wp) then
+            call input_error(where, trim(merge('part    ', 'part set', am%target_kind == &
+                ON_PART))//' '//itoa(am%target_id)//' has no mass (no elements, or density '// &
+                '0) to spread the added mass over')
+          else if (added < 0.0_wp) then
+            call input_error(where, trim(merge('part    ', 'part set', am%target_kind == &
+                ON_PART))//' '//itoa(am%target_id)//': FINMASS = '//rtoa(am%final_mass)// &
+                ' is below the mass of its elements, '//rtoa(total))
+          else
+            model%nodes%added_mass = model%nodes%added_mass + added*share/total
+          end if
+          deallocate(in_parts, share)
+        end select
+      end associate
+    end do
+  end subroutine distribute_added_masses
 
   !> "a b c d" list of the nonzero node ids.
   function node_list(ids) result(s)

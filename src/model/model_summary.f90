@@ -5,9 +5,8 @@ module mefem_model_summary
   use mefem_kinds, only: wp
   use mefem_errors, only: say, warn
   use mefem_strings, only: itoa, rtoa
-  use mefem_model, only: model_t, SECTION_SHELL
-  use mefem_output_mesh, only: NODES_OF_TOPO
-  use mefem_model_resolve, only: formulation_name, element_measure
+  use mefem_model, only: model_t
+  use mefem_model_resolve, only: formulation_name, element_mass
   use mefem_read_materials, only: material_keyword
   implicit none
   private
@@ -49,34 +48,26 @@ contains
     line = '  total mass '//rtoa(sum(mass))//' (density x volume in the deck''s units'
     if (model%dimension == 2) line = line//', per unit thickness'
     call say(line//')')
+    if (allocated(model%nodes%added_mass)) then
+      if (any(model%nodes%added_mass > 0.0_wp)) call say('  added mass (*ELEMENT_MASS, '// &
+          '*ELEMENT_MASS_PART) '//rtoa(sum(model%nodes%added_mass))//' at '// &
+          itoa(count(model%nodes%added_mass > 0.0_wp))//' nodes')
+    end if
     if (model%controls%have_termination) call say('  end time '// &
         rtoa(model%controls%end_time))
     call say('deck read and checked in '//rtoa(read_seconds)//' s, peak memory '// &
              rtoa(memory_mib)//' MiB per rank')
   end subroutine print_model_summary
 
-  !> Mass of each part: density times the elements' volume (shells: area times the section's
-  !> thickness T1; plane strain: per unit thickness), in the reference configuration.
+  !> Mass of each part: density times the elements' volume (element_mass).
   function part_masses(model) result(mass)
     type(model_t), intent(in) :: model     !< resolved model
     real(wp) :: mass(model%n_parts)
-    real(wp) :: xe(3, 8), measure, thickness
-    integer :: e, i, nn, p
+    integer :: e, p
     mass = 0.0_wp
     do e = 1, model%elements%n
       p = model%elements%part(e)
-      if (p <= 0 .or. model%parts(p)%material <= 0) cycle
-      nn = NODES_OF_TOPO(model%elements%topology(e))
-      do i = 1, nn
-        xe(:, i) = model%nodes%x(:, model%elements%conn(i, e))
-      end do
-      measure = abs(element_measure(model%elements%topology(e), xe(:, 1:nn)))
-      thickness = 1.0_wp
-      if (model%dimension == 3 .and. model%parts(p)%section > 0) then
-        if (model%sections(model%parts(p)%section)%kind == SECTION_SHELL) &
-            thickness = model%sections(model%parts(p)%section)%thickness(1)
-      end if
-      mass(p) = mass(p) + model%materials(model%parts(p)%material)%density*measure*thickness
+      if (p > 0) mass(p) = mass(p) + element_mass(model, e)
     end do
   end function part_masses
 

@@ -664,6 +664,13 @@ contains
         if (rc%kind == RIGID_MERGE .and. rc%target > 0) call require_rigid(rc%target, where)
       end associate
     end do
+    do k = 1, model%n_added_masses
+      associate (am => model%added_masses(k))
+        where = where_is(am%src, trim(merge('*ELEMENT_MASS     ', '*ELEMENT_MASS_PART', &
+                                            any(am%target_kind == [ON_NODE, ON_NODE_SET]))))
+        call resolve_target(look, am%target_kind, am%target_id, am%target, where)
+      end associate
+    end do
     do k = 1, model%n_rigid_walls
       associate (wall => model%rigid_walls(k))
         where = where_is(wall%src, trim(wall%keyword))
