@@ -97,7 +97,7 @@ module mefem_keyword_reader
     keyword_entry_t('ELEMENT_SHELL', H_ELEMENT_SHELL, ' '), &
     keyword_entry_t('ELEMENT_MASS', H_ELEMENT_MASS, ' NODE SET '), &
     keyword_entry_t('ELEMENT_MASS_PART', H_ELEMENT_MASS_PART, ' SET '), &
-    keyword_entry_t('PART', H_PART, ' CONTACT '), &
+    keyword_entry_t('PART', H_PART, ' CONTACT INERTIA '), &
     keyword_entry_t('SECTION_SOLID', H_SECTION_SOLID, ' TITLE '), &
     keyword_entry_t('SECTION_SHELL', H_SECTION_SHELL, ' TITLE '), &
     keyword_entry_t('HOURGLASS', H_HOURGLASS, ' TITLE '), &

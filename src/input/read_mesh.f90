@@ -310,10 +310,16 @@ contains
     type(part_t), allocatable :: grown(:)
     character(len=:), allocatable :: title
     type(card_t) :: card3
-    logical :: got, contact_card
+    logical :: got, contact_card, inertia_cards
     integer :: nread
     real(wp) :: unused
     contact_card = has_option(options, 'CONTACT')
+    inertia_cards = has_option(options, 'INERTIA')
+    if (contact_card .and. inertia_cards) then
+      call keyword_error(rd, 'options _INERTIA and _CONTACT together are not supported (give '// &
+                         'the friction of the part in the contact)')
+      contact_card = .false.
+    end if
     nread = 0
     do
       call next_card(rd, heading, got, keep_blank=.true.)
@@ -340,6 +346,10 @@ contains
       call get_int(card, 4, 'EOSID', part%eos_id)
       call get_int(card, 5, 'HGID', part%hourglass_id)
       part%src = source_t(card%file, card%line)
+      if (inertia_cards) then
+        call read_inertia_cards(rd, card, part, got)
+        if (.not. got) exit
+      end if
       if (contact_card) then
         call next_card(rd, card3, got, keep_blank=.true.)
         if (.not. got) then
@@ -377,6 +387,70 @@ contains
       model%parts(model%n_parts) = part
     end do
   end subroutine read_part
+
+  !> The cards 3-5 of *PART_INERTIA (a rigid body's mass properties): XC YC ZC TM IRCS NODEID;
+  !> IXX IXY IXZ IYY IYZ IZZ; VTX VTY VTZ VRX VRY VRZ. got is false when a card is missing.
+  subroutine read_inertia_cards(rd, card2, part, got)
+    type(reader_t), intent(inout) :: rd          !< reading state
+    type(card_t), intent(inout) :: card2         !< the part's card PID SECID MID
+    type(part_t), intent(inout) :: part          !< the part being read
+    logical, intent(out) :: got                  !< all three cards were there
+    type(card_t) :: card
+    character(len=4), parameter :: TENSOR(6) = ['IXX ', 'IXY ', 'IXZ ', 'IYY ', 'IYZ ', 'IZZ ']
+    character(len=4), parameter :: SPEED(6) = ['VTX ', 'VTY ', 'VTZ ', 'VRX ', 'VRY ', 'VRZ ']
+    integer :: ircs, k
+    call next_card(rd, card, got, keep_blank=.true.)
+    if (.not. got) then
+      call card_error(card2, 'part '//itoa(part%id)//': missing the *PART_INERTIA card XC '// &
+                      'YC ZC TM IRCS NODEID')
+      return
+    end if
+    call split_card(rd, card, W_10)
+    call get_real(card, 1, 'XC', part%inertia_centre(1))
+    call get_real(card, 2, 'YC', part%inertia_centre(2))
+    call get_real(card, 3, 'ZC', part%inertia_centre(3))
+    call get_real(card, 4, 'TM', part%inertia_mass)
+    call get_int(card, 5, 'IRCS', ircs)
+    call get_int(card, 6, 'NODEID', part%inertia_node_id)
+    part%inertia_src = source_t(card%file, card%line)
+    if (.not. card%bad) then
+      if (.not. part%inertia_mass > 0.0_wp) then
+        call card_error(card, 'part '//itoa(part%id)//': field TM (the body''s mass) must be '// &
+                        'positive (got '//rtoa(part%inertia_mass)//')')
+      else if (ircs /= 0) then
+        call card_error(card, 'part '//itoa(part%id)//': field IRCS = '//itoa(ircs)// &
+            ': an inertia tensor in a local coordinate system is not supported (IRCS must be 0)')
+      else if (part%inertia_node_id < 0) then
+        call card_error(card, 'part '//itoa(part%id)//': field NODEID must not be negative')
+      end if
+    end if
+    if (card%bad) card2%bad = .true.
+    call next_card(rd, card, got, keep_blank=.true.)
+    if (.not. got) then
+      call card_error(card2, 'part '//itoa(part%id)//': missing the *PART_INERTIA card IXX '// &
+                      'IXY IXZ IYY IYZ IZZ')
+      return
+    end if
+    call split_card(rd, card, W_10)
+    do k = 1, 6
+      call get_real(card, k, trim(TENSOR(k)), part%inertia_tensor(k))
+    end do
+    if (.not. card%bad .and. any(part%inertia_tensor([1, 4, 6]) < 0.0_wp)) call card_error( &
+        card, 'part '//itoa(part%id)//': fields IXX, IYY and IZZ must not be negative')
+    if (card%bad) card2%bad = .true.
+    call next_card(rd, card, got, keep_blank=.true.)
+    if (.not. got) then
+      call card_error(card2, 'part '//itoa(part%id)//': missing the *PART_INERTIA card VTX '// &
+                      'VTY VTZ VRX VRY VRZ')
+      return
+    end if
+    call split_card(rd, card, W_10)
+    do k = 1, 6
+      call get_real(card, k, trim(SPEED(k)), part%inertia_velocity(k))
+    end do
+    if (card%bad) card2%bad = .true.
+    part%has_inertia = .true.
+  end subroutine read_inertia_cards
 
   !> *SECTION_SOLID: SECID ELFORM AET.
   subroutine read_section_solid(rd, options, model)

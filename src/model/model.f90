@@ -74,6 +74,16 @@ module mefem_model
     real(wp) :: contact_fs = 0.0_wp, contact_fd = 0.0_wp   !< *PART_CONTACT FS FD (used by
                                             !< the contacts whose FS is -1)
     real(wp) :: contact_dc = 0.0_wp         !< *PART_CONTACT DC
+    logical :: has_inertia = .false.        !< *PART_INERTIA gave the cards below (rigid parts)
+    real(wp) :: inertia_centre(3) = 0.0_wp  !< XC YC ZC: centre of mass
+    integer :: inertia_node_id = 0          !< NODEID: the centre is this node (0: XC YC ZC)
+    integer :: inertia_node = 0             !< its index (after resolve)
+    real(wp) :: inertia_mass = 0.0_wp       !< TM: the body's mass
+    real(wp) :: inertia_tensor(6) = 0.0_wp  !< IXX IXY IXZ IYY IYZ IZZ about the centre,
+                                            !< global axes
+    real(wp) :: inertia_velocity(6) = 0.0_wp  !< VTX VTY VTZ VRX VRY VRZ: initial velocity
+                                              !< of the centre and angular velocity
+    type(source_t) :: inertia_src           !< where card 3 was read
     type(source_t) :: src
   end type part_t
 

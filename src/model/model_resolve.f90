@@ -82,6 +82,14 @@ contains
     call resolve_conditions(model, node_map, part_map, material_map, curve_map)
     do k = 1, model%n_parts
       call resolve_part(model, k, section_map, material_map)
+      associate (part => model%parts(k))
+        if (part%has_inertia .and. part%inertia_node_id > 0) then
+          part%inertia_node = id_map_find(node_map, part%inertia_node_id)
+          if (part%inertia_node == 0) call input_error(location(part%inertia_src%file, &
+              part%inertia_src%line)//': *PART_INERTIA', 'part '//itoa(part%id)//': NODEID: '// &
+              'node '//itoa(part%inertia_node_id)//' is not defined')
+        end if
+      end associate
     end do
     call resolve_elements(model, node_map, part_map)
     allocate(model%nodes%added_mass(model%nodes%n))
@@ -139,6 +147,12 @@ contains
         if (part%hourglass == 0) call input_error(where, 'part '//itoa(part%id)// &
             ': hourglass control '//itoa(part%hourglass_id)//' (HGID) is not defined '// &
             '(*HOURGLASS)')
+      end if
+      if (part%has_inertia .and. part%material > 0) then
+        if (model%materials(part%material)%kind /= MAT_RIGID) call input_error( &
+            location(part%inertia_src%file, part%inertia_src%line)//': *PART_INERTIA', &
+            'part '//itoa(part%id)//': the mass properties of *PART_INERTIA are those of a '// &
+            'rigid body; the part''s material is not *MAT_RIGID')
       end if
     end associate
   end subroutine resolve_part

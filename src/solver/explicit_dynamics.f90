@@ -503,8 +503,13 @@ contains
         end do
         do k = 1, s%bodies%n
           if (s%bodies%body(k)%part == 0) cycle        ! (a body of nodes: no elements)
-          if (parts(s%bodies%body(k)%part)) s%body_load_mass(k) = s%body_load_mass(k) + &
-              (s%bodies%body(k)%mass - merged(k))
+          if (model%parts(s%bodies%body(k)%part)%has_inertia) then
+            ! the mass of *PART_INERTIA is the whole body's
+            s%body_load_mass(k) = merge(s%bodies%body(k)%mass, 0.0_wp, &
+                                        parts(s%bodies%body(k)%part))
+          else if (parts(s%bodies%body(k)%part)) then
+            s%body_load_mass(k) = s%body_load_mass(k) + (s%bodies%body(k)%mass - merged(k))
+          end if
         end do
       end block
     end if
@@ -519,6 +524,16 @@ contains
         end do
         if (members > 0) call rigid_bodies_set_velocity(s%bodies, k, v_mean/members, &
                                                          [0.0_wp, 0.0_wp, 0.0_wp])
+        ! *PART_INERTIA: its velocities VTX VTY VTZ (of the centre) and VRX VRY VRZ (spin),
+        ! when given, replace the nodes' mean
+        if (s%bodies%body(k)%part > 0) then
+          associate (part => model%parts(s%bodies%body(k)%part))
+            if (part%has_inertia) then
+              if (any(part%inertia_velocity /= 0.0_wp)) call rigid_bodies_set_velocity( &
+                  s%bodies, k, part%inertia_velocity(1:3), part%inertia_velocity(4:6))
+            end if
+          end associate
+        end if
       end block
     end do
     s%nrigid = 0

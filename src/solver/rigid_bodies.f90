@@ -289,9 +289,36 @@ contains
             if (.not. body%inertia0(i, i) > 0.0_wp) body%inertia0(i, i) = body%mass
           end do
         end if
+        ! *PART_INERTIA: the mass, centre and inertia given replace those of the elements and
+        ! of the masses merged at the body's nodes
+        if (body%part > 0) then
+          associate (part => model%parts(body%part))
+            if (part%has_inertia) then
+              body%mass = part%inertia_mass
+              body%centre0 = part%inertia_centre
+              if (part%inertia_node > 0) body%centre0 = model%nodes%x(:, part%inertia_node)
+              body%inertia0 = reshape([part%inertia_tensor(1), part%inertia_tensor(2), &
+                  part%inertia_tensor(3), part%inertia_tensor(2), part%inertia_tensor(4), &
+                  part%inertia_tensor(5), part%inertia_tensor(3), part%inertia_tensor(5), &
+                  part%inertia_tensor(6)], [3, 3])
+            end if
+          end associate
+        end if
         body%centre = body%centre0
         body%centre_old = body%centre0
       end associate
+    end do
+    ! a part merged into another's body (*CONSTRAINED_RIGID_BODIES) cannot give the body's mass
+    do p = 1, model%n_parts
+      if (.not. model%parts(p)%has_inertia) cycle
+      b = bodies%body_of_part(p)
+      if (b == 0) cycle
+      if (bodies%body(b)%part /= p) then
+        call fail(status, 'part '//itoa(model%parts(p)%id)//' has *PART_INERTIA but is merged '// &
+            'into the '//body_name(bodies, b)//' (*CONSTRAINED_RIGID_BODIES): give the mass '// &
+            'properties of the whole body on its lead part')
+        return
+      end if
     end do
     call check_motions(model, bodies, status)
 
