@@ -17,7 +17,7 @@ module mefem_read_conditions
   use mefem_model, only: model_t, source_t, spc_t, prescribed_motion_t, curve_t, &
                          nodal_load_t, pressure_load_t, initial_velocity_t, body_load_t, ON_NODE, &
                          ON_NODE_SET, ON_PART, ON_ALL_NODES, ON_PART_SET, rigid_constraint_t, &
-                         RIGID_MERGE, RIGID_EXTRA_NODES, RIGID_NODAL
+                         RIGID_MERGE, RIGID_EXTRA_NODES, RIGID_NODAL, box_t
   implicit none
   private
 
@@ -25,7 +25,7 @@ module mefem_read_conditions
             read_load_segment, read_load_segment_set, read_initial_velocity, &
             read_initial_velocity_node, read_initial_velocity_generation, read_load_body, &
             read_load_body_parts, read_constrained_rigid_bodies, read_constrained_extra_nodes, &
-            read_constrained_nodal_rigid_body, read_constrained_spotweld
+            read_constrained_nodal_rigid_body, read_constrained_spotweld, read_define_box
 
   integer, parameter :: W_10(8) = 10          !< standard 8 x 10 card
   integer, parameter :: W_POINT(2) = 20       !< *DEFINE_CURVE point: 2 x E20
@@ -534,7 +534,7 @@ contains
     type(card_t) :: card, card2, card3
     type(initial_velocity_t) :: iv
     logical :: got, bad
-    integer :: boxid, irigid, icid
+    integer :: irigid, icid
     do
       call next_card(rd, card, got)
       if (.not. got) exit
@@ -542,7 +542,7 @@ contains
       iv = initial_velocity_t()
       call get_int(card, 1, 'NSID', iv%target_id)
       call get_int(card, 2, 'NSIDEX', iv%exempt_set_id)
-      call get_int(card, 3, 'BOXID', boxid)
+      call get_int(card, 3, 'BOXID', iv%box_id)
       call get_int(card, 4, 'IRIGID', irigid)
       call get_int(card, 5, 'ICID', icid)
       iv%src = source_t(card%file, card%line)
@@ -568,11 +568,8 @@ contains
       end if
       if (bad) cycle
       iv%target_kind = merge(ON_NODE_SET, ON_ALL_NODES, iv%target_id /= 0)
-      if (iv%target_id < 0 .or. iv%exempt_set_id < 0) then
-        call card_error(card, 'fields NSID/NSIDEX must not be negative')
-      else if (boxid /= 0) then
-        call card_error(card, 'field BOXID = '//itoa(boxid)//': boxes (*DEFINE_BOX) are '// &
-            'not supported')
+      if (iv%target_id < 0 .or. iv%exempt_set_id < 0 .or. iv%box_id < 0) then
+        call card_error(card, 'fields NSID/NSIDEX/BOXID must not be negative')
       else if (icid /= 0) then
         call card_error(card, 'field ICID = '//itoa(icid)//': velocities in a local '// &
             'coordinate system are not supported')
@@ -955,6 +952,56 @@ contains
   end subroutine add_body_load
 
   !> Append an initial velocity.
+  !> *DEFINE_BOX (_TITLE): BOXID XMN XMX YMN YMX ZMN ZMX, repeated: axis-aligned boxes of the
+  !> reference configuration (a node inside one: faces included).
+  subroutine read_define_box(rd, options, model)
+    type(reader_t), intent(inout) :: rd          !< reading state
+    character(len=*), intent(in) :: options      !< keyword options
+    type(model_t), intent(inout) :: model        !< model appended to
+    character(len=2), parameter :: AXIS(3) = ['X ', 'Y ', 'Z ']
+    type(card_t) :: card
+    type(box_t) :: box
+    type(box_t), allocatable :: grown(:)
+    character(len=80) :: title
+    logical :: got
+    integer :: k, nread
+    call read_title_card(rd, options, title)
+    nread = 0
+    do
+      call next_card(rd, card, got)
+      if (.not. got) exit
+      nread = nread + 1
+      call split_card(rd, card, W_10)
+      box = box_t()
+      call get_int(card, 1, 'BOXID', box%id, required=.true.)
+      do k = 1, 3
+        call get_real(card, 2*k, trim(AXIS(k))//'MN', box%low(k), required=.true.)
+        call get_real(card, 2*k + 1, trim(AXIS(k))//'MX', box%high(k), required=.true.)
+      end do
+      box%src = source_t(card%file, card%line)
+      if (card%bad) cycle
+      if (box%id <= 0) then
+        call card_error(card, 'field BOXID: box id must be positive (got '//itoa(box%id)//')')
+        cycle
+      end if
+      if (any(box%low > box%high)) then
+        k = findloc(box%low > box%high, .true., dim=1)
+        call card_error(card, 'box '//itoa(box%id)//': '//trim(AXIS(k))//'MN = '// &
+            rtoa(box%low(k))//' is above '//trim(AXIS(k))//'MX = '//rtoa(box%high(k)))
+        cycle
+      end if
+      if (.not. allocated(model%boxes)) allocate(model%boxes(0))
+      if (model%n_boxes == size(model%boxes)) then
+        allocate(grown(max(8, 2*model%n_boxes)))
+        grown(1:model%n_boxes) = model%boxes(1:model%n_boxes)
+        call move_alloc(grown, model%boxes)
+      end if
+      model%n_boxes = model%n_boxes + 1
+      model%boxes(model%n_boxes) = box
+    end do
+    if (nread == 0) call keyword_error(rd, 'missing card 1 (BOXID XMN XMX YMN YMX ZMN ZMX)')
+  end subroutine read_define_box
+
   subroutine add_initial_velocity(model, item)
     type(model_t), intent(inout) :: model            !< model appended to
     type(initial_velocity_t), intent(in) :: item     !< the record

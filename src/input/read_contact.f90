@@ -307,7 +307,7 @@ contains
     type(rigid_wall_t) :: wall
     type(card_t) :: card, card2
     logical :: got, ok
-    integer :: boxid, id
+    integer :: id
     character(len=80) :: heading
     id = 0
     call read_id_option(rd, options, id, heading, ok)
@@ -320,7 +320,7 @@ contains
       wall%id = id
       call get_int(card, 1, 'NSID', wall%node_set_id)
       call get_int(card, 2, 'NSIDEX', wall%exempt_set_id)
-      call get_int(card, 3, 'BOXID', boxid)
+      call get_int(card, 3, 'BOXID', wall%box_id)
       call get_real(card, 4, 'OFFSET', wall%offset)
       call get_real(card, 5, 'BIRTH', wall%birth)
       call get_real(card, 6, 'DEATH', wall%death, default=1.0e20_wp)
@@ -343,11 +343,8 @@ contains
       call get_real(card2, 7, 'FRIC', wall%friction)
       call get_real(card2, 8, 'WVEL', wall%weld_velocity)
       if (card%bad .or. card2%bad) cycle
-      if (wall%node_set_id < 0 .or. wall%exempt_set_id < 0) then
-        call card_error(card, 'fields NSID/NSIDEX must not be negative')
-      else if (boxid /= 0) then
-        call card_error(card, 'field BOXID = '//itoa(boxid)//': boxes (*DEFINE_BOX) are '// &
-            'not supported')
+      if (wall%node_set_id < 0 .or. wall%exempt_set_id < 0 .or. wall%box_id < 0) then
+        call card_error(card, 'fields NSID/NSIDEX/BOXID must not be negative')
       else if (wall%birth >= wall%death) then
         call card_error(card, 'field BIRTH ('//rtoa(wall%birth)//') must be before DEATH ('// &
             rtoa(wall%death)//')')
@@ -383,7 +380,7 @@ contains
     type(rigid_wall_t) :: wall
     type(card_t) :: card, card2, card3, card4
     logical :: got, ok, bad
-    integer :: boxid, nsegs
+    integer :: nsegs
     character(len=80) :: heading
     character(len=:), allocatable :: who
     nsegs = 0                                    ! (NSEGS: segments for display, not used)
@@ -402,7 +399,7 @@ contains
     call split_card(rd, card, W_10)
     call get_int(card, 1, 'NSID', wall%node_set_id)
     call get_int(card, 2, 'NSIDEX', wall%exempt_set_id)
-    call get_int(card, 3, 'BOXID', boxid)
+    call get_int(card, 3, 'BOXID', wall%box_id)
     call get_real(card, 4, 'BIRTH', wall%birth)
     call get_real(card, 5, 'DEATH', wall%death, default=1.0e20_wp)
     if (wall%death == 0.0_wp) wall%death = 1.0e20_wp
@@ -474,10 +471,8 @@ contains
     call reject_extra_cards(rd, who)
     if (card%bad .or. card2%bad .or. card3%bad) return
     bad = .false.
-    if (wall%node_set_id < 0 .or. wall%exempt_set_id < 0) call fail(card, who// &
-        ': fields NSID/NSIDEX must not be negative')
-    if (boxid /= 0) call fail(card, who//': field BOXID = '//itoa(boxid)//': boxes '// &
-        '(*DEFINE_BOX) are not supported')
+    if (wall%node_set_id < 0 .or. wall%exempt_set_id < 0 .or. wall%box_id < 0) &
+        call fail(card, who//': fields NSID/NSIDEX/BOXID must not be negative')
     if (wall%birth >= wall%death) call fail(card, who//': field BIRTH ('//rtoa(wall%birth)// &
         ') must be before DEATH ('//rtoa(wall%death)//')')
     if (shape /= WALL_SPHERE .and. all(wall%head == wall%tail)) call fail(card2, who// &

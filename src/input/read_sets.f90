@@ -11,7 +11,7 @@ module mefem_read_sets
                          get_text, card_error, keyword_error
   use mefem_card_helpers, only: has_option, read_title_card
   use mefem_model, only: model_t, set_t, source_t, SET_NODE, SET_PART, SET_SEGMENT, &
-                         GENERAL_ALL, GENERAL_NODE, GENERAL_PART, GENERAL_SET
+                         GENERAL_ALL, GENERAL_NODE, GENERAL_PART, GENERAL_SET, GENERAL_BOX
   implicit none
   private
 
@@ -55,18 +55,19 @@ contains
   !> *SET_NODE_GENERAL and *SET_PART_GENERAL (_TITLE): card 1 SID DA1-DA4 SOLVER, then entries
   !> OPTION E1 .. E7 (A10, 7 x I10) taken in order: ALL (every node / part), NODE (the nodes
   !> E1..E7; node sets only), PART (parts E1..E7; for a node set their elements' nodes), SET
-  !> (the members of sets E1..E7 of the same kind), and DNODE, DPART, DSET, which remove those.
+  !> (the members of sets E1..E7 of the same kind), BOX (the nodes inside the boxes E1..E7 of
+  !> *DEFINE_BOX; node sets only), and DNODE, DPART, DSET, DBOX, which remove those.
   !> Resolved by resolve_conditions (the members in ascending order).
   subroutine read_set_general(rd, options, model, set)
     type(reader_t), intent(inout) :: rd          !< reading state
     character(len=*), intent(in) :: options      !< keyword options
     type(model_t), intent(inout) :: model        !< model appended to
     type(set_t), intent(inout) :: set            !< the set (kind given)
-    integer, parameter :: N_OPTIONS = 7
+    integer, parameter :: N_OPTIONS = 9
     character(len=5), parameter :: OPTION_NAME(N_OPTIONS) = [character(len=5) :: 'ALL', &
-        'NODE', 'PART', 'SET', 'DNODE', 'DPART', 'DSET']
+        'NODE', 'PART', 'SET', 'BOX', 'DNODE', 'DPART', 'DSET', 'DBOX']
     integer, parameter :: OPTION_CODE(N_OPTIONS) = [GENERAL_ALL, GENERAL_NODE, GENERAL_PART, &
-        GENERAL_SET, -GENERAL_NODE, -GENERAL_PART, -GENERAL_SET]
+        GENERAL_SET, GENERAL_BOX, -GENERAL_NODE, -GENERAL_PART, -GENERAL_SET, -GENERAL_BOX]
     type(card_t) :: card
     logical :: got, bad
     character(len=:), allocatable :: option, what, keyword, accepted
@@ -78,7 +79,7 @@ contains
     else
       what = 'node set '
       keyword = '*SET_NODE_GENERAL'
-      accepted = '(ALL, NODE, PART, SET, DNODE, DPART, DSET)'
+      accepted = '(ALL, NODE, PART, SET, BOX, DNODE, DPART, DSET, DBOX)'
     end if
     if (.not. read_header(rd, options, set)) then
       call skip_members(rd)
@@ -97,8 +98,8 @@ contains
       do i = 1, N_OPTIONS
         if (trim(OPTION_NAME(i)) == option) k = i
       end do
-      if (set%kind == SET_PART .and. k > 0) then          ! (no nodes in a part set)
-        if (abs(OPTION_CODE(k)) == GENERAL_NODE) k = 0
+      if (set%kind == SET_PART .and. k > 0) then  ! (no nodes, no box of nodes in a part set)
+        if (abs(OPTION_CODE(k)) == GENERAL_NODE .or. abs(OPTION_CODE(k)) == GENERAL_BOX) k = 0
       end if
       if (k == 0) then
         call card_error(card, what//itoa(set%id)//': option "'//option//'" of '// &

@@ -12,6 +12,8 @@ module mefem_model
   implicit none
   private
 
+  public :: box_holds
+
   public :: TOPO_TRI3, TOPO_QUAD4, TOPO_TET4, TOPO_PENTA6, TOPO_HEX8
 
   ! element source keyword
@@ -29,7 +31,7 @@ module mefem_model
   integer, parameter, public :: SET_NODE = 1, SET_SEGMENT = 2, SET_PART = 3
   ! entries of *SET_NODE_GENERAL (negative: the D- options, which remove)
   integer, parameter, public :: GENERAL_ALL = 1, GENERAL_NODE = 2, GENERAL_PART = 3, &
-                                GENERAL_SET = 4
+                                GENERAL_SET = 4, GENERAL_BOX = 5
   !> a contact's FS of -1: the friction (FS, FD, DC) of its SURFA parts' *PART_CONTACT
   real(wp), parameter, public :: FS_FROM_PARTS = -1.0_wp
 
@@ -237,8 +239,16 @@ module mefem_model
     real(wp) :: omega = 0.0_wp               !< _GENERATION: angular velocity
     real(wp) :: center(3) = 0.0_wp, axis(3) = 0.0_wp
     logical :: generation = .false.          !< from _GENERATION: v + omega axis x (x - center)
+    integer :: box_id = 0, box = 0           !< BOXID: only the nodes inside this box
     type(source_t) :: src
   end type initial_velocity_t
+
+  !> *DEFINE_BOX: an axis-aligned box of the reference configuration.
+  type, public :: box_t
+    integer :: id = 0
+    real(wp) :: low(3) = 0.0_wp, high(3) = 0.0_wp   !< XMN YMN ZMN, XMX YMX ZMX
+    type(source_t) :: src
+  end type box_t
 
   !> *CONTACT_AUTOMATIC_SURFACE_TO_SURFACE(_MORTAR).
   type, public :: contact_t
@@ -278,6 +288,7 @@ module mefem_model
     integer :: id = 0
     integer :: shape = WALL_PLANE
     integer :: node_set_id = 0, node_set = 0, exempt_set_id = 0, exempt_set = 0
+    integer :: box_id = 0, box = 0           !< BOXID: only the nodes inside this box
     real(wp) :: offset = 0.0_wp, birth = 0.0_wp, death = 1.0e20_wp, stiffness_scale = 1.0_wp
     real(wp) :: tail(3) = 0.0_wp, head(3) = 0.0_wp
     real(wp) :: friction = 0.0_wp, weld_velocity = 0.0_wp
@@ -398,11 +409,22 @@ module mefem_model
     type(rigid_constraint_t), allocatable :: rigid_constraints(:)
     integer :: n_added_masses = 0
     type(added_mass_t), allocatable :: added_masses(:)
+    integer :: n_boxes = 0
+    type(box_t), allocatable :: boxes(:)
     type(controls_t) :: controls
     integer :: dimension = 3                  !< 2 for plane strain shells-only models
     !> Ids of materials and sections whose keyword was rejected (unsupported, or with errors):
     !> a part naming one is not reported again as naming an undefined one
     integer, allocatable :: rejected_material_ids(:), rejected_section_ids(:)
   end type model_t
+
+contains
+
+  !> The point x (reference configuration) lies in the box (its faces included).
+  pure logical function box_holds(box, x)
+    type(box_t), intent(in) :: box           !< the box
+    real(wp), intent(in) :: x(3)             !< point
+    box_holds = all(x >= box%low) .and. all(x <= box%high)
+  end function box_holds
 
 end module mefem_model

@@ -20,7 +20,7 @@ module mefem_resolve_conditions
                          RIGID_MERGE, RIGID_NODAL, &
                          GENERAL_SET, &
                          ON_PART_SET, ON_SEGMENT_SET, SET_NODE, SET_SEGMENT, SET_PART, &
-                         MAT_PIECEWISE_LINEAR, MAT_RIGID
+                         MAT_PIECEWISE_LINEAR, MAT_RIGID, GENERAL_BOX, box_holds
   use mefem_read_materials, only: material_keyword
   use mefem_read_sets, only: set_keyword
   implicit none
@@ -38,7 +38,7 @@ module mefem_resolve_conditions
 
   !> Everything a reference may point to.
   type :: lookup_t
-    type(id_map_t) :: nodes, parts, curves, materials
+    type(id_map_t) :: nodes, parts, curves, materials, boxes
     type(set_lookup_t) :: sets(3)          !< by SET_NODE, SET_SEGMENT, SET_PART
   end type lookup_t
 
@@ -76,6 +76,13 @@ contains
     look%parts = part_map
     look%curves = curve_map
     look%materials = material_map
+    ids = [(model%boxes(k)%id, k = 1, model%n_boxes)]
+    call id_map_build(ids, model%n_boxes, look%boxes)
+    do k = 2, look%boxes%n
+      if (look%boxes%ids(k) == look%boxes%ids(k-1)) call report_duplicate( &
+          model%boxes(look%boxes%index(k))%src, model%boxes(look%boxes%index(k-1))%src, &
+          '*DEFINE_BOX', 'box', look%boxes%ids(k))
+    end do
     call build_set_lookups(model, look)
     call resolve_materials(model, look)
     call resolve_sets(model, look)
@@ -101,7 +108,19 @@ contains
     if (.not. allocated(model%contacts)) allocate(model%contacts(0))
     if (.not. allocated(model%rigid_walls)) allocate(model%rigid_walls(0))
     if (.not. allocated(model%body_loads)) allocate(model%body_loads(0))
+    if (.not. allocated(model%boxes)) allocate(model%boxes(0))
   end subroutine allocate_empty
+
+  !> Resolve a box reference (BOXID); report it when undefined.
+  subroutine resolve_box(look, id, index, where)
+    type(lookup_t), intent(in) :: look              !< lookups
+    integer, intent(in) :: id                       !< box id (> 0)
+    integer, intent(out) :: index                   !< its index (0 when undefined)
+    character(len=*), intent(in) :: where           !< "file:line: *KEYWORD"
+    index = id_map_find(look%boxes, id)
+    if (index == 0) call input_error(where, 'BOXID: box '//itoa(id)//' is not defined '// &
+                                     '(*DEFINE_BOX)')
+  end subroutine resolve_box
 
   !> "file:line: KEYWORD" of a record.
   function where_is(src, keyword) result(s)
@@ -376,6 +395,15 @@ contains
                 if (model%sets(index)%members(a) > 0) mask(model%sets(index)%members(a)) = add
               end do
             end if
+          case (GENERAL_BOX)
+            index = id_map_find(look%boxes, id)
+            if (index == 0) then
+              call input_error(where, who//'box '//itoa(id)//' is not defined (*DEFINE_BOX)')
+              cycle
+            end if
+            do a = 1, model%nodes%n
+              if (box_holds(model%boxes(index), model%nodes%x(:, a))) mask(a) = add
+            end do
           end select
         end do
         k = k + 2 + n
@@ -558,6 +586,7 @@ contains
         call resolve_target(look, iv%target_kind, iv%target_id, iv%target, where)
         if (iv%exempt_set_id > 0) call resolve_target(look, ON_NODE_SET, iv%exempt_set_id, &
             iv%exempt_set, where, 'NSIDEX: ')
+        if (iv%box_id > 0) call resolve_box(look, iv%box_id, iv%box, where)
       end associate
     end do
   end subroutine resolve_initial_velocities
@@ -680,6 +709,7 @@ contains
             wall%motion_curve, where, 'LCID ')
         if (wall%exempt_set_id > 0) call resolve_target(look, ON_NODE_SET, &
             wall%exempt_set_id, wall%exempt_set, where, 'NSIDEX: ')
+        if (wall%box_id > 0) call resolve_box(look, wall%box_id, wall%box, where)
       end associate
     end do
 

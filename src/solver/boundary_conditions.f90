@@ -9,7 +9,7 @@
 module mefem_boundary_conditions
   use mefem_kinds, only: wp
   use mefem_vector_math, only: cross
-  use mefem_model, only: model_t, source_t, ON_NODE, ON_NODE_SET, ON_ALL_NODES, ON_PART, &
+  use mefem_model, only: model_t, source_t, box_holds, ON_NODE, ON_NODE_SET, ON_ALL_NODES, ON_PART, &
                          ON_PART_SET
   use mefem_errors, only: warn
   use mefem_strings, only: itoa
@@ -132,6 +132,9 @@ contains
         call target_nodes(model, iv%target_kind, iv%target, nodes)
         w = iv%omega*iv%axis
         do n = 1, size(nodes)
+          if (iv%box > 0) then                  ! BOXID: the nodes inside the box only
+            if (.not. box_holds(model%boxes(iv%box), model%nodes%x(:, nodes(n)))) cycle
+          end if
           r = model%nodes%x(:, nodes(n)) - iv%center
           if (iv%generation) then
             spin = cross(w, r)

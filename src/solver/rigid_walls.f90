@@ -23,7 +23,7 @@
 !> identically, and only owned nodes count in the force and work (the driver sums those).
 module mefem_rigid_walls
   use mefem_kinds, only: wp
-  use mefem_model, only: model_t, rigid_wall_t, ON_NODE_SET, WALL_PLANE, WALL_FLAT, &
+  use mefem_model, only: model_t, rigid_wall_t, box_holds, ON_NODE_SET, WALL_PLANE, WALL_FLAT, &
                          WALL_PRISM, WALL_CYLINDER, WALL_SPHERE
   use mefem_vector_math, only: cross
   use mefem_boundary_conditions, only: target_nodes
@@ -97,6 +97,11 @@ contains
         call target_nodes(model, ON_NODE_SET, wall%exempt_set, members)
         do i = 1, size(members)
           tested(members(i)) = .false.
+        end do
+      end if
+      if (wall%box > 0) then                    ! BOXID: the nodes inside the box only
+        do g = 1, n_mesh_nodes
+          if (tested(g)) tested(g) = box_holds(model%boxes(wall%box), model%nodes%x(:, g))
         end do
       end if
     end associate
