@@ -11,7 +11,7 @@ module mefem_model_resolve
   use mefem_strings, only: itoa, rtoa
   use mefem_deck_source, only: location
   use mefem_id_map, only: id_map_t, id_map_build, id_map_find
-  use mefem_model, only: model_t, source_t, ELEM_SOLID, ELEM_SHELL, SECTION_SOLID, &
+  use mefem_model, only: model_t, source_t, elements_t, ELEM_SOLID, ELEM_SHELL, SECTION_SOLID, &
                          SECTION_SHELL, MAT_RIGID, TOPO_TRI3, TOPO_QUAD4, TOPO_TET4, &
                          TOPO_PENTA6, TOPO_HEX8, ON_NODE, ON_NODE_SET, ON_PART, ON_PART_SET
   use mefem_output_mesh, only: NODES_OF_TOPO
@@ -120,6 +120,28 @@ contains
     end do
   end subroutine report_duplicates
 
+  !> Report every element id given twice to elements of one keyword (solids and shells have
+  !> separate id spaces, as in LS-DYNA: a solid and a shell may share an id).
+  subroutine report_duplicate_elements(map, el)
+    type(id_map_t), intent(in) :: map          !< sorted element ids
+    type(elements_t), intent(in) :: el         !< the elements
+    integer :: k, j, a, b
+    do k = 2, map%n
+      if (map%ids(k) /= map%ids(k-1)) cycle
+      a = map%index(k)
+      do j = k - 1, 1, -1                       ! the earlier elements of the same id
+        if (map%ids(j) /= map%ids(k)) exit
+        b = map%index(j)
+        if (el%keyword(b) /= el%keyword(a)) cycle
+        call input_error(location(el%src(a)%file, el%src(a)%line)//': '// &
+            trim(merge('*ELEMENT_SOLID', '*ELEMENT_SHELL', el%keyword(a) == ELEM_SOLID)), &
+            'element id '//itoa(map%ids(k))//' is defined twice (first at '// &
+            location(el%src(b)%file, el%src(b)%line)//')')
+        exit
+      end do
+    end do
+  end subroutine report_duplicate_elements
+
   !> Part k: its section and material exist and the formulation is one mefem computes.
   subroutine resolve_part(model, k, section_map, material_map)
     type(model_t), intent(inout) :: model          !< the model
@@ -168,7 +190,7 @@ contains
     associate (el => model%elements)
       allocate(el%part(el%n), el%topology(el%n), el%conn(8, el%n))
       call id_map_build(el%id, el%n, element_map)
-      call report_duplicates(element_map, el%src, '*ELEMENT', 'element')
+      call report_duplicate_elements(element_map, el)
       n_solid_deformable = 0
       n_shell_deformable = 0
       part_reported = .false.
