@@ -34,7 +34,7 @@ module mefem_keyword_reader
                                   read_mat_plastic_kinematic
   use mefem_read_sets, only: read_set_node, read_set_part, read_set_segment
   use mefem_read_conditions, only: read_boundary_spc, read_prescribed_motion, &
-                                   read_define_curve, read_define_box, read_load_node, read_load_segment, &
+                                   read_define_curve, read_define_box, read_constrained_global, read_load_node, read_load_segment, &
                                    read_load_segment_set, read_initial_velocity, &
                                    read_initial_velocity_node, read_initial_velocity_generation, &
                                    read_constrained_rigid_bodies, read_constrained_extra_nodes, &
@@ -78,7 +78,8 @@ module mefem_keyword_reader
                         H_RIGIDWALL_PRISM = 61, H_RIGIDWALL_CYLINDER = 62, H_RIGIDWALL_SPHERE = 63, &
                         H_MAT_JOHNSON_COOK = 64, H_MAT_SIMPLIFIED_JOHNSON_COOK = 65, &
                         H_CONSTRAINED_NODAL_RIGID_BODY = 66, H_CONSTRAINED_SPOTWELD = 67, &
-                        H_ELEMENT_MASS = 68, H_ELEMENT_MASS_PART = 69, H_DEFINE_BOX = 70
+                        H_ELEMENT_MASS = 68, H_ELEMENT_MASS_PART = 69, H_DEFINE_BOX = 70, &
+                        H_CONSTRAINED_GLOBAL = 71
 
   !> Id read from the first card of a rejected keyword (skip_cards), 0 when none.
   integer :: rejected_id = 0
@@ -90,7 +91,7 @@ module mefem_keyword_reader
     character(len=64) :: options = ''    !< options accepted, as ' OPT1 OPT2 '
   end type keyword_entry_t
 
-  integer, parameter :: N_ENTRIES = 84
+  integer, parameter :: N_ENTRIES = 85
   type(keyword_entry_t), parameter :: REGISTRY(N_ENTRIES) = [ &
     keyword_entry_t('NODE', H_NODE, ' '), &
     keyword_entry_t('ELEMENT_SOLID', H_ELEMENT_SOLID, ' '), &
@@ -176,6 +177,7 @@ module mefem_keyword_reader
     keyword_entry_t('CONSTRAINED_RIGID_BODIES', H_CONSTRAINED_RIGID_BODIES, ' '), &
     keyword_entry_t('CONSTRAINED_EXTRA_NODES', H_CONSTRAINED_EXTRA_NODES, ' NODE SET '), &
     keyword_entry_t('CONSTRAINED_NODAL_RIGID_BODY', H_CONSTRAINED_NODAL_RIGID_BODY, ' '), &
+    keyword_entry_t('CONSTRAINED_GLOBAL', H_CONSTRAINED_GLOBAL, ' '), &
     keyword_entry_t('CONSTRAINED_SPOTWELD', H_CONSTRAINED_SPOTWELD, ' ID '), &
     ! controls and output requests (matched before the DATABASE_ skip rule)
     keyword_entry_t('CONTROL_TIMESTEP', H_CONTROL_TIMESTEP, ' '), &
@@ -449,6 +451,8 @@ contains
       call read_prescribed_motion(rd, options, ON_NODE_SET, model)
     case (H_MOTION_RIGID)
       call read_prescribed_motion(rd, options, ON_PART, model)
+    case (H_CONSTRAINED_GLOBAL)
+      call read_constrained_global(rd, model)
     case (H_DEFINE_BOX)
       call read_define_box(rd, options, model)
     case (H_DEFINE_CURVE)

@@ -17,7 +17,7 @@ module mefem_read_conditions
   use mefem_model, only: model_t, source_t, spc_t, prescribed_motion_t, curve_t, &
                          nodal_load_t, pressure_load_t, initial_velocity_t, body_load_t, ON_NODE, &
                          ON_NODE_SET, ON_PART, ON_ALL_NODES, ON_PART_SET, rigid_constraint_t, &
-                         RIGID_MERGE, RIGID_EXTRA_NODES, RIGID_NODAL, box_t
+                         RIGID_MERGE, RIGID_EXTRA_NODES, RIGID_NODAL, box_t, global_constraint_t
   implicit none
   private
 
@@ -25,7 +25,8 @@ module mefem_read_conditions
             read_load_segment, read_load_segment_set, read_initial_velocity, &
             read_initial_velocity_node, read_initial_velocity_generation, read_load_body, &
             read_load_body_parts, read_constrained_rigid_bodies, read_constrained_extra_nodes, &
-            read_constrained_nodal_rigid_body, read_constrained_spotweld, read_define_box
+            read_constrained_nodal_rigid_body, read_constrained_spotweld, read_define_box, &
+            read_constrained_global
 
   integer, parameter :: W_10(8) = 10          !< standard 8 x 10 card
   integer, parameter :: W_POINT(2) = 20       !< *DEFINE_CURVE point: 2 x E20
@@ -952,6 +953,55 @@ contains
   end subroutine add_body_load
 
   !> Append an initial velocity.
+  !> *CONSTRAINED_GLOBAL: TC RC DIR X Y Z TOL, repeated: the nodes on the plane through (X, Y,
+  !> Z) normal to axis DIR (1 x, 2 y, 3 z), within TOL, are held as TC says (a *NODE TC code);
+  !> RC (rotations) must be 0: the nodes of solids have no rotations.
+  subroutine read_constrained_global(rd, model)
+    type(reader_t), intent(inout) :: rd          !< reading state
+    type(model_t), intent(inout) :: model        !< model appended to
+    type(card_t) :: card
+    type(global_constraint_t) :: gc
+    type(global_constraint_t), allocatable :: grown(:)
+    logical :: got
+    integer :: rc
+    do
+      call next_card(rd, card, got)
+      if (.not. got) exit
+      call split_card(rd, card, W_10)
+      gc = global_constraint_t()
+      call get_int(card, 1, 'TC', gc%tc)
+      call get_int(card, 2, 'RC', rc)
+      call get_int(card, 3, 'DIR', gc%direction, required=.true.)
+      call get_real(card, 4, 'X', gc%point(1))
+      call get_real(card, 5, 'Y', gc%point(2))
+      call get_real(card, 6, 'Z', gc%point(3))
+      call get_real(card, 7, 'TOL', gc%tolerance)
+      gc%src = source_t(card%file, card%line)
+      if (card%bad) cycle
+      if (gc%tc < 0 .or. gc%tc > 7) then
+        call card_error(card, 'field TC = '//itoa(gc%tc)//' must be 0-7 (1 x, 2 y, 3 z, 4 xy, '// &
+                        '5 yz, 6 zx, 7 all)')
+      else if (rc /= 0) then
+        call card_error(card, 'field RC = '//itoa(rc)//': rotational constraints are not '// &
+                        'supported (the nodes of solids have no rotations; RC must be 0)')
+      else if (gc%direction < 1 .or. gc%direction > 3) then
+        call card_error(card, 'field DIR = '//itoa(gc%direction)//' must be 1 (x), 2 (y) or 3 (z)')
+      else if (gc%tolerance < 0.0_wp) then
+        call card_error(card, 'field TOL must not be negative (got '//rtoa(gc%tolerance)//')')
+      else
+        if (.not. allocated(model%global_constraints)) allocate(model%global_constraints(0))
+        if (model%n_global_constraints == size(model%global_constraints)) then
+          allocate(grown(max(4, 2*model%n_global_constraints)))
+          grown(1:model%n_global_constraints) = &
+              model%global_constraints(1:model%n_global_constraints)
+          call move_alloc(grown, model%global_constraints)
+        end if
+        model%n_global_constraints = model%n_global_constraints + 1
+        model%global_constraints(model%n_global_constraints) = gc
+      end if
+    end do
+  end subroutine read_constrained_global
+
   !> *DEFINE_BOX (_TITLE): BOXID XMN XMX YMN YMX ZMN ZMX, repeated: axis-aligned boxes of the
   !> reference configuration (a node inside one: faces included).
   subroutine read_define_box(rd, options, model)

@@ -30,6 +30,12 @@ module mefem_model
   ! sets
   integer, parameter, public :: SET_NODE = 1, SET_SEGMENT = 2, SET_PART = 3
   ! entries of *SET_NODE_GENERAL (negative: the D- options, which remove)
+  !> TC code of *NODE and *CONSTRAINED_GLOBAL -> fixed x, y, z (1 x, 2 y, 3 z, 4 xy, 5 yz,
+  !> 6 zx, 7 xyz).
+  logical, parameter, public :: TC_FIXED(3, 0:7) = reshape([ &
+      .false., .false., .false.,  .true., .false., .false.,  .false., .true., .false., &
+      .false., .false., .true.,   .true., .true., .false.,   .false., .true., .true., &
+      .true., .false., .true.,    .true., .true., .true.], [3, 8])
   integer, parameter, public :: GENERAL_ALL = 1, GENERAL_NODE = 2, GENERAL_PART = 3, &
                                 GENERAL_SET = 4, GENERAL_BOX = 5
   !> a contact's FS of -1: the friction (FS, FD, DC) of its SURFA parts' *PART_CONTACT
@@ -243,6 +249,15 @@ module mefem_model
     type(source_t) :: src
   end type initial_velocity_t
 
+  !> *CONSTRAINED_GLOBAL: the nodes on a plane normal to a global axis are held (TC code).
+  type, public :: global_constraint_t
+    integer :: tc = 0                       !< translational constraint code (0-7)
+    integer :: direction = 1                !< DIR: 1 x, 2 y, 3 z (the plane's normal)
+    real(wp) :: point(3) = 0.0_wp           !< X Y Z: a point of the plane
+    real(wp) :: tolerance = 0.0_wp          !< TOL (0: 1e-6 of the model's extent)
+    type(source_t) :: src
+  end type global_constraint_t
+
   !> *DEFINE_BOX: an axis-aligned box of the reference configuration.
   type, public :: box_t
     integer :: id = 0
@@ -411,6 +426,8 @@ module mefem_model
     type(added_mass_t), allocatable :: added_masses(:)
     integer :: n_boxes = 0
     type(box_t), allocatable :: boxes(:)
+    integer :: n_global_constraints = 0
+    type(global_constraint_t), allocatable :: global_constraints(:)
     type(controls_t) :: controls
     integer :: dimension = 3                  !< 2 for plane strain shells-only models
     !> Ids of materials and sections whose keyword was rejected (unsupported, or with errors):

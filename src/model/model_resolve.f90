@@ -11,7 +11,7 @@ module mefem_model_resolve
   use mefem_strings, only: itoa, rtoa
   use mefem_deck_source, only: location
   use mefem_id_map, only: id_map_t, id_map_build, id_map_find
-  use mefem_model, only: model_t, source_t, elements_t, ELEM_SOLID, ELEM_SHELL, SECTION_SOLID, &
+  use mefem_model, only: model_t, source_t, elements_t, TC_FIXED, ELEM_SOLID, ELEM_SHELL, SECTION_SOLID, &
                          SECTION_SHELL, MAT_RIGID, TOPO_TRI3, TOPO_QUAD4, TOPO_TET4, &
                          TOPO_PENTA6, TOPO_HEX8, ON_NODE, ON_NODE_SET, ON_PART, ON_PART_SET
   use mefem_output_mesh, only: NODES_OF_TOPO
@@ -92,6 +92,7 @@ contains
       end associate
     end do
     call resolve_elements(model, node_map, part_map)
+    call apply_global_constraints(model)
     allocate(model%nodes%added_mass(model%nodes%n))
     model%nodes%added_mass = 0.0_wp
     if (input_error_count() == 0) call distribute_added_masses(model)
@@ -472,6 +473,38 @@ contains
     end do
   end function element_measure
 
+
+  !> *CONSTRAINED_GLOBAL: each node on a constraint's plane (within TOL; TOL = 0: 1e-6 of the
+  !> model's largest extent) gets the constraint's TC joined to its own *NODE TC code. A
+  !> constraint that holds no node gets a warning.
+  subroutine apply_global_constraints(model)
+    type(model_t), intent(inout) :: model     !< the model (nodes read)
+    real(wp) :: tolerance, extent
+    logical :: held(3)
+    integer :: k, n, code, count_on
+    if (model%n_global_constraints == 0 .or. model%nodes%n == 0) return
+    extent = maxval(maxval(model%nodes%x(:, 1:model%nodes%n), dim=2) - &
+                    minval(model%nodes%x(:, 1:model%nodes%n), dim=2))
+    do k = 1, model%n_global_constraints
+      associate (gc => model%global_constraints(k))
+        tolerance = gc%tolerance
+        if (tolerance == 0.0_wp) tolerance = 1.0e-6_wp*extent
+        count_on = 0
+        do n = 1, model%nodes%n
+          if (abs(model%nodes%x(gc%direction, n) - gc%point(gc%direction)) > tolerance) cycle
+          count_on = count_on + 1
+          held = TC_FIXED(:, model%nodes%tc(n)) .or. TC_FIXED(:, gc%tc)
+          do code = 0, 7
+            if (all(TC_FIXED(:, code) .eqv. held)) model%nodes%tc(n) = code
+          end do
+        end do
+        if (count_on == 0) call warn(location(gc%src%file, gc%src%line)// &
+            ': *CONSTRAINED_GLOBAL: no node lies on the plane '// &
+            'xyz'(gc%direction:gc%direction)//' = '// &
+            rtoa(gc%point(gc%direction))//' (within '//rtoa(tolerance)//'): it holds nothing')
+      end associate
+    end do
+  end subroutine apply_global_constraints
 
   !> Mass of element e: density times volume (shells: area times the section's thickness T1;
   !> plane strain: per unit thickness), in the reference configuration.

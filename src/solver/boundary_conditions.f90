@@ -9,7 +9,7 @@
 module mefem_boundary_conditions
   use mefem_kinds, only: wp
   use mefem_vector_math, only: cross
-  use mefem_model, only: model_t, source_t, box_holds, ON_NODE, ON_NODE_SET, ON_ALL_NODES, ON_PART, &
+  use mefem_model, only: model_t, source_t, box_holds, TC_FIXED, ON_NODE, ON_NODE_SET, ON_ALL_NODES, ON_PART, &
                          ON_PART_SET
   use mefem_errors, only: warn
   use mefem_strings, only: itoa
@@ -20,12 +20,6 @@ module mefem_boundary_conditions
 
   public :: fixed_dofs, prescribed_displacements, external_forces, target_nodes
   public :: initial_velocities, warn_loads_on_free_nodes
-
-  !> TC code of *NODE -> fixed x, y, z (1 x, 2 y, 3 z, 4 xy, 5 yz, 6 zx, 7 xyz).
-  logical, parameter :: TC_FIXED(3, 0:7) = reshape([ &
-      .false., .false., .false.,  .true., .false., .false.,  .false., .true., .false., &
-      .false., .false., .true.,   .true., .true., .false.,   .false., .true., .true., &
-      .true., .false., .true.,    .true., .true., .true.], [3, 8])
 
 contains
 
