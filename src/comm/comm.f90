@@ -15,7 +15,7 @@ module mefem_comm
   public :: comm_rank, comm_size, comm_is_root, comm_fortran_handle, comm_wtime
   public :: comm_sum, comm_min, comm_max, comm_bcast, comm_exscan_sum
   public :: comm_allgather, comm_any, comm_gatherv_real, comm_gatherv_int
-  public :: comm_info_null_handle, comm_allgatherv_real
+  public :: comm_info_null_handle, comm_allgatherv_real, comm_allgatherv_int
   public :: comm_arena_t, comm_arena_create, comm_arena_free, comm_arena_array, &
             comm_arena_peer_array, comm_arena_on_node, comm_arena_sync
   public :: comm_work_reset, comm_work_take, comm_work_steal, comm_work_finished, &
@@ -406,6 +406,29 @@ contains
     call MPI_Allgatherv(mine, n_mine, MPI_DOUBLE_PRECISION, all, counts, displs, &
                         MPI_DOUBLE_PRECISION, MPI_COMM_WORLD, ierr)
   end subroutine comm_allgatherv_real
+
+  !> Concatenate variable-length integer arrays of all ranks, in rank order, on every rank
+  !> (as comm_allgatherv_real; no second collective when the total is 0).
+  subroutine comm_allgatherv_int(mine, n_mine, all, n_all)
+    integer, intent(in) :: mine(:)                   !< this rank's values (1:n_mine used)
+    integer, intent(in) :: n_mine                    !< values of this rank
+    integer, allocatable, intent(inout) :: all(:)    !< all ranks' values (1:n_all), kept
+    integer, intent(out) :: n_all                    !< total count
+    integer :: counts(n_ranks), displs(n_ranks), ierr, r
+    call MPI_Allgather(n_mine, 1, MPI_INTEGER, counts, 1, MPI_INTEGER, MPI_COMM_WORLD, ierr)
+    displs(1) = 0
+    do r = 2, n_ranks
+      displs(r) = displs(r-1) + counts(r-1)
+    end do
+    n_all = sum(counts)
+    if (allocated(all)) then
+      if (size(all) < n_all) deallocate(all)
+    end if
+    if (.not. allocated(all)) allocate(all(max(1, n_all + n_all/2)))
+    if (n_all == 0) return
+    call MPI_Allgatherv(mine, n_mine, MPI_INTEGER, all, counts, displs, MPI_INTEGER, &
+                        MPI_COMM_WORLD, ierr)
+  end subroutine comm_allgatherv_int
 
   !> Fortran integer handle of MPI_INFO_NULL (no MPI-IO hints), for HDF5's MPI-IO driver.
   integer function comm_info_null_handle()

@@ -75,7 +75,7 @@ module mefem_mortar_contact
   private
 
   public :: mortar_contact_setup, mortar_contact_forces, mortar_contact_slave_rows
-  public :: mortar_contact_set_masses
+  public :: mortar_contact_set_masses, mortar_contact_erode
 
   real(wp), parameter :: MASS_LIMIT = 0.1_wp       !< eps A dt^2 / m at most: the contact
                                                    !< spring's period stays above 20 dt
@@ -140,6 +140,9 @@ module mefem_mortar_contact
                                                    !< computed both ways, 1 against shells)
     real(wp), allocatable :: depth_limit(:)        !< (master facets) single surface: deepest
                                                    !< penetration of a partner (length)
+    logical :: eroded = .false.                    !< some facet's element has eroded
+    logical, allocatable :: slave_gone(:)          !< (slave facets) its element eroded
+    logical, allocatable :: master_gone(:)         !< (master facets) its element eroded
     ! per slave node, last call
     real(wp), allocatable :: normal(:,:)           !< (3, ns) n_A
     real(wp), allocatable :: normal_old(:,:)       !< (3, ns) n_A of the call before
@@ -350,6 +353,47 @@ contains
     end do
     it%ncandidate = kept
   end subroutine drop_neighbours
+
+  !> The facets of eroded elements leave the interfaces (their candidate pairs are dropped from
+  !> the next search on, which is forced now). live(e): the cells of element e not eroded
+  !> (mesh elements; every rank alike).
+  subroutine mortar_contact_erode(contact, live)
+    type(mortar_contact_t), intent(inout) :: contact  !< contact data
+    integer, intent(in) :: live(:)                    !< (mesh elements) live cells
+    integer :: k
+    do k = 1, contact%n
+      associate (it => contact%interfaces(k))
+        it%slave_gone = gone(it%slave)
+        it%master_gone = gone(it%master)
+        it%eroded = any(it%slave_gone) .or. any(it%master_gone)
+        if (it%eroded) it%searched = .false.
+      end associate
+    end do
+  contains
+    !> Per facet: its element (a solid's; shells and faces without one never erode) eroded.
+    function gone(surface)
+      type(contact_surface_t), intent(in) :: surface
+      logical :: gone(surface%nfacet)
+      integer :: f
+      do f = 1, surface%nfacet
+        gone(f) = .false.
+        if (surface%element(f) > 0) gone(f) = live(surface%element(f)) == 0
+      end do
+    end function gone
+  end subroutine mortar_contact_erode
+
+  !> Drop the candidate pairs with a facet of an eroded element.
+  subroutine drop_eroded(it)
+    type(contact_interface_t), intent(inout) :: it    !< the interface
+    integer :: k, kept
+    kept = 0
+    do k = 1, it%ncandidate
+      if (it%slave_gone(it%candidates(1, k)) .or. it%master_gone(it%candidates(2, k))) cycle
+      kept = kept + 1
+      it%candidates(:, kept) = it%candidates(:, k)
+    end do
+    it%ncandidate = kept
+  end subroutine drop_eroded
 
   !> Single surface: the penalty factor of the slave nodes first:last, the mean over the
   !> node's pairs (weighted by their share sum_B n_AB of A_A) of 1/2 for a pair with a solid
@@ -904,6 +948,7 @@ contains
     call contact_search_build(it%search, it%slave, it%master, contact%x, it%margin, &
                               it%candidates, it%ncandidate)
     if (it%single) call drop_neighbours(it)
+    if (it%eroded) call drop_eroded(it)
     it%x_search = contact%x(:, it%surface_nodes)
     it%searched = .true.
   end subroutine update_candidates

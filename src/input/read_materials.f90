@@ -25,7 +25,6 @@ module mefem_read_materials
             read_mat_mooney_rivlin, read_mat_rigid, material_keyword
 
   integer, parameter :: W_10(8) = 10   !< standard 8 x 10 card
-  real(wp), parameter :: NO_FAILURE = 1.0e21_wp   !< FAIL default of *MAT_024
 
   !> MID of the material card read last (0: none yet): the keyword reader names a rejected
   !> material by it
@@ -98,7 +97,7 @@ contains
     call get_real(card, 4, 'PR', mat%poisson)
     call get_real(card, 5, 'SIGY', mat%yield_stress)
     call get_real(card, 6, 'ETAN', mat%tangent_modulus)
-    call get_real(card, 7, 'FAIL', mat%failure_strain, default=NO_FAILURE)
+    call get_real(card, 7, 'FAIL', mat%failure_strain)
     bad = card%bad
     if (.not. bad) call check_elastic(card, mat, .true.)
     bad = bad .or. card%bad
@@ -142,9 +141,6 @@ contains
         call card_warning(card2, 'material '//itoa(mat%id)//': VP = 1 (viscoplastic, the '// &
             'plastic strain rate) is computed as VP = 0: the yield stress is scaled by the '// &
             'total strain rate (doc/theory.md section 4)')
-      if (mat%failure_strain < NO_FAILURE) call card_warning(card, 'material '// &
-          itoa(mat%id)//': FAIL = '//rtoa(mat%failure_strain)//' ignored: mefem deletes '// &
-          'no elements')
     end if
     if (.not. bad) call add_material(model, mat)
     call reject_extra_cards(rd, 'material '//itoa(mat%id))
@@ -164,12 +160,8 @@ contains
     if (mat%tangent_modulus < 0.0_wp .or. mat%tangent_modulus >= mat%young) &
       call fail(card, who//'field ETAN must be >= 0 and < E = '//rtoa(mat%young)//' '// &
                 quoted_real(mat%tangent_modulus))
-    if (mat%failure_strain < 0.0_wp) then
-      call fail(card, who//'field FAIL < 0 (user failure subroutine) is not supported '// &
-                quoted_real(mat%failure_strain))
-    else if (mat%failure_strain == 0.0_wp) then
-      mat%failure_strain = NO_FAILURE
-    end if
+    if (mat%failure_strain < 0.0_wp) call fail(card, who//'field FAIL < 0 (user failure '// &
+        'subroutine) is not supported '//quoted_real(mat%failure_strain))
     if (mat%cowper_c < 0.0_wp) call fail(card2, who//'field C must not be negative '// &
         quoted_real(mat%cowper_c))
     if (mat%cowper_p < 0.0_wp .or. (mat%cowper_c > 0.0_wp .and. mat%cowper_p == 0.0_wp)) &
@@ -421,11 +413,12 @@ contains
     if (mat%vp == 1.0_wp .and. mat%jc_c /= 0.0_wp) call card_warning(card, who//'VP = 1 '// &
         '(viscoplastic) is computed as VP = 0: the yield stress is scaled by the total '// &
         'strain rate (doc/theory.md section 4)')
-    if (dtf /= 0.0_wp) call card_warning(card, who//'DTF ignored: mefem deletes no elements')
+    if (dtf /= 0.0_wp) call card_warning(card, who//'DTF ignored: no element is eroded by '// &
+        'its time step')
     if (pc /= 0.0_wp .or. spall /= 0.0_wp) call card_warning(card3, who//'PC and SPALL '// &
         'ignored: no pressure cutoff or spall (the pressure comes from the bulk modulus)')
     if (any(damage /= 0.0_wp)) call card_warning(card3, who//'the Johnson-Cook failure '// &
-        'D1-D5 is ignored: mefem deletes no elements')
+        'D1-D5 is not computed (no element erodes by it)')
     call add_material(model, mat)
   end subroutine read_mat_johnson_cook
 
@@ -481,8 +474,7 @@ contains
     if (mat%vp == 1.0_wp .and. mat%jc_c /= 0.0_wp) call card_warning(card, who//'VP = 1 '// &
         '(viscoplastic) is computed as VP = 0: the yield stress is scaled by the total '// &
         'strain rate (doc/theory.md section 4)')
-    if (psfail > 0.0_wp .and. psfail < UNSET) call card_warning(card2, who//'PSFAIL = '// &
-        rtoa(psfail)//' ignored: mefem deletes no elements')
+    if (psfail > 0.0_wp .and. psfail < UNSET) mat%failure_strain = psfail
     if (sigsat > 0.0_wp .and. sigsat < UNSET) call card_warning(card2, who//'SIGSAT '// &
         '(the cap of the flow stress with rate effects) is not modelled: only SIGMAX caps it')
     call add_material(model, mat)
@@ -514,8 +506,8 @@ contains
   end subroutine johnson_cook_strength
 
   !> The strain-rate and failure fields of *MAT_018 and *MAT_003 (SRC, SRP on rate_card; VP
-  !> and the failure strain, named fs_name, on fail_card): checked; a warning for a failure
-  !> strain (mefem erodes no elements) and for VP = 1 with rate effects (computed as VP = 0).
+  !> and the failure strain, named fs_name, on fail_card): checked; a warning for VP = 1 with
+  !> rate effects (computed as VP = 0).
   subroutine check_rate_and_failure(rate_card, fail_card, mat, fs_name, bad)
     type(card_t), intent(in) :: rate_card, fail_card   !< the cards holding the fields
     type(material_t), intent(in) :: mat                !< the material
@@ -538,8 +530,6 @@ contains
     if (mat%cowper_c > 0.0_wp .and. mat%vp == 1.0_wp) call card_warning(fail_card, who// &
         'VP = 1 (viscoplastic, the plastic strain rate) is computed as VP = 0: the yield '// &
         'stress is scaled by the total strain rate (doc/theory.md section 4)')
-    if (mat%failure_strain > 0.0_wp) call card_warning(fail_card, who//fs_name//' = '// &
-        rtoa(mat%failure_strain)//' ignored: mefem deletes no elements')
   end subroutine check_rate_and_failure
 
   !> Report an error at a card and remember it.

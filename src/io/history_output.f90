@@ -89,6 +89,8 @@ module mefem_history_output
     real(wp) :: percent_mass_increase = 0.0_wp   !< added mass in % of the physical mass
     real(wp) :: total_energy = 0.0_wp            !< see glstat_total_energy
     real(wp) :: energy_ratio = 1.0_wp            !< see glstat_energy_ratio
+    real(wp) :: eroded_internal_energy = 0.0_wp  !< internal energy of the eroded elements
+    real(wp) :: energy_ratio_uneroded = 1.0_wp   !< the ratio with the eroded energy counted
     real(wp) :: global_velocity(3) = 0.0_wp      !< x, y, z velocity of the centre of mass
     character(len=80) :: controlled_by = ''      !< e.g. "solid 123 of part 1"
   end type glstat_record_t
@@ -184,11 +186,11 @@ contains
     call write_value(u, 'sliding interface energy', rec%contact_energy)
     call write_value(u, 'external work', rec%external_work)
     call write_value(u, 'eroded kinetic energy', 0.0_wp)
-    call write_value(u, 'eroded internal energy', 0.0_wp)
+    call write_value(u, 'eroded internal energy', rec%eroded_internal_energy)
     call write_value(u, 'eroded hourglass energy', 0.0_wp)
     call write_value(u, 'total energy', rec%total_energy)
     call write_value(u, 'total energy / initial energy', rec%energy_ratio)
-    call write_value(u, 'energy ratio w/o eroded energy', rec%energy_ratio)
+    call write_value(u, 'energy ratio w/o eroded energy', rec%energy_ratio_uneroded)
     call write_value(u, 'global x velocity', rec%global_velocity(1))
     call write_value(u, 'global y velocity', rec%global_velocity(2))
     call write_value(u, 'global z velocity', rec%global_velocity(3))

@@ -35,8 +35,9 @@ module mefem_material_update
   use mefem_errors, only: status_t
   use mefem_strings, only: itoa
   use mefem_material_state, only: NHIST, BLOCK_POINTS, HIST_ALPHA, HIST_TEMPERATURE
-  use mefem_hardening, only: HARDENING_POWER_LAW, HARDENING_JOHNSON_COOK, piecewise_linear_law, &
-                             hardening_rate_factor, rate_dependent, hardening_yield
+  use mefem_hardening, only: HARDENING_POWER_LAW, HARDENING_JOHNSON_COOK, HARDENING_LINEAR, &
+                             piecewise_linear_law, hardening_rate_factor, rate_dependent, &
+                             hardening_yield
   use mefem_mat_elastic, only: mat_elastic_update, lame_constants
   use mefem_mat_j2_plasticity, only: mat_j2_update, mat_j2_update_block, mat_j2_kinematic_update
   use mefem_mat_mooney_rivlin, only: mat_mooney_rivlin_update
@@ -44,6 +45,10 @@ module mefem_material_update
   private
 
   public :: material_update, material_update_block, material_elastic_moduli, rate_dependent
+  public :: material_fails, failed_point_energy
+
+  !> Intervals of Simpson's rule for the plastic work of a failed point
+  integer, parameter :: PLASTIC_WORK_INTERVALS = 8
 
 contains
 
@@ -189,6 +194,48 @@ contains
       mu = 0.0_wp
     end select
   end subroutine material_elastic_moduli
+
+  !> A point of this material fails (the explicit analysis erodes it) when its equivalent
+  !> plastic strain reaches the material's failure strain (FAIL, FS, EPSF, PSFAIL > 0).
+  pure logical function material_fails(mat)
+    type(material_t), intent(in) :: mat                !< the material card
+    material_fails = mat%failure_strain > 0.0_wp .and. any(mat%kind == [MAT_PIECEWISE_LINEAR, &
+        MAT_POWER_LAW, MAT_PLASTIC_KINEMATIC, MAT_JOHNSON_COOK, MAT_SIMPLIFIED_JOHNSON_COOK])
+  end function material_fails
+
+  !> Internal energy per reference volume of a point that failed at the equivalent plastic
+  !> strain alpha (glstat's eroded internal energy): the plastic work of the static hardening
+  !> curve, int_0^alpha K(a) da by Simpson's rule (an estimate: rate and thermal factors that
+  !> raised the flow stress are not counted, nor the elastic energy at failure, for metals a
+  !> fraction of a percent of the plastic work).
+  pure real(wp) function failed_point_energy(mat, curves, alpha) result(energy)
+    type(material_t), intent(in) :: mat                !< the material card
+    type(curve_t), intent(in) :: curves(:)             !< the model's curves (LCSS)
+    real(wp), intent(in) :: alpha                      !< equivalent plastic strain (>= 0)
+    real(wp) :: work, a, yield_stress, slope
+    integer :: law, k
+    select case (mat%kind)
+    case (MAT_PIECEWISE_LINEAR)
+      law = piecewise_linear_law(mat)
+    case (MAT_POWER_LAW)
+      law = HARDENING_POWER_LAW
+    case (MAT_JOHNSON_COOK, MAT_SIMPLIFIED_JOHNSON_COOK)
+      law = HARDENING_JOHNSON_COOK
+    case default                                   ! *MAT_003: SIGY + ETAN-based modulus
+      law = HARDENING_LINEAR
+    end select
+    work = 0.0_wp
+    do k = 0, PLASTIC_WORK_INTERVALS                ! Simpson: 1 4 2 4 ... 2 4 1
+      a = alpha*real(k, wp)/real(PLASTIC_WORK_INTERVALS, wp)
+      call hardening_yield(law, mat, curves, a, yield_stress, slope)
+      if (k == 0 .or. k == PLASTIC_WORK_INTERVALS) then
+        work = work + yield_stress
+      else
+        work = work + merge(4.0_wp, 2.0_wp, mod(k, 2) == 1)*yield_stress
+      end if
+    end do
+    energy = work*alpha/(3.0_wp*real(PLASTIC_WORK_INTERVALS, wp))
+  end function failed_point_energy
 
   !> Johnson-Cook thermal softening 1 - T*^M at the temperature rise theta = T - TR,
   !> T* = theta/(TM - TR) (*MAT_015 with TM > TR; else 1); a molten point (T* >= 1) keeps

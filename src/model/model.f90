@@ -127,7 +127,10 @@ module mefem_model
     real(wp) :: yield_stress = 0.0_wp       !< SIGY
     real(wp) :: tangent_modulus = 0.0_wp    !< ETAN
     real(wp) :: beta = 0.0_wp               !< BETA (MAT_003): 0 kinematic, 1 isotropic hardening
-    real(wp) :: failure_strain = 0.0_wp     !< FAIL (MAT_024) / EPSF (MAT_018)
+    real(wp) :: failure_strain = 0.0_wp     !< effective plastic strain at which a point fails
+                                            !< (explicit: erosion): FAIL (MAT_024), EPSF
+                                            !< (MAT_018), FS (MAT_003), PSFAIL (MAT_098);
+                                            !< 0: none
     real(wp) :: cowper_c = 0.0_wp, cowper_p = 0.0_wp   !< C, P (MAT_024) / SRC, SRP (MAT_018)
     integer :: lcss = 0                     !< curve id of stress vs plastic strain (MAT_024)
     integer :: lcss_curve = 0               !< its index (after resolve)

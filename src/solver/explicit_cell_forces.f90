@@ -27,8 +27,10 @@ module mefem_explicit_cell_forces
                                       inverse_3x3
   use mefem_stable_time_step, only: cell_critical_omega_squared, block_critical_omega_squared, &
                                     cell_split_weights, inverse_mass_metric
-  use mefem_material_state, only: NHIST, material_state_init, BLOCK_CELLS => BLOCK_POINTS
-  use mefem_material_update, only: material_update, material_update_block, rate_dependent
+  use mefem_material_state, only: NHIST, HIST_ALPHA, material_state_init, &
+                                  BLOCK_CELLS => BLOCK_POINTS
+  use mefem_material_update, only: material_update, material_update_block, rate_dependent, &
+                                   material_fails, failed_point_energy
   use mefem_tensor_algebra, only: determinant, inverse_cube_root
   use mefem_explicit_state, only: explicit_state_t, set_to_zero, state_peer_view
   use mefem_comm, only: comm_rank, comm_size, comm_barrier, comm_arena_free, comm_arena_sync, &
@@ -38,7 +40,7 @@ module mefem_explicit_cell_forces
   private
 
   public :: explicit_cells_set_up, explicit_cell_loop, block_cell_data, explicit_blocks_group
-  public :: explicit_mass_split, volume_scale
+  public :: explicit_mass_split, volume_scale, nodal_reference_volumes
   public :: explicit_steal_set_up, explicit_steal_tear_down
 
 contains
@@ -96,7 +98,39 @@ contains
       end do
       call halo_assemble_start(halo, s%cell_force, s%f_int_new)
     end if
+    if (s%erosion) call collect_failed_cells(model, s)
   end subroutine explicit_cell_loop
+
+  !> Erosion: this rank's cells that failed this cycle (by their mark, HIST_ALPHA < 0, also
+  !> where another rank of the node computed them) are listed by global index in new_eroded
+  !> and their internal energy (failed_point_energy times V0) added to eroded_energy.
+  subroutine collect_failed_cells(model, s)
+    type(model_t), intent(in) :: model                !< resolved model
+    type(explicit_state_t), intent(inout) :: s        !< local state
+    integer, allocatable :: grown(:)
+    real(wp) :: alpha
+    integer :: l
+    do l = 1, s%ncell
+      if (s%cell_counted(l)) cycle
+      if (.not. model%materials(s%material(l))%failure_strain > 0.0_wp) cycle
+      if (.not. cell_failed(s, l)) cycle
+      if (s%nblock > 0) then
+        alpha = s%block_hist(s%cell_slot(l), HIST_ALPHA, s%cell_block(l))
+      else
+        alpha = s%hist(HIST_ALPHA, l)
+      end if
+      s%cell_counted(l) = .true.
+      if (s%n_new_eroded == size(s%new_eroded)) then
+        allocate(grown(max(16, 2*s%n_new_eroded)))
+        grown(1:s%n_new_eroded) = s%new_eroded(1:s%n_new_eroded)
+        call move_alloc(grown, s%new_eroded)
+      end if
+      s%n_new_eroded = s%n_new_eroded + 1
+      s%new_eroded(s%n_new_eroded) = s%cell_global(l)
+      s%eroded_energy = s%eroded_energy + s%weight(l)* &
+          failed_point_energy(model%materials(s%material(l)), model%curves, -alpha)
+    end do
+  end subroutine collect_failed_cells
 
   !> 3D blocks with the other ranks of this node (work stealing): this rank takes its blocks
   !> in chunks from the front (mefem_comm's comm_work_take) and, when none are left, takes
@@ -291,6 +325,18 @@ contains
     logical :: averaged
     dim = s%dim
     nn = s%nnodes(l)
+    if (hist_old(HIST_ALPHA) < 0.0_wp) then      ! a failed cell (erosion): no force, no step
+      s%cell_force(:, 1:nn, l) = 0.0_wp
+      if (s%nodal_pressure) then
+        if (s%np_cell(l)) then
+          s%np_area(:, :, l) = 0.0_wp
+          s%np_pressure(l) = 0.0_wp
+          s%np_deviator(:, l) = 0.0_wp
+        end if
+      end if
+      if (s%mass_scaling) s%added(1, 1:nn, l) = 0.0_wp       ! (bounds no step)
+      return
+    end if
     do k = 1, nn                 ! gather by a loop (a vector subscript allocates a temporary)
       ue(1:dim, k) = s%u(1:dim, s%nodes(k, l))
     end do
@@ -325,6 +371,17 @@ contains
           itoa(model%elements%id(first_element(s, l)))//': '//trim(status%message)
       s%failed = .true.
       return
+    end if
+    if (material_fails(model%materials(s%material(l)))) then
+      if (hist_new(HIST_ALPHA) >= model%materials(s%material(l))%failure_strain) then
+        hist_new(HIST_ALPHA) = -hist_new(HIST_ALPHA)          ! fails now (erosion)
+        tau = 0.0_wp
+        if (averaged) then
+          s%np_pressure(l) = 0.0_wp
+          s%np_deviator(:, l) = 0.0_wp
+          s%np_area(:, :, l) = 0.0_wp
+        end if
+      end if
     end if
     if (s%nblock > 0) then
       s%block_hist(s%cell_slot(l), :, s%cell_block(l)) = hist_new
@@ -533,8 +590,9 @@ contains
     real(wp) :: fbar(LD, 9), jbar(LD), scale(LD)
     real(wp) :: v(LD, 3, CELL_MAX_NODES), gamma(LD, CELL_MAX_NODES, HOURGLASS_MODES)
     real(wp) :: stiffness(LD, 6), viscosity(LD), energy(LD), power(LD), c_inverse(6)
-    real(wp) :: position(LD, 3, 8), rule(LD), rate(LD)
-    logical :: ok(LD), finite(LD), steps_at_once, averaged, hexahedral, rated
+    real(wp) :: position(LD, 3, 8), rule(LD), rate(LD), kept(LD, NHIST)
+    logical :: ok(LD), finite(LD), steps_at_once, averaged, hexahedral, rated, erodes, &
+               failed(LD)
     integer :: n, nn, i, a, l, node, first, h, k
     first = s%block_start(b)
     n = s%block_start(b + 1) - first
@@ -556,6 +614,20 @@ contains
     call block_deformation_gradient(n, nn, u, s%block_grad(:, :, :, b), f)
     call block_adjugate(n, f, adj, det)
     l = s%block_cell(first)
+    ! erosion: a failed cell (HIST_ALPHA < 0) goes through the kernels at F = I, its history
+    ! kept as it is, and carries no stress (erode_failed)
+    erodes = material_fails(model%materials(s%material(l)))
+    failed(1:n) = .false.
+    if (erodes) then
+      do i = 1, n
+        failed(i) = s%block_hist(i, HIST_ALPHA, b) < 0.0_wp
+        if (.not. failed(i)) cycle
+        kept(i, :) = s%block_hist(i, :, b)
+        f(i, :) = [1.0_wp, 0.0_wp, 0.0_wp, 0.0_wp, 1.0_wp, 0.0_wp, 0.0_wp, 0.0_wp, 1.0_wp]
+        adj(i, :) = f(i, :)
+        det(i) = 1.0_wp
+      end do
+    end if
     ! rate effects of the material (Cowper-Symonds, LCSR): the cells' effective strain rates
     ! from the velocities v^{n+1/2} (the hexahedra's hourglass forces use these too)
     rated = rate_dependent(model%materials(s%material(l)))
@@ -580,6 +652,7 @@ contains
       do i = 1, n
         jbar(i) = element_mean_j(s, s%block_cell(first + i - 1), det(i))
         jbar(i) = merge(jbar(i), det(i), det(i) > 0.0_wp .and. jbar(i) > 0.0_wp)
+        if (failed(i)) jbar(i) = 1.0_wp
         scale(i) = volume_scale(jbar(i), det(i))
       end do
       do a = 1, 9
@@ -594,6 +667,7 @@ contains
         call material_update_block(model%materials(s%material(l)), model%curves, n, fbar, &
                                    jbar, s%block_hist(:, :, b), tau, ok)
       end if
+      if (erodes) call erode_failed()
       do i = 1, n
         l = s%block_cell(first + i - 1)
         call split_pressure(tau(i, 1), tau(i, 2), tau(i, 3), jbar(i), s%np_pressure(l))
@@ -606,6 +680,10 @@ contains
       ! values stored together)
       do i = 1, n
         l = s%block_cell(first + i - 1)
+        if (failed(i)) then                  ! no force on a failed cell
+          s%np_area(:, :, l) = 0.0_wp
+          cycle
+        end if
         do a = 1, 4
           s%np_area(1, a, l) = s%block_weight(i, b)*(adj(i, 1)*s%block_grad(i, 1, a, b) + &
               adj(i, 2)*s%block_grad(i, 2, a, b) + adj(i, 3)*s%block_grad(i, 3, a, b))
@@ -623,6 +701,7 @@ contains
         call material_update_block(model%materials(s%material(l)), model%curves, n, f, det, &
                                    s%block_hist(:, :, b), tau, ok)
       end if
+      if (erodes) call erode_failed()
     end if
     if (.not. averaged) call block_internal_force(n, nn, s%block_grad(:, :, :, b), &
                                                   s%block_weight(:, b), adj, det, tau, force)
@@ -646,6 +725,10 @@ contains
         end do
         stiffness(i, :) = s%hg_stiffness(:, h)
         viscosity(i) = s%hg_viscosity(h)
+        if (failed(i)) then                  ! no hourglass force on a failed cell
+          stiffness(i, :) = 0.0_wp
+          viscosity(i) = 0.0_wp
+        end if
       end do
       call block_hourglass_forces(n, nn, u, v, s%block_grad(:, :, :, b), gamma, stiffness, &
                                   viscosity, adj, det, force, energy, power)
@@ -670,6 +753,9 @@ contains
              2.0_wp*sum(stiffness(i, 4:6)*c_inverse(4:6)))/(8.0_wp*det(i)**2)
       end do
     end if
+    ! a failed cell bounds no step (left out below; a finite bound here keeps the block's
+    ! steps at once)
+    if (erodes) where (failed(1:n)) omega2(1:n) = 0.0_wp
     ! the cells' steps as take_cell_step computes them, for the whole block at once when no
     ! mass is added and every bound is a finite number (else cell by cell, which reports)
     steps_at_once = .not. s%mass_scaling
@@ -715,12 +801,38 @@ contains
         end do
       end if
       if (.not. ok(i)) cycle
+      if (failed(i)) then                    ! a failed cell bounds no step, adds no mass
+        if (s%mass_scaling) s%added(1, 1:s%nnodes(l), l) = 0.0_wp
+        cycle
+      end if
       if (.not. steps_at_once) then
         call take_cell_step(model, s, l, omega2(i))
       else if (dt_block(i) <= s%dt_stable) then
         call keep_smallest_step(model, s, l, dt_block(i))
       end if
     end do
+
+  contains
+
+    !> After the material update: a failed cell gets its history back and no stress; a cell
+    !> whose equivalent plastic strain reached the failure strain fails now (HIST_ALPHA
+    !> negated: the mark; no stress from this cycle on).
+    subroutine erode_failed()
+      real(wp) :: limit
+      limit = model%materials(s%material(s%block_cell(first)))%failure_strain
+      do i = 1, n
+        if (failed(i)) then
+          s%block_hist(i, :, b) = kept(i, :)
+        else if (ok(i) .and. s%block_hist(i, HIST_ALPHA, b) >= limit) then
+          s%block_hist(i, HIST_ALPHA, b) = -s%block_hist(i, HIST_ALPHA, b)
+          failed(i) = .true.
+        else
+          cycle
+        end if
+        tau(i, :) = 0.0_wp
+      end do
+    end subroutine erode_failed
+
   end subroutine block_forces
 
   !> Nodal-pressure tetrahedra (ELFORM 13), first of the cycle's two nodal sums: every
@@ -735,6 +847,12 @@ contains
     integer :: k, l, a
     do k = 1, size(s%np_cells)
       l = s%np_cells(k)
+      if (s%erosion) then
+        if (cell_failed(s, l)) then          ! an eroded cell is left out of the means
+          quarters(k) = 0.0_wp
+          cycle
+        end if
+      end if
       do a = 1, 4
         x(:, a) = s%x0(:, s%nodes(a, l)) + s%u(:, s%nodes(a, l))
       end do
@@ -762,7 +880,7 @@ contains
     integer :: k, l, a, node, column
     do k = 1, size(s%np_cells)
       l = s%np_cells(k)
-      shares(k) = 0.25_wp*s%weight(l)*s%np_pressure(l)
+      shares(k) = 0.25_wp*s%weight(l)*s%np_pressure(l)     ! (0 on an eroded cell)
     end do
     call nodal_mean(s, halo, shares, 0.0_wp, s%np_node_p)
     do k = 1, size(s%np_cells)                        ! ascending cell order (pushed columns)
@@ -924,18 +1042,15 @@ contains
     allocate(s%np_sums(1, halo%ntarget), s%np_column(4, size(s%np_cells)))
     allocate(values(3, CELL_MAX_NODES, s%ncell), sums(3, halo%ntarget))
     values = 0.0_wp
-    call set_to_zero(size(s%np_sums), s%np_sums)
     do k = 1, size(s%np_cells)
       l = s%np_cells(k)
       m = real(s%material(l), wp)
       do a = 1, 4
         s%np_column(a, k) = halo%source_target(a + halo%slots*(l - 1))
-        s%np_sums(1, s%np_column(a, k)) = s%np_sums(1, s%np_column(a, k)) + 0.25_wp*s%weight(l)
         values(:, a, l) = [1.0_wp, m, m*m]
       end do
     end do
-    call halo_assemble_summed(halo, s%np_sums)
-    s%np_volume0 = s%np_sums(1, 1:s%nnode)
+    call nodal_reference_volumes(s, halo)
     call halo_assemble(halo, values, sums)
     s%np_mixed = sums(1, 1:s%nnode)*sums(3, 1:s%nnode) /= sums(2, 1:s%nnode)**2
     allocate(s%np_node_j(s%nnode), s%np_node_p(s%nnode), s%np_jbar(s%ncell), &
@@ -949,6 +1064,37 @@ contains
     s%np_pressure = 0.0_wp
     s%np_force_pressure = 0.0_wp
   end subroutine nodal_pressure_set_up
+
+  !> Nodal-pressure tetrahedra: the nodes' reference volumes np_volume0, the sums of V0/4 of
+  !> their ELFORM 13 cells that have not eroded (in the nodal means' order). Collective.
+  subroutine nodal_reference_volumes(s, halo)
+    type(explicit_state_t), intent(inout) :: s        !< local state (np_column set)
+    type(halo_t), intent(inout) :: halo               !< the force assembly's halo
+    integer :: k, l, a
+    call set_to_zero(size(s%np_sums), s%np_sums)
+    do k = 1, size(s%np_cells)
+      l = s%np_cells(k)
+      if (s%erosion) then
+        if (cell_failed(s, l)) cycle
+      end if
+      do a = 1, 4
+        s%np_sums(1, s%np_column(a, k)) = s%np_sums(1, s%np_column(a, k)) + 0.25_wp*s%weight(l)
+      end do
+    end do
+    call halo_assemble_summed(halo, s%np_sums)
+    s%np_volume0 = s%np_sums(1, 1:s%nnode)
+  end subroutine nodal_reference_volumes
+
+  !> Local cell l has failed (erosion: its HIST_ALPHA negated).
+  logical function cell_failed(s, l)
+    type(explicit_state_t), intent(in) :: s           !< local state
+    integer, intent(in) :: l                          !< local cell
+    if (s%nblock > 0) then
+      cell_failed = s%block_hist(s%cell_slot(l), HIST_ALPHA, s%cell_block(l)) < 0.0_wp
+    else
+      cell_failed = s%hist(HIST_ALPHA, l) < 0.0_wp
+    end if
+  end function cell_failed
 
   !> Pushed assembly of the 3D cell loop: block_forces adds a cell's contribution straight
   !> into its column of f_int_new (the layout's target: its node's, or its node's partial sum

@@ -32,6 +32,7 @@ module mefem_explicit_dynamics
   use, intrinsic :: iso_fortran_env, only: error_unit
   use mefem_kinds, only: wp
   use mefem_comm, only: comm_sum, comm_min, comm_max, comm_wtime, comm_size, comm_min_start, &
+                        comm_allgatherv_int, &
                         comm_min_progress, comm_min_finish
   use mefem_errors, only: status_t, fatal, say, warn
   use mefem_signals, only: signals_install, signal_caught, signal_name, signal_record_stop
@@ -52,7 +53,7 @@ module mefem_explicit_dynamics
   use mefem_lumped_mass, only: lumped_mass
   use mefem_stable_time_step, only: cell_mass_shares, cell_inverse_mass_metric
   use mefem_material_state, only: NHIST, HIST_ALPHA, material_state_init
-  use mefem_material_update, only: material_update, material_elastic_moduli
+  use mefem_material_update, only: material_update, material_elastic_moduli, material_fails
   use mefem_curves, only: curve_value
   use mefem_boundary_conditions, only: fixed_dofs, external_forces, target_nodes, &
                                        initial_velocities
@@ -71,14 +72,15 @@ module mefem_explicit_dynamics
   use mefem_history_output, only: rbdout_open, rbdout_write, rbdout_close, rcforc_open, &
                                   rcforc_write, rcforc_close
   use mefem_contact_surfaces, only: contact_surface_t, contact_surface_build
-  use mefem_mortar_contact, only: mortar_contact_setup, mortar_contact_forces, &
+  use mefem_mortar_contact, only: mortar_contact_setup, mortar_contact_forces, mortar_contact_erode, &
                                   mortar_contact_set_masses
   use mefem_explicit_ties, only: explicit_ties_set_up, tie_accelerations
   use mefem_explicit_state, only: explicit_state_t, set_to_zero, state_arena_create
   use mefem_explicit_cell_forces, only: explicit_cells_set_up, explicit_cell_loop, &
                                         explicit_mass_split, &
                                         block_cell_data, explicit_blocks_group, volume_scale, &
-                                        explicit_steal_set_up, explicit_steal_tear_down
+                                        explicit_steal_set_up, explicit_steal_tear_down, &
+                                        nodal_reference_volumes
   use mefem_history_output, only: rwforc_open, rwforc_write, rwforc_close
   use mefem_body_loads, only: body_acceleration, body_load_parts, body_load_nodes, &
                               add_body_forces
@@ -220,6 +222,13 @@ contains
         call signal_record_stop(signum)
         call say('explicit: '//signal_name(signum)//': stopped at cycle '//itoa(cycle)// &
                  ', t = '//rtoa(t)//'; the state reached is written')
+        exit
+      end if
+      if (s%erosion .and. dt >= huge(1.0_wp) .and. model%controls%dt_init <= 0.0_wp .and. &
+          model%controls%lctm_curve == 0) then
+        call say('explicit: every deformable element has eroded at cycle '//itoa(cycle)// &
+                 ', t = '//rtoa(t)//': nothing is left to bound the time step; the state '// &
+                 'reached is written and the run ends')
         exit
       end if
       call bound_step(model, t, .false., dt)
@@ -389,6 +398,7 @@ contains
       end if
     end do
     s%cell_force = 0.0_wp
+    call erosion_set_up(model, cells, s)
     if (dim == 3) call explicit_cells_set_up(s, cells, w0, halo, block_starts, block_nodes_of, &
                                              block_order)
     if (s%mass_scaling) then
@@ -756,6 +766,7 @@ contains
     clock = comm_wtime()
     call halo_assemble_finish(halo, s%f_int_new)
     call comm_min_progress(s%dt_reduction)     ! (the others' steps have come by now)
+    if (s%erosion) call erosion_update(s, halo)
     if (s%mass_scaling) then
       block
         real(wp) :: added(1, halo%ntarget)
@@ -772,6 +783,54 @@ contains
       timing%contact = timing%contact + (comm_wtime() - clock)
     end if
   end subroutine compute_forces
+
+  !> Erosion (a material with a failure strain): the cells' elements and how many cells of
+  !> each element are left (elements without cells, rigid ones: -1, they never erode).
+  subroutine erosion_set_up(model, cells, s)
+    type(model_t), intent(in) :: model                !< resolved model
+    type(cells_t), intent(in) :: cells                !< all cells
+    type(explicit_state_t), intent(inout) :: s        !< local state (cells set up)
+    integer :: c, j, e
+    s%erosion = .false.
+    do c = 1, cells%n
+      if (material_fails(model%materials(cells%material(c)))) s%erosion = .true.
+    end do
+    if (.not. s%erosion) return
+    allocate(s%cell_counted(s%ncell), s%new_eroded(16), s%eroded_all(16))
+    s%cell_counted = .false.
+    s%cell_elements = cells%elements(:, 1:cells%n)
+    allocate(s%live_cells(model%elements%n))
+    s%live_cells = -1
+    do c = 1, cells%n
+      do j = 1, 2
+        e = cells%elements(j, c)
+        if (e <= 0) cycle
+        s%live_cells(e) = max(s%live_cells(e), 0) + 1
+      end do
+    end do
+  end subroutine erosion_set_up
+
+  !> Erosion, after the cell loop: the cells that failed this cycle on every rank (collective:
+  !> one allgather, a second when some failed), each element's count of cells left; an element
+  !> with none left has eroded: its faces leave the contacts, and the nodal-pressure means
+  !> leave out the failed cells from now on.
+  subroutine erosion_update(s, halo)
+    type(explicit_state_t), intent(inout) :: s        !< local state
+    type(halo_t), intent(inout) :: halo               !< the force assembly's halo (idle)
+    integer :: n_all, k, j, e
+    call comm_allgatherv_int(s%new_eroded, s%n_new_eroded, s%eroded_all, n_all)
+    s%n_new_eroded = 0
+    if (n_all == 0) return
+    s%eroded_cells = s%eroded_cells + n_all
+    do k = 1, n_all
+      do j = 1, 2
+        e = s%cell_elements(j, s%eroded_all(k))
+        if (e > 0) s%live_cells(e) = s%live_cells(e) - 1
+      end do
+    end do
+    if (s%contact%n > 0) call mortar_contact_erode(s%contact, s%live_cells)
+    if (s%nodal_pressure) call nodal_reference_volumes(s, halo)
+  end subroutine erosion_update
 
   !> Mortar contact forces at the current positions: the contact nodes' positions gathered on
   !> every rank (owners fill, one sum), the mortar kernels divided among the ranks and the
@@ -1123,6 +1182,10 @@ contains
         hist = s%hist(:, l)
         call cell_deformation_gradient(s%dim, nn, s%grad(:, :, l), ue(1:s%dim, 1:nn), f)
       end if
+      if (hist(HIST_ALPHA) < 0.0_wp) then       ! eroded: no stress, its plastic strain
+        results(7, l) = -hist(HIST_ALPHA)
+        cycle
+      end if
       ! the history is this F's already: re-evaluating returns the committed stress
       averaged = s%nodal_pressure
       if (averaged) averaged = s%np_cell(l)
@@ -1196,7 +1259,7 @@ contains
     integer, intent(in) :: cycle                      !< cycle just completed
     real(wp), intent(in) :: t, dt                     !< time, the step that reached it
     type(glstat_record_t) :: rec
-    real(wp) :: sums(12), v_full(3)
+    real(wp) :: sums(13), v_full(3)
     integer :: n, b
     sums = 0.0_wp
     do n = 1, s%nnode
@@ -1216,6 +1279,7 @@ contains
     sums(10) = 0.0_wp - s%wall_work                ! (+0, not -0, without walls)
     sums(11) = s%contact_energy
     sums(12) = s%hourglass_stored + s%hourglass_dissipated
+    sums(13) = s%eroded_energy
     call comm_sum(sums)
     do b = 1, s%bodies%n                    ! replicated: added once, after the sum
       associate (body => s%bodies%body(b))
@@ -1234,8 +1298,10 @@ contains
     rec%time = t
     rec%time_step = dt
     rec%kinetic_energy = sums(1)
-    ! the work of the internal forces holds the hourglass forces': their energy apart
-    rec%internal_energy = sums(2) - sums(12)
+    ! the work of the internal forces holds the hourglass forces' (their energy apart) and
+    ! the eroded elements' (their energy apart, as LS-DYNA's glstat has it)
+    rec%eroded_internal_energy = sums(13)
+    rec%internal_energy = sums(2) - sums(12) - sums(13)
     rec%hourglass_energy = sums(12)
     rec%external_work = sums(3)
     rec%rigidwall_energy = sums(10)
@@ -1250,6 +1316,8 @@ contains
     end if
     rec%energy_ratio = glstat_energy_ratio(rec%total_energy, schedule%initial_energy, &
                                            rec%external_work)
+    rec%energy_ratio_uneroded = glstat_energy_ratio(rec%total_energy + &
+        rec%eroded_internal_energy, schedule%initial_energy, rec%external_work)
     rec%controlled_by = step_controlled_by(model, s)
     call glstat_write(rec)
   end subroutine write_glstat
@@ -1510,6 +1578,9 @@ contains
     call comm_max(loop)
     ranks = real(comm_size(), wp)
     call say('explicit: '//itoa(cycle)//' cycles, '//rtoa(wall)//' s')
+    if (s%erosion) call say('explicit: eroded '//itoa(s%eroded_cells)//' cells, '// &
+        itoa(count(s%live_cells == 0))//' elements (their plastic strain reached the '// &
+        'failure strain)')
     if (cycle > 0 .and. loop > 0.0_wp .and. counts(1) > 0.0_wp) then
       call say('explicit: '//rtoa(1.0e9_wp*loop*ranks/(counts(1)*cycle))// &
                ' ns per element-cycle, '//rtoa(1.0e9_wp*loop*ranks/(counts(2)*cycle))// &

@@ -227,6 +227,20 @@ module mefem_explicit_state
     real(wp), allocatable :: u_old(:,:)        !< (dim, nnode) u^n while walls need it
     real(wp), allocatable :: v_trial(:,:)      !< (dim, nnode) v^{n+1/2} before the walls
     real(wp) :: wall_work = 0.0_wp             !< work of the walls on the owned nodes
+    ! erosion (materials with a failure strain): a failed point keeps its history with
+    ! HIST_ALPHA negated (the mark of a failed point) and carries no stress
+    logical :: erosion = .false.               !< some material of the model fails
+    integer :: n_new_eroded = 0                !< cells this rank found failed this cycle
+    integer, allocatable :: new_eroded(:)      !< their global cell indices
+    integer, allocatable :: eroded_all(:)      !< every rank's, gathered (erosion_update)
+    real(wp) :: eroded_energy = 0.0_wp         !< internal energy of the cells this rank
+                                               !< eroded (failed_point_energy x V0), so far
+    integer :: eroded_cells = 0                !< cells eroded in the model so far
+    integer, allocatable :: live_cells(:)      !< (model elements) cells of each element not
+                                               !< eroded (every rank alike)
+    integer, allocatable :: cell_elements(:,:) !< (2, global cells) the elements of a cell
+                                               !< (0: none), for live_cells
+    logical, allocatable :: cell_counted(:)    !< (ncell) a failed cell already counted
     ! energies accumulated over owned nodes (summed over ranks when written)
     real(wp) :: internal_energy = 0.0_wp
     real(wp) :: contact_energy = 0.0_wp        !< minus the work of the contact forces

@@ -27,7 +27,7 @@ module mefem_implicit_static
                                       cell_tangent, inverse_3x3
   use mefem_hexahedron, only: hourglass_stiffness_cell
   use mefem_material_state, only: NHIST, HIST_ALPHA, material_state_init
-  use mefem_material_update, only: material_update, rate_dependent
+  use mefem_material_update, only: material_update, rate_dependent, material_fails
   use mefem_boundary_conditions, only: fixed_dofs, prescribed_displacements, external_forces
   use mefem_sparse_assembly, only: coo_matrix_t, coo_init, coo_add_block, coo_reset_values, &
                                    coo_free
@@ -111,7 +111,7 @@ contains
     real(wp), allocatable :: u_last(:,:)
     real(wp) :: dt_last
     real(wp) :: t, dt, dt_min, dt_max, end_time, next_output, t0, dt_planned
-    integer :: dim, n_all, n_equations, step, iterations, output_step, c, cuts, action, signum
+    integer :: dim, n_all, n_equations, step, iterations, output_step, c, cuts, action, signum, k
     logical :: converged, written
 
     t0 = comm_wtime()
@@ -142,6 +142,12 @@ contains
                                   prescribed(:, 1:cells%n_mesh_nodes))
     call number_equations(cells, fixed, equation, n_equations)
     call say('implicit: '//itoa(n_equations)//' equations, '//itoa(cells%n)//' cells')
+    do k = 1, model%n_materials
+      if (material_fails(model%materials(k))) call warn('implicit: material '// &
+          itoa(model%materials(k)%id)//': its failure strain '// &
+          rtoa(model%materials(k)%failure_strain)//' is not used: the implicit analysis '// &
+          'erodes no elements (the explicit analysis does)')
+    end do
     if (n_equations == 0) call fatal('implicit: nothing to solve: every degree of freedom is '// &
         'fixed or belongs to a rigid part (the analysis needs deformable elements with free '// &
         'degrees of freedom)')
