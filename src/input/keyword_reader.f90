@@ -30,7 +30,7 @@ module mefem_keyword_reader
   use mefem_read_materials, only: read_mat_johnson_cook, read_mat_simplified_johnson_cook, &
                                   last_material_id, &
                                   read_mat_elastic, read_mat_piecewise_linear, &
-                                  read_mat_power_law, read_mat_mooney_rivlin, read_mat_rigid, &
+                                  read_mat_power_law, read_mat_mooney_rivlin, read_mat_rigid, read_mat_add_erosion, &
                                   read_mat_plastic_kinematic
   use mefem_read_sets, only: read_set_node, read_set_part, read_set_segment
   use mefem_read_conditions, only: read_boundary_spc, read_prescribed_motion, &
@@ -79,7 +79,7 @@ module mefem_keyword_reader
                         H_MAT_JOHNSON_COOK = 64, H_MAT_SIMPLIFIED_JOHNSON_COOK = 65, &
                         H_CONSTRAINED_NODAL_RIGID_BODY = 66, H_CONSTRAINED_SPOTWELD = 67, &
                         H_ELEMENT_MASS = 68, H_ELEMENT_MASS_PART = 69, H_DEFINE_BOX = 70, &
-                        H_CONSTRAINED_GLOBAL = 71
+                        H_CONSTRAINED_GLOBAL = 71, H_MAT_ADD_EROSION = 72
 
   !> Id read from the first card of a rejected keyword (skip_cards), 0 when none.
   integer :: rejected_id = 0
@@ -91,7 +91,7 @@ module mefem_keyword_reader
     character(len=64) :: options = ''    !< options accepted, as ' OPT1 OPT2 '
   end type keyword_entry_t
 
-  integer, parameter :: N_ENTRIES = 85
+  integer, parameter :: N_ENTRIES = 86
   type(keyword_entry_t), parameter :: REGISTRY(N_ENTRIES) = [ &
     keyword_entry_t('NODE', H_NODE, ' '), &
     keyword_entry_t('ELEMENT_SOLID', H_ELEMENT_SOLID, ' '), &
@@ -137,6 +137,7 @@ module mefem_keyword_reader
     keyword_entry_t('BOUNDARY_PRESCRIBED_MOTION_RIGID', H_MOTION_RIGID, ' ID '), &
     keyword_entry_t('DEFINE_CURVE', H_DEFINE_CURVE, ' TITLE '), &
     keyword_entry_t('DEFINE_BOX', H_DEFINE_BOX, ' TITLE '), &
+    keyword_entry_t('MAT_ADD_EROSION', H_MAT_ADD_EROSION, ' TITLE '), &
     keyword_entry_t('LOAD_NODE_POINT', H_LOAD_NODE_POINT, ' '), &
     keyword_entry_t('LOAD_NODE_SET', H_LOAD_NODE_SET, ' '), &
     keyword_entry_t('LOAD_SEGMENT', H_LOAD_SEGMENT, ' ID '), &
@@ -451,6 +452,8 @@ contains
       call read_prescribed_motion(rd, options, ON_NODE_SET, model)
     case (H_MOTION_RIGID)
       call read_prescribed_motion(rd, options, ON_PART, model)
+    case (H_MAT_ADD_EROSION)
+      call read_mat_add_erosion(rd, options, model)
     case (H_CONSTRAINED_GLOBAL)
       call read_constrained_global(rd, model)
     case (H_DEFINE_BOX)
@@ -564,7 +567,8 @@ contains
     rejected_id = 0
     call dispatch(rd, model, first)
     id = last_material_id()
-    if (starts_with(rd%keyword, '*MAT_') .and. model%n_materials == n_materials) then
+    if (starts_with(rd%keyword, '*MAT_') .and. model%n_materials == n_materials .and. &
+        .not. starts_with(rd%keyword, '*MAT_ADD_EROSION')) then
       if (id == 0) id = rejected_id
       if (id /= 0) call append_id(model%rejected_material_ids, id)
     else if (starts_with(rd%keyword, '*SECTION_') .and. rejected_id /= 0) then

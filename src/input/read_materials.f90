@@ -15,14 +15,17 @@ module mefem_read_materials
   use mefem_card_helpers, only: read_title_card, reject_extra_cards, quoted_real
   use mefem_model, only: model_t, material_t, source_t, MAT_ELASTIC, MAT_PIECEWISE_LINEAR, &
                          MAT_PLASTIC_KINEMATIC, MAT_JOHNSON_COOK, MAT_SIMPLIFIED_JOHNSON_COOK, &
-                         MAT_POWER_LAW, MAT_RIGID, MAT_MOONEY_RIVLIN
+                         MAT_POWER_LAW, MAT_RIGID, MAT_MOONEY_RIVLIN, add_erosion_t, &
+                         EROSION_MXPRES, EROSION_MNEPS, EROSION_EFFEPS, EROSION_VOLEPS, &
+                         EROSION_MNPRES, EROSION_SIGP1, EROSION_SIGVM, EROSION_MXEPS, &
+                         EROSION_FAILTM
   implicit none
   private
 
   public :: read_mat_johnson_cook, read_mat_simplified_johnson_cook, last_material_id
   public :: read_mat_elastic, read_mat_piecewise_linear, read_mat_power_law, &
             read_mat_plastic_kinematic, &
-            read_mat_mooney_rivlin, read_mat_rigid, material_keyword
+            read_mat_mooney_rivlin, read_mat_rigid, material_keyword, read_mat_add_erosion
 
   integer, parameter :: W_10(8) = 10   !< standard 8 x 10 card
 
@@ -312,6 +315,93 @@ contains
     if (.not. bad) call add_material(model, mat)
     call reject_extra_cards(rd, 'material '//itoa(mat%id))
   end subroutine read_mat_plastic_kinematic
+
+  !> *MAT_ADD_EROSION (_TITLE): failure criteria added to material MID (explicit: element
+  !> erosion). Card 1 MID EXCL MXPRES MNEPS EFFEPS VOLEPS NUMFIP NCS; card 2 MNPRES SIGP1
+  !> SIGVM MXEPS EPSSH SIGTH IMPULSE FAILTM; further cards (damage models: IDAM, ...) must be
+  !> blank. A criterion is used when its value is not EXCL (default 0: blank and 0 unused).
+  subroutine read_mat_add_erosion(rd, options, model)
+    type(reader_t), intent(inout) :: rd          !< reading state
+    character(len=*), intent(in) :: options      !< keyword options
+    type(model_t), intent(inout) :: model        !< model appended to
+    type(card_t) :: card, card2, card3
+    type(add_erosion_t) :: item
+    type(add_erosion_t), allocatable :: grown(:)
+    character(len=80) :: title
+    character(len=:), allocatable :: who
+    logical :: got, bad
+    real(wp) :: numfip, epssh, sigth, impulse
+    integer :: k
+    call read_title_card(rd, options, title)
+    call first_card(rd, card, got, 'MID EXCL MXPRES MNEPS EFFEPS VOLEPS NUMFIP NCS')
+    if (.not. got) return
+    call get_int(card, 1, 'MID', item%material_id, required=.true.)
+    call get_real(card, 2, 'EXCL', item%exclusion)
+    call get_real(card, 3, 'MXPRES', item%limit(EROSION_MXPRES))
+    call get_real(card, 4, 'MNEPS', item%limit(EROSION_MNEPS))
+    call get_real(card, 5, 'EFFEPS', item%limit(EROSION_EFFEPS))
+    call get_real(card, 6, 'VOLEPS', item%limit(EROSION_VOLEPS))
+    call get_real(card, 7, 'NUMFIP', numfip)
+    call get_int(card, 8, 'NCS', item%conditions, default=1)
+    item%src = source_t(card%file, card%line)
+    bad = card%bad
+    who = 'material '//itoa(item%material_id)//': '
+    call next_card(rd, card2, got, keep_blank=.true.)
+    epssh = 0.0_wp
+    sigth = 0.0_wp
+    impulse = 0.0_wp
+    if (got) then
+      call split_card(rd, card2, W_10)
+      call get_real(card2, 1, 'MNPRES', item%limit(EROSION_MNPRES))
+      call get_real(card2, 2, 'SIGP1', item%limit(EROSION_SIGP1))
+      call get_real(card2, 3, 'SIGVM', item%limit(EROSION_SIGVM))
+      call get_real(card2, 4, 'MXEPS', item%limit(EROSION_MXEPS))
+      call get_real(card2, 5, 'EPSSH', epssh)
+      call get_real(card2, 6, 'SIGTH', sigth)
+      call get_real(card2, 7, 'IMPULSE', impulse)
+      call get_real(card2, 8, 'FAILTM', item%limit(EROSION_FAILTM))
+      bad = bad .or. card2%bad
+      if (.not. card2%bad .and. (epssh /= item%exclusion .or. sigth /= item%exclusion .or. &
+          impulse /= item%exclusion)) then
+        call card_error(card2, who//'EPSSH (shear strain) and the Tuler-Butcher criterion '// &
+            '(SIGTH, IMPULSE) are not supported: give them as EXCL (or blank)')
+        bad = .true.
+      end if
+    end if
+    do                                            ! damage cards (IDAM ...): blank only
+      call next_card(rd, card3, got, keep_blank=.true.)
+      if (.not. got) exit
+      if (len_trim(card3%text(1:card3%length)) == 0) cycle
+      call split_card(rd, card3, W_10)
+      do k = 1, 8
+        call get_real(card3, k, 'field '//itoa(k), numfip)
+        if (numfip /= 0.0_wp .and. .not. card3%bad) then
+          call card_error(card3, who//'the damage models of *MAT_ADD_EROSION (IDAM, DMGTYP, '// &
+              '...) are not supported: leave its cards after card 2 blank')
+          bad = .true.
+          exit
+        end if
+      end do
+    end do
+    if (bad) return
+    if (item%material_id <= 0) then
+      call card_error(card, 'field MID must be a positive material id (got '// &
+                      itoa(item%material_id)//')')
+      return
+    end if
+    if (item%conditions < 1) then
+      call card_error(card, who//'field NCS must be >= 1 (got '//itoa(item%conditions)//')')
+      return
+    end if
+    if (.not. allocated(model%add_erosions)) allocate(model%add_erosions(0))
+    if (model%n_add_erosions == size(model%add_erosions)) then
+      allocate(grown(max(4, 2*model%n_add_erosions)))
+      grown(1:model%n_add_erosions) = model%add_erosions(1:model%n_add_erosions)
+      call move_alloc(grown, model%add_erosions)
+    end if
+    model%n_add_erosions = model%n_add_erosions + 1
+    model%add_erosions(model%n_add_erosions) = item
+  end subroutine read_mat_add_erosion
 
   !> *MAT_JOHNSON_COOK (*MAT_015): MID RO G E PR DTF VP RATEOP / A B N C M TM TR EPSO / CP PC
   !> SPALL IT D1 D2 D3 D4 / [D5 C2 EROD EFMIN NUMINT]. J2 plasticity with the flow stress

@@ -29,7 +29,9 @@
 !> whole); asking for one is reported as a failure.
 module mefem_material_update
   use mefem_kinds, only: wp
-  use mefem_model, only: material_t, curve_t, MAT_ELASTIC, MAT_PIECEWISE_LINEAR, MAT_POWER_LAW, &
+  use mefem_model, only: material_t, curve_t, EROSION_CRITERIA, EROSION_MXPRES, EROSION_MNEPS, &
+                         EROSION_EFFEPS, EROSION_VOLEPS, EROSION_MNPRES, EROSION_SIGP1, &
+                         EROSION_SIGVM, EROSION_MXEPS, EROSION_FAILTM, MAT_ELASTIC, MAT_PIECEWISE_LINEAR, MAT_POWER_LAW, &
                          MAT_PLASTIC_KINEMATIC, MAT_RIGID, MAT_MOONEY_RIVLIN, &
                          MAT_JOHNSON_COOK, MAT_SIMPLIFIED_JOHNSON_COOK
   use mefem_errors, only: status_t
@@ -41,11 +43,12 @@ module mefem_material_update
   use mefem_mat_elastic, only: mat_elastic_update, lame_constants
   use mefem_mat_j2_plasticity, only: mat_j2_update, mat_j2_update_block, mat_j2_kinematic_update
   use mefem_mat_mooney_rivlin, only: mat_mooney_rivlin_update
+  use mefem_tensor_algebra, only: symmetric_eigenvalues
   implicit none
   private
 
   public :: material_update, material_update_block, material_elastic_moduli, rate_dependent
-  public :: material_fails, failed_point_energy
+  public :: material_fails, failed_point_energy, erosion_criteria_met
 
   !> Intervals of Simpson's rule for the plastic work of a failed point
   integer, parameter :: PLASTIC_WORK_INTERVALS = 8
@@ -201,7 +204,58 @@ contains
     type(material_t), intent(in) :: mat                !< the material card
     material_fails = mat%failure_strain > 0.0_wp .and. any(mat%kind == [MAT_PIECEWISE_LINEAR, &
         MAT_POWER_LAW, MAT_PLASTIC_KINEMATIC, MAT_JOHNSON_COOK, MAT_SIMPLIFIED_JOHNSON_COOK])
+    material_fails = material_fails .or. mat%add_erosion
   end function material_fails
+
+  !> *MAT_ADD_EROSION: at least NCS of the material's criteria met at a point, from its Cauchy
+  !> stress sigma = tau/J (pressure p = -tr(sigma)/3, positive in compression; equivalent
+  !> stress sqrt(3/2 s:s); principal stresses), its logarithmic strain (principal values
+  !> ln(lambda_i)/2 of the eigenvalues of F F^T, volumetric ln J, effective sqrt(2/3 e:e) of
+  !> the deviator e) and the time.
+  pure logical function erosion_criteria_met(mat, f, tau, j, time) result(met)
+    type(material_t), intent(in) :: mat                !< the material card (add_erosion)
+    real(wp), intent(in) :: f(9)                       !< F, column by column
+    real(wp), intent(in) :: tau(6)                     !< Kirchhoff stress XX YY ZZ XY YZ ZX
+    real(wp), intent(in) :: j                          !< J of the stress (> 0)
+    real(wp), intent(in) :: time                       !< the time of the state
+    real(wp) :: sigma(6), pressure, dev(6), b(6), stress_principal(3), strain_principal(3)
+    real(wp) :: strain_dev(3), value(EROSION_CRITERIA)
+    logical :: hit(EROSION_CRITERIA)
+    met = .false.
+    if (.not. mat%add_erosion .or. .not. j > 0.0_wp) return
+    sigma = tau/j
+    pressure = -(sigma(1) + sigma(2) + sigma(3))/3.0_wp
+    dev = sigma
+    dev(1:3) = dev(1:3) + pressure
+    stress_principal = symmetric_eigenvalues(sigma)
+    ! B = F F^T (F(r, c) = f(r + 3 (c - 1)))
+    b(1) = f(1)**2 + f(4)**2 + f(7)**2
+    b(2) = f(2)**2 + f(5)**2 + f(8)**2
+    b(3) = f(3)**2 + f(6)**2 + f(9)**2
+    b(4) = f(1)*f(2) + f(4)*f(5) + f(7)*f(8)
+    b(5) = f(2)*f(3) + f(5)*f(6) + f(8)*f(9)
+    b(6) = f(1)*f(3) + f(4)*f(6) + f(7)*f(9)
+    strain_principal = 0.5_wp*log(max(symmetric_eigenvalues(b), tiny(1.0_wp)))
+    strain_dev = strain_principal - sum(strain_principal)/3.0_wp
+    value = [pressure, strain_principal(3), sqrt(2.0_wp/3.0_wp*sum(strain_dev**2)), &
+             sum(strain_principal), pressure, stress_principal(1), &
+             sqrt(1.5_wp*(sum(dev(1:3)**2) + 2.0_wp*sum(dev(4:6)**2))), strain_principal(1), &
+             time]
+    associate (limit => mat%erosion_limit)
+      hit = [value(EROSION_MXPRES) > limit(EROSION_MXPRES), &
+             value(EROSION_MNEPS) < limit(EROSION_MNEPS), &
+             value(EROSION_EFFEPS) > limit(EROSION_EFFEPS), &
+             merge(value(EROSION_VOLEPS) > limit(EROSION_VOLEPS), &
+                   value(EROSION_VOLEPS) < limit(EROSION_VOLEPS), &
+                   limit(EROSION_VOLEPS) >= 0.0_wp), &
+             value(EROSION_MNPRES) < limit(EROSION_MNPRES), &
+             value(EROSION_SIGP1) > limit(EROSION_SIGP1), &
+             value(EROSION_SIGVM) > limit(EROSION_SIGVM), &
+             value(EROSION_MXEPS) > limit(EROSION_MXEPS), &
+             value(EROSION_FAILTM) > limit(EROSION_FAILTM)]
+    end associate
+    met = count(hit .and. mat%erosion_used) >= mat%erosion_conditions
+  end function erosion_criteria_met
 
   !> Internal energy per reference volume of a point that failed at the equivalent plastic
   !> strain alpha (glstat's eroded internal energy): the plastic work of the static hardening

@@ -12,7 +12,7 @@ module mefem_tensor_algebra
 
   public :: IDENTITY
   public :: determinant, inverse, trace, deviator, double_contraction, frobenius_norm
-  public :: symmetric_to_voigt, voigt_to_symmetric
+  public :: symmetric_to_voigt, voigt_to_symmetric, symmetric_eigenvalues
   public :: add_outer_product, add_symmetric_identity, add_symmetric_product
   public :: inverse_cube_root, CUBE_ROOT_SERIES_RANGE, CUBE_ROOT_C1, CUBE_ROOT_C2, &
             CUBE_ROOT_C3
@@ -33,6 +33,32 @@ module mefem_tensor_algebra
   real(wp), parameter :: ONE_THIRD = 1.0_wp/3.0_wp     !< (a product instead of a division)
 
 contains
+
+  !> Eigenvalues of a symmetric 3x3 tensor given in Voigt order (xx yy zz xy yz zx), largest
+  !> first: the closed form of the characteristic cubic (Smith 1961), the deviator's
+  !> invariants through an angle.
+  pure function symmetric_eigenvalues(a) result(lambda)
+    real(wp), intent(in) :: a(6)                 !< the tensor (Voigt)
+    real(wp) :: lambda(3)
+    real(wp), parameter :: PI = 3.14159265358979323846_wp
+    real(wp) :: off, q, p, b(6), r, phi
+    off = a(4)**2 + a(5)**2 + a(6)**2
+    q = (a(1) + a(2) + a(3))/3.0_wp
+    p = sqrt(((a(1) - q)**2 + (a(2) - q)**2 + (a(3) - q)**2 + 2.0_wp*off)/6.0_wp)
+    if (p == 0.0_wp) then
+      lambda = q
+      return
+    end if
+    b = a/p
+    b(1:3) = (a(1:3) - q)/p
+    r = 0.5_wp*(b(1)*(b(2)*b(3) - b(5)**2) - b(4)*(b(4)*b(3) - b(5)*b(6)) + &
+                b(6)*(b(4)*b(5) - b(2)*b(6)))
+    r = max(-1.0_wp, min(1.0_wp, r))
+    phi = acos(r)/3.0_wp
+    lambda(1) = q + 2.0_wp*p*cos(phi)
+    lambda(3) = q + 2.0_wp*p*cos(phi + 2.0_wp*PI/3.0_wp)
+    lambda(2) = 3.0_wp*q - lambda(1) - lambda(3)
+  end function symmetric_eigenvalues
 
   !> Determinant of a 3x3 matrix.
   pure real(wp) function determinant(a)

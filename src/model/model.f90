@@ -36,6 +36,14 @@ module mefem_model
       .false., .false., .false.,  .true., .false., .false.,  .false., .true., .false., &
       .false., .false., .true.,   .true., .true., .false.,   .false., .true., .true., &
       .true., .false., .true.,    .true., .true., .true.], [3, 8])
+  !> Failure criteria of *MAT_ADD_EROSION, in the order of erosion_limit: pressure above MXPRES
+  !> or below MNPRES, minimum principal strain below MNEPS, effective strain above EFFEPS,
+  !> volumetric strain beyond VOLEPS (its sign the side), maximum principal stress above
+  !> SIGP1, equivalent stress above SIGVM, maximum principal strain above MXEPS, time after
+  !> FAILTM.
+  integer, parameter, public :: EROSION_MXPRES = 1, EROSION_MNEPS = 2, EROSION_EFFEPS = 3, &
+      EROSION_VOLEPS = 4, EROSION_MNPRES = 5, EROSION_SIGP1 = 6, EROSION_SIGVM = 7, &
+      EROSION_MXEPS = 8, EROSION_FAILTM = 9, EROSION_CRITERIA = 9
   integer, parameter, public :: GENERAL_ALL = 1, GENERAL_NODE = 2, GENERAL_PART = 3, &
                                 GENERAL_SET = 4, GENERAL_BOX = 5
   !> a contact's FS of -1: the friction (FS, FD, DC) of its SURFA parts' *PART_CONTACT
@@ -131,6 +139,10 @@ module mefem_model
                                             !< (explicit: erosion): FAIL (MAT_024), EPSF
                                             !< (MAT_018), FS (MAT_003), PSFAIL (MAT_098);
                                             !< 0: none
+    logical :: add_erosion = .false.        !< *MAT_ADD_EROSION criteria (below) apply
+    real(wp) :: erosion_limit(EROSION_CRITERIA) = 0.0_wp  !< their limits (EROSION_*)
+    logical :: erosion_used(EROSION_CRITERIA) = .false.   !< which criteria are used
+    integer :: erosion_conditions = 1       !< NCS: criteria met at once for failure
     real(wp) :: cowper_c = 0.0_wp, cowper_p = 0.0_wp   !< C, P (MAT_024) / SRC, SRP (MAT_018)
     integer :: lcss = 0                     !< curve id of stress vs plastic strain (MAT_024)
     integer :: lcss_curve = 0               !< its index (after resolve)
@@ -251,6 +263,15 @@ module mefem_model
     integer :: box_id = 0, box = 0           !< BOXID: only the nodes inside this box
     type(source_t) :: src
   end type initial_velocity_t
+
+  !> *MAT_ADD_EROSION of a material (attached to it by resolve): its card values as read.
+  type, public :: add_erosion_t
+    integer :: material_id = 0              !< MID
+    real(wp) :: limit(EROSION_CRITERIA) = 0.0_wp   !< the criteria's values (EROSION_*)
+    real(wp) :: exclusion = 0.0_wp          !< EXCL: a value equal to it is not used
+    integer :: conditions = 1               !< NCS
+    type(source_t) :: src
+  end type add_erosion_t
 
   !> *CONSTRAINED_GLOBAL: the nodes on a plane normal to a global axis are held (TC code).
   type, public :: global_constraint_t
@@ -429,6 +450,8 @@ module mefem_model
     type(added_mass_t), allocatable :: added_masses(:)
     integer :: n_boxes = 0
     type(box_t), allocatable :: boxes(:)
+    integer :: n_add_erosions = 0
+    type(add_erosion_t), allocatable :: add_erosions(:)
     integer :: n_global_constraints = 0
     type(global_constraint_t), allocatable :: global_constraints(:)
     type(controls_t) :: controls

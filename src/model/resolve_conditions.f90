@@ -111,6 +111,14 @@ contains
     if (.not. allocated(model%boxes)) allocate(model%boxes(0))
   end subroutine allocate_empty
 
+  !> The id is in the list (an unallocated list holds none).
+  pure logical function listed_id(list, id)
+    integer, allocatable, intent(in) :: list(:)     !< ids
+    integer, intent(in) :: id                       !< the id
+    listed_id = .false.
+    if (allocated(list)) listed_id = any(list == id)
+  end function listed_id
+
   !> Resolve a box reference (BOXID); report it when undefined.
   subroutine resolve_box(look, id, index, where)
     type(lookup_t), intent(in) :: look              !< lookups
@@ -265,7 +273,7 @@ contains
   subroutine resolve_materials(model, look)
     type(model_t), intent(inout) :: model     !< the model
     type(lookup_t), intent(in) :: look        !< lookups
-    integer :: m
+    integer :: m, k
     character(len=:), allocatable :: where
     do m = 1, model%n_materials
       associate (mat => model%materials(m))
@@ -275,6 +283,34 @@ contains
             'material '//itoa(mat%id)//': LCSS ')
         if (mat%lcsr > 0) call resolve_curve(look, mat%lcsr, mat%lcsr_curve, where, &
             'material '//itoa(mat%id)//': LCSR ')
+      end associate
+    end do
+    ! *MAT_ADD_EROSION: its criteria join its material
+    do m = 1, model%n_add_erosions
+      associate (ae => model%add_erosions(m))
+        where = where_is(ae%src, '*MAT_ADD_EROSION')
+        k = id_map_find(look%materials, ae%material_id)
+        if (k == 0) then
+          if (.not. listed_id(model%rejected_material_ids, ae%material_id)) call input_error( &
+              where, 'material '//itoa(ae%material_id)//' (MID) is not defined')
+          cycle
+        end if
+        associate (mat => model%materials(k))
+          if (mat%kind == MAT_RIGID) then
+            call input_error(where, 'material '//itoa(mat%id)//' is *MAT_RIGID: a rigid '// &
+                             'body does not erode')
+          else if (mat%add_erosion) then
+            call input_error(where, 'material '//itoa(mat%id)//' has a *MAT_ADD_EROSION '// &
+                             'already')
+          else
+            mat%add_erosion = .true.
+            mat%erosion_limit = ae%limit
+            mat%erosion_used = ae%limit /= ae%exclusion .and. ae%limit /= 0.0_wp
+            mat%erosion_conditions = ae%conditions
+            if (.not. any(mat%erosion_used)) call warn(where//': material '// &
+                itoa(mat%id)//': every criterion is 0 or EXCL: nothing erodes')
+          end if
+        end associate
       end associate
     end do
     if (model%controls%lctm > 0) call resolve_curve(look, model%controls%lctm, &

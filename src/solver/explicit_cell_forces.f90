@@ -15,7 +15,7 @@ module mefem_explicit_cell_forces
   use mefem_kinds, only: wp
   use mefem_errors, only: status_t
   use mefem_strings, only: itoa
-  use mefem_model, only: model_t
+  use mefem_model, only: model_t, material_t
   use mefem_halo, only: halo_t, halo_assemble, halo_assemble_start, halo_assembly_push_nodes, &
                         halo_assemble_summed
   use mefem_cells, only: cells_t, CELL_MAX_NODES, MEFEM_FACE_NODES
@@ -30,7 +30,7 @@ module mefem_explicit_cell_forces
   use mefem_material_state, only: NHIST, HIST_ALPHA, material_state_init, &
                                   BLOCK_CELLS => BLOCK_POINTS
   use mefem_material_update, only: material_update, material_update_block, rate_dependent, &
-                                   material_fails, failed_point_energy
+                                   material_fails, failed_point_energy, erosion_criteria_met
   use mefem_tensor_algebra, only: determinant, inverse_cube_root
   use mefem_explicit_state, only: explicit_state_t, set_to_zero, state_peer_view
   use mefem_comm, only: comm_rank, comm_size, comm_barrier, comm_arena_free, comm_arena_sync, &
@@ -112,7 +112,7 @@ contains
     integer :: l
     do l = 1, s%ncell
       if (s%cell_counted(l)) cycle
-      if (.not. model%materials(s%material(l))%failure_strain > 0.0_wp) cycle
+      if (.not. material_fails(model%materials(s%material(l)))) cycle
       if (.not. cell_failed(s, l)) cycle
       if (s%nblock > 0) then
         alpha = s%block_hist(s%cell_slot(l), HIST_ALPHA, s%cell_block(l))
@@ -163,6 +163,7 @@ contains
         took = .true.
         s%peers(j)%dt_stable = huge(1.0_wp)
         s%peers(j)%dt_element = 0
+        s%peers(j)%time = s%time
         s%peers(j)%failed = .false.
         do k = first, last
           call block_forces(model, s%peers(j), k, .true.)
@@ -344,6 +345,7 @@ contains
     rate = 0.0_wp
     if (rate_dependent(model%materials(s%material(l)))) rate = cell_strain_rate(s, l, grad, f, &
         model%materials(s%material(l))%vp < 0.0_wp)
+    jbar = 1.0_wp
     averaged = s%nodal_pressure
     if (averaged) averaged = s%np_cell(l)
     if (averaged) then                        ! as block_forces, one cell
@@ -373,8 +375,8 @@ contains
       return
     end if
     if (material_fails(model%materials(s%material(l)))) then
-      if (hist_new(HIST_ALPHA) >= model%materials(s%material(l))%failure_strain) then
-        hist_new(HIST_ALPHA) = -hist_new(HIST_ALPHA)          ! fails now (erosion)
+      if (cell_fails_now(model%materials(s%material(l)))) then
+        hist_new(HIST_ALPHA) = -max(hist_new(HIST_ALPHA), tiny(1.0_wp))   ! fails (erosion)
         tau = 0.0_wp
         if (averaged) then
           s%np_pressure(l) = 0.0_wp
@@ -393,6 +395,23 @@ contains
                                                  s%cell_force(:, 1:nn, l))
     omega2 = cell_critical_omega_squared(dim, s%weight(l), w0, f, s%lame(1, l), s%lame(2, l))
     call take_cell_step(model, s, l, omega2)
+
+  contains
+
+    !> The cell's plastic strain reached the failure strain, or its *MAT_ADD_EROSION criteria
+    !> are met (at the stress's J: the cell's, or Jbar for ELFORM 13).
+    logical function cell_fails_now(mat)
+      type(material_t), intent(in) :: mat             !< the cell's material
+      real(wp) :: tau6(6)
+      cell_fails_now = .false.
+      if (mat%failure_strain > 0.0_wp) cell_fails_now = hist_new(HIST_ALPHA) >= &
+                                                        mat%failure_strain
+      if (cell_fails_now .or. .not. mat%add_erosion) return
+      tau6 = [tau(1, 1), tau(2, 2), tau(3, 3), tau(1, 2), tau(2, 3), tau(1, 3)]
+      cell_fails_now = erosion_criteria_met(mat, reshape(f, [9]), tau6, &
+                                            merge(jbar, determinant(f), averaged), s%time)
+    end function cell_fails_now
+
   end subroutine cell_evaluate
 
   !> Effective strain rate of local cell l (as block_strain_rate, one cell, 2D or 3D): d =
@@ -818,19 +837,31 @@ contains
     !> whose equivalent plastic strain reached the failure strain fails now (HIST_ALPHA
     !> negated: the mark; no stress from this cycle on).
     subroutine erode_failed()
-      real(wp) :: limit
-      limit = model%materials(s%material(s%block_cell(first)))%failure_strain
-      do i = 1, n
-        if (failed(i)) then
-          s%block_hist(i, :, b) = kept(i, :)
-        else if (ok(i) .and. s%block_hist(i, HIST_ALPHA, b) >= limit) then
-          s%block_hist(i, HIST_ALPHA, b) = -s%block_hist(i, HIST_ALPHA, b)
-          failed(i) = .true.
-        else
-          cycle
-        end if
-        tau(i, :) = 0.0_wp
-      end do
+      real(wp) :: j_stress
+      logical :: fails_now
+      associate (mat => model%materials(s%material(s%block_cell(first))))
+        do i = 1, n
+          if (failed(i)) then
+            s%block_hist(i, :, b) = kept(i, :)
+          else if (ok(i)) then
+            fails_now = .false.
+            if (mat%failure_strain > 0.0_wp) fails_now = &
+                s%block_hist(i, HIST_ALPHA, b) >= mat%failure_strain
+            if (mat%add_erosion .and. .not. fails_now) then
+              j_stress = det(i)
+              if (averaged) j_stress = jbar(i)
+              fails_now = erosion_criteria_met(mat, f(i, :), tau(i, :), j_stress, s%time)
+            end if
+            if (.not. fails_now) cycle
+            s%block_hist(i, HIST_ALPHA, b) = -max(s%block_hist(i, HIST_ALPHA, b), &
+                                                  tiny(1.0_wp))
+            failed(i) = .true.
+          else
+            cycle
+          end if
+          tau(i, :) = 0.0_wp
+        end do
+      end associate
     end subroutine erode_failed
 
   end subroutine block_forces

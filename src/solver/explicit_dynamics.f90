@@ -752,6 +752,7 @@ contains
     type(timing_t), intent(inout) :: timing           !< phase times
     real(wp) :: clock
     clock = comm_wtime()
+    s%time = t
     call explicit_cell_loop(model, s, halo)
     timing%forces = timing%forces + (comm_wtime() - clock)
     ! the next step depends on the cells only: its minimum over the ranks runs while the
@@ -1579,8 +1580,7 @@ contains
     ranks = real(comm_size(), wp)
     call say('explicit: '//itoa(cycle)//' cycles, '//rtoa(wall)//' s')
     if (s%erosion) call say('explicit: eroded '//itoa(s%eroded_cells)//' cells, '// &
-        itoa(count(s%live_cells == 0))//' elements (their plastic strain reached the '// &
-        'failure strain)')
+        itoa(count(s%live_cells == 0))//' elements (failure strain, *MAT_ADD_EROSION)')
     if (cycle > 0 .and. loop > 0.0_wp .and. counts(1) > 0.0_wp) then
       call say('explicit: '//rtoa(1.0e9_wp*loop*ranks/(counts(1)*cycle))// &
                ' ns per element-cycle, '//rtoa(1.0e9_wp*loop*ranks/(counts(2)*cycle))// &

@@ -230,6 +230,7 @@ module mefem_explicit_state
     ! erosion (materials with a failure strain): a failed point keeps its history with
     ! HIST_ALPHA negated (the mark of a failed point) and carries no stress
     logical :: erosion = .false.               !< some material of the model fails
+    real(wp) :: time = 0.0_wp                  !< the time of the cell loop (FAILTM)
     integer :: n_new_eroded = 0                !< cells this rank found failed this cycle
     integer, allocatable :: new_eroded(:)      !< their global cell indices
     integer, allocatable :: eroded_all(:)      !< every rank's, gathered (erosion_update)

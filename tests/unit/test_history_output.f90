@@ -139,6 +139,9 @@ contains
       recs(k)%total_energy = glstat_total_energy(recs(k))
       recs(k)%energy_ratio = glstat_energy_ratio(recs(k)%total_energy, &
           recs(1)%total_energy, recs(k)%external_work)
+      recs(k)%eroded_internal_energy = 0.75_wp*real(k, wp)
+      recs(k)%energy_ratio_uneroded = glstat_energy_ratio(recs(k)%total_energy + &
+          recs(k)%eroded_internal_energy, recs(1)%total_energy, recs(k)%external_work)
       recs(k)%global_velocity = [-1.0_wp/7.0_wp, 0.0_wp, 123456.789_wp]*real(k, wp)
     end do
     recs(1)%controlled_by = 'solid 123 of part 1'
@@ -221,8 +224,8 @@ contains
     real(wp) :: values(NLABEL)
     values = [rec%time, rec%time_step, rec%kinetic_energy, rec%internal_energy, &
         rec%rigidwall_energy, 0.0_wp, rec%hourglass_energy, rec%damping_energy, &
-        rec%contact_energy, rec%external_work, 0.0_wp, 0.0_wp, 0.0_wp, rec%total_energy, &
-        rec%energy_ratio, rec%energy_ratio, rec%global_velocity, rec%added_mass, &
+        rec%contact_energy, rec%external_work, 0.0_wp, rec%eroded_internal_energy, 0.0_wp, &
+        rec%total_energy, rec%energy_ratio, rec%energy_ratio_uneroded, rec%global_velocity, rec%added_mass, &
         rec%percent_mass_increase]
   end function record_values
 

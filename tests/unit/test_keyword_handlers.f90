@@ -74,7 +74,8 @@ contains
       ! *MAT_PIECEWISE_LINEAR_PLASTICITY: blank FAIL, LCSS, EPS/ES table
       call check_close([m(2)%young, m(2)%yield_stress, m(2)%tangent_modulus], &
                        [2.0e5_wp, 250.0_wp, 1000.0_wp], TIGHT, label//': MAT_024 E SIGY ETAN')
-      call check_close(m(2)%failure_strain, 1.0e21_wp, TIGHT, label//': MAT_024 FAIL default')
+      call check_close(m(2)%failure_strain, 0.0_wp, TIGHT, label//': MAT_024 FAIL default '// &
+                       '(0: no failure)')
       call check_equal(m(2)%lcss, 1, label//': MAT_024 LCSS')
       call check_equal(m(2)%n_points, 3, label//': MAT_024 EPS/ES points')
       call check_close(m(2)%eps(1:3), [0.0_wp, 0.1_wp, 0.2_wp], TIGHT, label//': MAT_024 EPS')

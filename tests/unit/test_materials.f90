@@ -5,21 +5,25 @@
 !> 4 plastic incompressibility (det be_bar = 1); 5 consistent tangents against central
 !>   differences of tau(F) with the Lie-derivative identity; 6 det F <= 0 reported;
 !> 7 hardening laws (values, slopes, LS-DYNA *MAT_018 strain offset, the seed-law identity);
-!> 8 the block form of the hardening laws gives the point form's bits.
+!> 8 the block form of the hardening laws gives the point form's bits; 9 principal values of
+!>   rotated diagonal tensors and the *MAT_ADD_EROSION criteria on rotated states.
 program test_materials
   use mefem_kinds, only: wp
   use mefem_testing, only: test_start, test_finish, check, check_close
   use mefem_errors, only: status_t
   use mefem_strings, only: rtoa, itoa
   use mefem_model, only: material_t, curve_t, MAT_ELASTIC, MAT_PIECEWISE_LINEAR, MAT_POWER_LAW, &
-                         MAT_MOONEY_RIVLIN, MAT_RIGID
+                         MAT_MOONEY_RIVLIN, MAT_RIGID, EROSION_MXPRES, EROSION_MNEPS, &
+                         EROSION_EFFEPS, EROSION_VOLEPS, EROSION_MNPRES, EROSION_SIGP1, &
+                         EROSION_SIGVM, EROSION_MXEPS, EROSION_FAILTM
   use mefem_material_state, only: NHIST, HIST_ALPHA, material_state_init, &
                                   state_elastic_strain, state_plastic_metric
-  use mefem_material_update, only: material_update
+  use mefem_material_update, only: material_update, erosion_criteria_met
   use mefem_hardening, only: hardening_yield, hardening_yield_block, piecewise_linear_law, power_law_strain_offset, &
                              plastic_modulus, HARDENING_POWER_LAW, HARDENING_LINEAR, &
                              HARDENING_TABLE, HARDENING_CURVE
-  use mefem_tensor_algebra, only: IDENTITY, determinant, deviator, frobenius_norm
+  use mefem_tensor_algebra, only: IDENTITY, determinant, deviator, frobenius_norm, &
+                                  symmetric_eigenvalues
   use mefem_test_fixtures, only: linear_steel, power_law_steel, table_steel, curve_steel, &
                                  elastic_steel, rubber
   implicit none
@@ -39,6 +43,7 @@ program test_materials
   call test_objectivity()
   call test_tangents()
   call test_failures()
+  call test_erosion_criteria()
   call test_finish()
 
 contains
@@ -754,5 +759,114 @@ contains
                      (1.0_wp - 2.0_wp*mat%poisson)*mat%density)), 1.0e-14_wp, &
                      'Mooney-Rivlin wave speed at F = I is sqrt((K + 4/3 G)/rho0)')
   end subroutine test_failures
+
+  ! ---------------------------------------------------------------- 9 erosion criteria
+
+  !> Voigt (xx yy zz xy yz zx) of a symmetric matrix.
+  function voigt(a) result(v)
+    real(wp), intent(in) :: a(3,3)
+    real(wp) :: v(6)
+    v = [a(1,1), a(2,2), a(3,3), a(1,2), a(2,3), a(1,3)]
+  end function voigt
+
+  !> Principal values of R diag R^T are the diagonal, largest first (distinct, two equal, all
+  !> equal); each *MAT_ADD_EROSION criterion, alone, is met just above its limit and not just
+  !> below it on a rotated state (stretches lambda_i: F = R diag(lambda) R^T, tau = J sigma with
+  !> sigma = R diag(s) R^T), and NCS counts the criteria met.
+  subroutine test_erosion_criteria()
+    real(wp), parameter :: AXIS(3) = [1.0_wp, 2.0_wp, 2.0_wp]/3.0_wp
+    real(wp) :: r(3,3), lam(3), s(3), f(3,3), tau(6), j, value(9), strain(3), dev(3), got(3)
+    real(wp) :: diag(3,3), cases(3,3)
+    type(material_t) :: mat
+    integer :: c, k
+    logical :: ok
+    r = rotation(AXIS, 0.7_wp)
+    cases = reshape([3.0_wp, -1.0_wp, 0.5_wp, 2.0_wp, 2.0_wp, -4.0_wp, 1.5_wp, 1.5_wp, &
+                     1.5_wp], [3, 3])
+    do c = 1, 3
+      diag = 0.0_wp
+      do k = 1, 3
+        diag(k,k) = cases(k,c)
+      end do
+      got = symmetric_eigenvalues(voigt(matmul(r, matmul(diag, transpose(r)))))
+      lam = cases(:,c)
+      call sort_descending(lam)
+      call check_close(got, lam, 1.0e-14_wp*maxval(abs(lam)), &
+                       'principal values of a rotated diagonal tensor, case '//itoa(c))
+    end do
+    ! a state: stretches lam, Cauchy principal stresses s, time 2e-3
+    lam = [1.08_wp, 0.97_wp, 0.99_wp]
+    s = [150.0_wp, -40.0_wp, 20.0_wp]
+    f = matmul(r, matmul(diagonal(lam), transpose(r)))
+    j = product(lam)
+    tau = j*voigt(matmul(r, matmul(diagonal(s), transpose(r))))
+    strain = log(lam)
+    dev = strain - sum(strain)/3.0_wp
+    value(EROSION_MXPRES) = -sum(s)/3.0_wp
+    value(EROSION_MNEPS) = minval(strain)
+    value(EROSION_EFFEPS) = sqrt(2.0_wp/3.0_wp*sum(dev**2))
+    value(EROSION_VOLEPS) = sum(strain)
+    value(EROSION_MNPRES) = -sum(s)/3.0_wp
+    value(EROSION_SIGP1) = maxval(s)
+    value(EROSION_SIGVM) = sqrt(1.5_wp*sum((s - sum(s)/3.0_wp)**2))
+    value(EROSION_MXEPS) = maxval(strain)
+    value(EROSION_FAILTM) = 2.0e-3_wp
+    mat = elastic_steel()
+    mat%add_erosion = .true.
+    mat%erosion_conditions = 1
+    do c = 1, 9
+      mat%erosion_used = .false.
+      mat%erosion_used(c) = .true.
+      ! "greater than" criteria are met with the limit just below the value, "less than"
+      ! ones (MNEPS, MNPRES, a negative VOLEPS) with the limit just above it
+      ok = .true.
+      do k = -1, 1, 2
+        mat%erosion_limit(c) = value(c) + real(k, wp)*(1.0e-6_wp*abs(value(c)) + 1.0e-9_wp)
+        ok = ok .and. (erosion_criteria_met(mat, reshape(f, [9]), tau, j, 2.0e-3_wp) .eqv. &
+                       ((k == -1) .neqv. (c == EROSION_MNEPS .or. c == EROSION_MNPRES .or. &
+                                          (c == EROSION_VOLEPS .and. value(c) < 0.0_wp))))
+      end do
+      call check(ok, '*MAT_ADD_EROSION criterion '//itoa(c)//' at its value '// &
+                 rtoa(value(c))//': met on its side of the limit, not on the other')
+    end do
+    ! NCS 2: MXEPS met, SIGP1 not: no failure; both met: failure
+    mat%erosion_used = .false.
+    mat%erosion_used([EROSION_MXEPS, EROSION_SIGP1]) = .true.
+    mat%erosion_conditions = 2
+    mat%erosion_limit(EROSION_MXEPS) = 0.5_wp*value(EROSION_MXEPS)
+    mat%erosion_limit(EROSION_SIGP1) = 2.0_wp*value(EROSION_SIGP1)
+    call check(.not. erosion_criteria_met(mat, reshape(f, [9]), tau, j, 0.0_wp), &
+               'NCS 2: one criterion met of two: no failure')
+    mat%erosion_limit(EROSION_SIGP1) = 0.5_wp*value(EROSION_SIGP1)
+    call check(erosion_criteria_met(mat, reshape(f, [9]), tau, j, 0.0_wp), &
+               'NCS 2: both criteria met: failure')
+  end subroutine test_erosion_criteria
+
+  !> diag(d)
+  function diagonal(d) result(a)
+    real(wp), intent(in) :: d(3)
+    real(wp) :: a(3,3)
+    integer :: k
+    a = 0.0_wp
+    do k = 1, 3
+      a(k,k) = d(k)
+    end do
+  end function diagonal
+
+  !> Sort three values, largest first.
+  subroutine sort_descending(v)
+    real(wp), intent(inout) :: v(3)
+    integer :: a, b
+    real(wp) :: t
+    do a = 1, 2
+      do b = a + 1, 3
+        if (v(b) > v(a)) then
+          t = v(a)
+          v(a) = v(b)
+          v(b) = t
+        end if
+      end do
+    end do
+  end subroutine sort_descending
 
 end program test_materials

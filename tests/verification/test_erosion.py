@@ -12,7 +12,9 @@ and carries no stress from then on (explicit; mm, t, s, N, MPa; doc/theory.md 6.
    smoothing cells fail one by one), 13 (the nodal-pressure means leave the failed cells out)
    and 10 (standard tets): elements erode, the run ends normally; on 2 ranks the same nodal bits
    and the same count of eroded cells as on 1 (every rank takes the same decisions).
-3. *MAT_003 FS and *MAT_018 EPSF on the one-hexahedron case: eroded as well.
+3. *MAT_003 FS and *MAT_018 EPSF on the one-hexahedron case: eroded as well; *MAT_ADD_EROSION
+   on it (an elastic cube: MXEPS, EFFEPS, FAILTM, NCS 2 with MXEPS and FAILTM; the hardening
+   cube: SIGVM): not eroded at 0.99, eroded at 1.01 of the failure time of each criterion.
 4. Contact: a strip of 4 hexahedra lying on a rigid support under a body load of 1e8 mm/s^2,
    pulled apart at its ends (FAIL 0.01): the support holds it until its elements erode; then
    their faces leave the contact and the free nodes fall through the support (with the faces
@@ -205,7 +207,40 @@ def strip_on_support():
                  '%g %g' % (peak, final))
 
 
+def add_erosion():
+    """*MAT_ADD_EROSION criteria on the uniaxial cube (v = 1000 mm/s, L = 1 mm): eroded
+    between 0.99 and 1.01 of the analytic failure time, not before."""
+    elastic = ['*MAT_ELASTIC', free(1, DENSITY, YOUNG, 0.3)]
+    j2 = ['*MAT_PIECEWISE_LINEAR_PLASTICITY', free(1, DENSITY, YOUNG, 0.3, SIGY, 1000.0),
+          free(0.0, 0.0)]
+    plastic_modulus = YOUNG * 1000.0 / (YOUNG - 1000.0)
+    cases = [
+        # MXEPS 0.05: the largest principal log strain ln(1 + v t) reaches 0.05
+        ('MXEPS', elastic, [f10(1), f10(0.0, 0.0, 0.0, 0.05)], (np.exp(0.05) - 1.0) / V),
+        # EFFEPS 0.05 on the elastic cube: the effective log strain 2/3 (1 + PR) ln(1 + v t)
+        ('EFFEPS', elastic, [f10(1, 0.0, 0.0, 0.0, 0.05)],
+         (np.exp(0.05 / (2.0 / 3.0 * 1.3)) - 1.0) / V),
+        # SIGVM 250: the flow stress SIGY + Ep alpha of the hardening cube reaches 250
+        ('SIGVM', j2, [f10(1), f10(0.0, 0.0, 250.0)],
+         (np.exp((250.0 - SIGY) / plastic_modulus + 250.0 / YOUNG) - 1.0) / V),
+        # FAILTM: the time
+        ('FAILTM', elastic, [f10(1), f10(0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 5.0e-5)], 5.0e-5),
+        # NCS 2: MXEPS 0.01 (reached at 1e-5 s) and FAILTM 5e-5 together: the later
+        ('NCS 2', elastic, [f10(1, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 2),
+                            f10(0.0, 0.0, 0.0, 0.01, 0.0, 0.0, 0.0, 5.0e-5)], 5.0e-5)]
+    for label, material, cards, t_fail in cases:
+        outcome = []
+        for factor in (0.99, 1.01):
+            name = 'erosion_add_%s_%d' % (label.replace(' ', ''), int(100 * factor))
+            rc, text, out = run_case(name, cube_deck(factor * t_fail, material +
+                                                     ['*MAT_ADD_EROSION'] + cards))
+            outcome.append(rc == 0 and ('eroded 1 cells' in text) == (factor > 1.0))
+        checks.check(all(outcome), '*MAT_ADD_EROSION %s: not eroded at 0.99 t_f, eroded at 1.01 '
+                     't_f = %.4g s' % (label, t_fail), text[-400:])
+
+
 one_cube()
+add_erosion()
 bars()
 strip_on_support()
 checks.exit()
