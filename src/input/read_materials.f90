@@ -28,6 +28,8 @@ module mefem_read_materials
             read_mat_mooney_rivlin, read_mat_rigid, material_keyword, read_mat_add_erosion
 
   integer, parameter :: W_10(8) = 10   !< standard 8 x 10 card
+  !> EFMIN of *MAT_JOHNSON_COOK when blank: LS-DYNA's least failure strain
+  real(wp), parameter :: JC_EFMIN_DEFAULT = 1.0e-6_wp
 
   !> MID of the material card read last (0: none yet): the keyword reader names a rejected
   !> material by it
@@ -462,13 +464,15 @@ contains
     call get_real(card3, 8, 'D4', damage(4))
     bad = bad .or. card3%bad
     damage(5) = 0.0_wp
+    erod = 0.0_wp
+    efmin = JC_EFMIN_DEFAULT
     call next_card(rd, card4, got4, keep_blank=.true.)          ! optional
     if (got4) then
       call split_card(rd, card4, W_10)
       call get_real(card4, 1, 'D5', damage(5))
       call get_real(card4, 2, 'C2/P/XNP', c2)
       call get_real(card4, 3, 'EROD', erod)
-      call get_real(card4, 4, 'EFMIN', efmin)
+      call get_real(card4, 4, 'EFMIN', efmin, default=JC_EFMIN_DEFAULT)
       call get_int(card4, 5, 'NUMINT', numint)
       bad = bad .or. card4%bad
     end if
@@ -498,6 +502,18 @@ contains
     if (mat%heat_capacity > 0.0_wp .and. mat%melt_temperature > mat%room_temperature .and. &
         .not. mat%jc_m > 0.0_wp) call fail_field(card2, who//'field M must be > 0 for the '// &
         'thermal softening 1 - T*^M (CP and TM are given)', bad)
+    ! failure: D1 or D2 switch it on; D3-D5 only scale D1 + D2 exp(D3 s*)
+    mat%jc_fails = damage(1) /= 0.0_wp .or. damage(2) /= 0.0_wp
+    mat%jc_damage = damage
+    mat%jc_min_failure_strain = efmin
+    if (.not. mat%jc_fails .and. any(damage(3:5) /= 0.0_wp)) call fail_field(card3, who// &
+        'D3, D4 and D5 scale the failure strain D1 + D2 exp(D3 s*): give D1 or D2 (both 0: '// &
+        'no failure)', bad)
+    if (efmin < 0.0_wp) call fail_field(card4, who//'field EFMIN must not be negative '// &
+        quoted_real(efmin), bad)
+    if (mat%jc_fails .and. erod /= 0.0_wp) call fail_field(card4, who//'EROD = '// &
+        trim(rtoa(erod))//' (failed points kept with their pressure) is not supported: 0 '// &
+        'erodes the elements whose points have failed', bad)
     if (bad) return
     ! read, not modelled: say so where LS-DYNA would compute something else
     if (mat%vp == 1.0_wp .and. mat%jc_c /= 0.0_wp) call card_warning(card, who//'VP = 1 '// &
@@ -507,8 +523,6 @@ contains
         'its time step')
     if (pc /= 0.0_wp .or. spall /= 0.0_wp) call card_warning(card3, who//'PC and SPALL '// &
         'ignored: no pressure cutoff or spall (the pressure comes from the bulk modulus)')
-    if (any(damage /= 0.0_wp)) call card_warning(card3, who//'the Johnson-Cook failure '// &
-        'D1-D5 is not computed (no element erodes by it)')
     call add_material(model, mat)
   end subroutine read_mat_johnson_cook
 

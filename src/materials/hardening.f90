@@ -202,12 +202,14 @@ contains
   end function power_law_strain_offset
 
   !> True when the material's yield stress depends on the strain rate: an LCSR curve (*MAT_024),
-  !> a Cowper-Symonds C (SRC) > 0, or a Johnson-Cook C /= 0.
+  !> a Cowper-Symonds C (SRC) > 0, or a Johnson-Cook C /= 0; also a Johnson-Cook failure with
+  !> D4 /= 0 (its failure strain depends on the rate).
   pure logical function rate_dependent(mat)
     type(material_t), intent(in) :: mat        !< the material's parameters
     rate_dependent = mat%lcsr_curve > 0 .or. mat%cowper_c > 0.0_wp .or. &
                      ((mat%kind == MAT_JOHNSON_COOK .or. &
-                       mat%kind == MAT_SIMPLIFIED_JOHNSON_COOK) .and. mat%jc_c /= 0.0_wp)
+                       mat%kind == MAT_SIMPLIFIED_JOHNSON_COOK) .and. mat%jc_c /= 0.0_wp) .or. &
+                     (mat%jc_fails .and. mat%jc_damage(4) /= 0.0_wp)
   end function rate_dependent
 
   !> Scale of the yield stress at the effective strain rate: Johnson-Cook 1 + C ln(rate/EPSO)

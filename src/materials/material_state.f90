@@ -13,7 +13,9 @@
 !>   that rotates with the material, R^T b R (F = R U), Voigt order; initially 0 (other laws
 !>   leave it as it is);
 !> - HIST_TEMPERATURE (= HIST_BACK: *MAT_JOHNSON_COOK has no back stress): the temperature
-!>   rise T - TR from the plastic work; initially 0.
+!>   rise T - TR from the plastic work; initially 0;
+!> - HIST_DAMAGE (= HIST_BACK + 1, *MAT_JOHNSON_COOK): the damage sum of d alpha/eps_f of its
+!>   failure model (D1-D5); the point fails at 1; initially 0.
 !> The laws read hist_old and write hist_new; the driver keeps hist_old until the step is
 !> accepted (Newton converged), so a cut step simply discards hist_new.
 module mefem_material_state
@@ -26,6 +28,7 @@ module mefem_material_state
   integer, parameter, public :: HIST_ALPHA = 7    !< equivalent plastic strain alpha_n
   integer, parameter, public :: HIST_BACK = 8     !< first of 6 entries: rotated back stress
   integer, parameter, public :: HIST_TEMPERATURE = HIST_BACK !< *MAT_015: T - TR
+  integer, parameter, public :: HIST_DAMAGE = HIST_BACK + 1  !< *MAT_015: Johnson-Cook damage
   integer, parameter, public :: NHIST = 13        !< length of a point's history
   !> Points (cells) per block of the block kernels of the explicit cell loop: the leading
   !> dimension of their structure-of-arrays arguments (entry i of every array is point i);

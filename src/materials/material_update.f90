@@ -36,7 +36,7 @@ module mefem_material_update
                          MAT_JOHNSON_COOK, MAT_SIMPLIFIED_JOHNSON_COOK
   use mefem_errors, only: status_t
   use mefem_strings, only: itoa
-  use mefem_material_state, only: NHIST, BLOCK_POINTS, HIST_ALPHA, HIST_TEMPERATURE
+  use mefem_material_state, only: NHIST, BLOCK_POINTS, HIST_ALPHA, HIST_TEMPERATURE, HIST_DAMAGE
   use mefem_hardening, only: HARDENING_POWER_LAW, HARDENING_JOHNSON_COOK, HARDENING_LINEAR, &
                              piecewise_linear_law, hardening_rate_factor, rate_dependent, &
                              hardening_yield
@@ -48,7 +48,8 @@ module mefem_material_update
   private
 
   public :: material_update, material_update_block, material_elastic_moduli, rate_dependent
-  public :: material_fails, failed_point_energy, erosion_criteria_met
+  public :: material_fails, failed_point_energy, erosion_criteria_met, point_fails
+  public :: johnson_cook_failure_strain
 
   !> Intervals of Simpson's rule for the plastic work of a failed point
   integer, parameter :: PLASTIC_WORK_INTERVALS = 8
@@ -72,7 +73,7 @@ contains
                                                         !< with rate effects; 0 if absent)
     logical, intent(in), optional :: committed          !< hist_old already holds F (output):
                                                         !< the committed stress, no yield check
-    real(wp) :: factor
+    real(wp) :: factor, rate
     logical :: output
     factor = 1.0_wp
     if (present(strain_rate)) factor = hardening_rate_factor(mat, curves, strain_rate)
@@ -83,8 +84,15 @@ contains
       factor = factor*thermal_factor(mat, hist_old(HIST_TEMPERATURE))
       call mat_j2_update(mat, curves, HARDENING_JOHNSON_COOK, f_new, hist_old, hist_new, tau, &
                          sound_speed, status, c_tau, factor, committed)
-      if (status%ok .and. .not. output) call heat_from_plastic_work(mat, curves, factor, &
-          hist_old(HIST_ALPHA), hist_new(HIST_ALPHA), hist_new(HIST_TEMPERATURE))
+      if (status%ok .and. .not. output) then
+        call heat_from_plastic_work(mat, curves, factor, hist_old(HIST_ALPHA), &
+                                    hist_new(HIST_ALPHA), hist_new(HIST_TEMPERATURE))
+        rate = 0.0_wp
+        if (present(strain_rate)) rate = strain_rate
+        call accumulate_damage(mat, rate, hist_old(HIST_ALPHA), hist_new(HIST_ALPHA), &
+            hist_new(HIST_TEMPERATURE), [tau(1,1), tau(2,2), tau(3,3), tau(1,2), tau(2,3), &
+            tau(3,1)], hist_new(HIST_DAMAGE))
+      end if
     case (MAT_ELASTIC)
       call mat_elastic_update(mat, f_new, hist_old, hist_new, tau, sound_speed, status, c_tau)
     case (MAT_PIECEWISE_LINEAR)
@@ -145,8 +153,11 @@ contains
       call mat_j2_update_block(mat, curves, HARDENING_JOHNSON_COOK, n, f, j, hist, tau, ok, &
                                factor)
       do i = 1, n
-        if (ok(i)) call heat_from_plastic_work(mat, curves, factor(i), alpha_old(i), &
-                                               hist(i, HIST_ALPHA), hist(i, HIST_TEMPERATURE))
+        if (.not. ok(i)) cycle
+        call heat_from_plastic_work(mat, curves, factor(i), alpha_old(i), hist(i, HIST_ALPHA), &
+                                    hist(i, HIST_TEMPERATURE))
+        call accumulate_damage(mat, rate(i), alpha_old(i), hist(i, HIST_ALPHA), &
+                               hist(i, HIST_TEMPERATURE), tau(i, :), hist(i, HIST_DAMAGE))
       end do
     case (MAT_PIECEWISE_LINEAR, MAT_POWER_LAW)
       if (present(strain_rate)) then
@@ -204,8 +215,66 @@ contains
     type(material_t), intent(in) :: mat                !< the material card
     material_fails = mat%failure_strain > 0.0_wp .and. any(mat%kind == [MAT_PIECEWISE_LINEAR, &
         MAT_POWER_LAW, MAT_PLASTIC_KINEMATIC, MAT_JOHNSON_COOK, MAT_SIMPLIFIED_JOHNSON_COOK])
-    material_fails = material_fails .or. mat%add_erosion
+    material_fails = material_fails .or. mat%add_erosion .or. mat%jc_fails
   end function material_fails
+
+  !> A point fails now (explicit: erosion): its equivalent plastic strain reached the failure
+  !> strain, its Johnson-Cook damage reached 1 or its *MAT_ADD_EROSION criteria are met.
+  pure logical function point_fails(mat, alpha, damage, f, tau, j, time)
+    type(material_t), intent(in) :: mat                !< the material card
+    real(wp), intent(in) :: alpha                      !< equivalent plastic strain (updated)
+    real(wp), intent(in) :: damage                     !< HIST_DAMAGE (updated)
+    real(wp), intent(in) :: f(9)                       !< F, column by column
+    real(wp), intent(in) :: tau(6)                     !< Kirchhoff stress XX YY ZZ XY YZ ZX
+    real(wp), intent(in) :: j                          !< J of the stress
+    real(wp), intent(in) :: time                       !< the time of the state
+    point_fails = .false.
+    if (mat%failure_strain > 0.0_wp) point_fails = alpha >= mat%failure_strain
+    if (.not. point_fails .and. mat%jc_fails) point_fails = damage >= 1.0_wp
+    if (.not. point_fails .and. mat%add_erosion) point_fails = erosion_criteria_met(mat, f, &
+                                                                   tau, j, time)
+  end function point_fails
+
+  !> Johnson-Cook failure strain eps_f = max([D1 + D2 exp(D3 s*)][1 + D4 ln r*][1 + D5 T*],
+  !> EFMIN) at the triaxiality s* = sigma_m/sigma_vm (mean stress, positive in tension, over
+  !> the von Mises stress: Johnson and Cook 1985), the rate ratio r* = rate/EPSO (ln taken
+  !> above 1, as the strength's rate term) and T* = (T - TR)/(TM - TR) (0 without TM > TR).
+  pure real(wp) function johnson_cook_failure_strain(mat, triaxiality, rate, theta) &
+      result(eps_f)
+    type(material_t), intent(in) :: mat                !< *MAT_015 with jc_fails
+    real(wp), intent(in) :: triaxiality                !< s*
+    real(wp), intent(in) :: rate                       !< effective strain rate
+    real(wp), intent(in) :: theta                      !< temperature rise T - TR
+    real(wp) :: rate_term, thermal_term
+    rate_term = 1.0_wp
+    if (rate > mat%reference_rate) rate_term = 1.0_wp + &
+        mat%jc_damage(4)*log(rate/mat%reference_rate)
+    thermal_term = 1.0_wp
+    if (mat%melt_temperature > mat%room_temperature) thermal_term = 1.0_wp + &
+        mat%jc_damage(5)*max(theta, 0.0_wp)/(mat%melt_temperature - mat%room_temperature)
+    eps_f = (mat%jc_damage(1) + mat%jc_damage(2)*exp(mat%jc_damage(3)*triaxiality))* &
+            rate_term*thermal_term
+    eps_f = max(eps_f, mat%jc_min_failure_strain)
+  end function johnson_cook_failure_strain
+
+  !> Johnson-Cook damage (*MAT_015 with D1 or D2): D += (alpha_new - alpha_old)/eps_f at the
+  !> step's end stress, rate and temperature.
+  pure subroutine accumulate_damage(mat, rate, alpha_old, alpha_new, theta, tau, damage)
+    type(material_t), intent(in) :: mat                !< the material card
+    real(wp), intent(in) :: rate                       !< effective strain rate
+    real(wp), intent(in) :: alpha_old, alpha_new       !< plastic strain before and after
+    real(wp), intent(in) :: theta                      !< temperature rise (updated)
+    real(wp), intent(in) :: tau(6)                     !< Kirchhoff stress XX YY ZZ XY YZ ZX
+    real(wp), intent(inout) :: damage                  !< the damage sum
+    real(wp) :: mean, von_mises
+    if (.not. mat%jc_fails .or. .not. alpha_new > alpha_old) return
+    mean = (tau(1) + tau(2) + tau(3))/3.0_wp
+    von_mises = sqrt(1.5_wp*((tau(1) - mean)**2 + (tau(2) - mean)**2 + (tau(3) - mean)**2 + &
+                             2.0_wp*(tau(4)**2 + tau(5)**2 + tau(6)**2)))
+    if (.not. von_mises > 0.0_wp) return
+    damage = damage + (alpha_new - alpha_old)/ &
+             johnson_cook_failure_strain(mat, mean/von_mises, rate, theta)
+  end subroutine accumulate_damage
 
   !> *MAT_ADD_EROSION: at least NCS of the material's criteria met at a point, from its Cauchy
   !> stress sigma = tau/J (pressure p = -tr(sigma)/3, positive in compression; equivalent

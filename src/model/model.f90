@@ -161,6 +161,10 @@ module mefem_model
     real(wp) :: reference_rate = 1.0_wp     !< EPSO
     real(wp) :: heat_capacity = 0.0_wp      !< CP (MAT_015; 0: no heating)
     real(wp) :: max_stress = 0.0_wp         !< SIGMAX (MAT_098; 0: no cap)
+    ! Johnson-Cook failure (MAT_015): eps_f = [D1 + D2 exp(D3 s*)][1 + D4 ln r*][1 + D5 T*]
+    logical :: jc_fails = .false.           !< D1 or D2 given: damage accumulates (erosion)
+    real(wp) :: jc_damage(5) = 0.0_wp       !< D1 .. D5
+    real(wp) :: jc_min_failure_strain = 0.0_wp   !< EFMIN: the least eps_f
     ! Mooney-Rivlin (MAT_027)
     real(wp) :: mr_a = 0.0_wp, mr_b = 0.0_wp
     ! rigid (MAT_020)

@@ -27,10 +27,10 @@ module mefem_explicit_cell_forces
                                       inverse_3x3
   use mefem_stable_time_step, only: cell_critical_omega_squared, block_critical_omega_squared, &
                                     cell_split_weights, inverse_mass_metric
-  use mefem_material_state, only: NHIST, HIST_ALPHA, material_state_init, &
+  use mefem_material_state, only: NHIST, HIST_ALPHA, HIST_DAMAGE, material_state_init, &
                                   BLOCK_CELLS => BLOCK_POINTS
   use mefem_material_update, only: material_update, material_update_block, rate_dependent, &
-                                   material_fails, failed_point_energy, erosion_criteria_met
+                                   material_fails, failed_point_energy, point_fails
   use mefem_tensor_algebra, only: determinant, inverse_cube_root
   use mefem_explicit_state, only: explicit_state_t, set_to_zero, state_peer_view
   use mefem_comm, only: comm_rank, comm_size, comm_barrier, comm_arena_free, comm_arena_sync, &
@@ -398,18 +398,14 @@ contains
 
   contains
 
-    !> The cell's plastic strain reached the failure strain, or its *MAT_ADD_EROSION criteria
-    !> are met (at the stress's J: the cell's, or Jbar for ELFORM 13).
+    !> The cell fails now (point_fails at the stress's J: the cell's, or Jbar for ELFORM 13).
     logical function cell_fails_now(mat)
       type(material_t), intent(in) :: mat             !< the cell's material
       real(wp) :: tau6(6)
-      cell_fails_now = .false.
-      if (mat%failure_strain > 0.0_wp) cell_fails_now = hist_new(HIST_ALPHA) >= &
-                                                        mat%failure_strain
-      if (cell_fails_now .or. .not. mat%add_erosion) return
       tau6 = [tau(1, 1), tau(2, 2), tau(3, 3), tau(1, 2), tau(2, 3), tau(1, 3)]
-      cell_fails_now = erosion_criteria_met(mat, reshape(f, [9]), tau6, &
-                                            merge(jbar, determinant(f), averaged), s%time)
+      cell_fails_now = point_fails(mat, hist_new(HIST_ALPHA), hist_new(HIST_DAMAGE), &
+                                   reshape(f, [9]), tau6, merge(jbar, determinant(f), averaged), &
+                                   s%time)
     end function cell_fails_now
 
   end subroutine cell_evaluate
@@ -838,21 +834,16 @@ contains
     !> negated: the mark; no stress from this cycle on).
     subroutine erode_failed()
       real(wp) :: j_stress
-      logical :: fails_now
       associate (mat => model%materials(s%material(s%block_cell(first))))
         do i = 1, n
           if (failed(i)) then
             s%block_hist(i, :, b) = kept(i, :)
           else if (ok(i)) then
-            fails_now = .false.
-            if (mat%failure_strain > 0.0_wp) fails_now = &
-                s%block_hist(i, HIST_ALPHA, b) >= mat%failure_strain
-            if (mat%add_erosion .and. .not. fails_now) then
-              j_stress = det(i)
-              if (averaged) j_stress = jbar(i)
-              fails_now = erosion_criteria_met(mat, f(i, :), tau(i, :), j_stress, s%time)
-            end if
-            if (.not. fails_now) cycle
+            j_stress = det(i)
+            if (averaged) j_stress = jbar(i)
+            if (.not. point_fails(mat, s%block_hist(i, HIST_ALPHA, b), &
+                                  s%block_hist(i, HIST_DAMAGE, b), f(i, :), tau(i, :), &
+                                  j_stress, s%time)) cycle
             s%block_hist(i, HIST_ALPHA, b) = -max(s%block_hist(i, HIST_ALPHA, b), &
                                                   tiny(1.0_wp))
             failed(i) = .true.

@@ -144,9 +144,8 @@ contains
     call say('implicit: '//itoa(n_equations)//' equations, '//itoa(cells%n)//' cells')
     do k = 1, model%n_materials
       if (material_fails(model%materials(k))) call warn('implicit: material '// &
-          itoa(model%materials(k)%id)//': its failure strain '// &
-          rtoa(model%materials(k)%failure_strain)//' is not used: the implicit analysis '// &
-          'erodes no elements (the explicit analysis does)')
+          itoa(model%materials(k)%id)//': its failure criteria are not used: the implicit '// &
+          'analysis erodes no elements (the explicit analysis does)')
     end do
     if (n_equations == 0) call fatal('implicit: nothing to solve: every degree of freedom is '// &
         'fixed or belongs to a rigid part (the analysis needs deformable elements with free '// &

@@ -6,17 +6,18 @@
 !>   differences of tau(F) with the Lie-derivative identity; 6 det F <= 0 reported;
 !> 7 hardening laws (values, slopes, LS-DYNA *MAT_018 strain offset, the seed-law identity);
 !> 8 the block form of the hardening laws gives the point form's bits; 9 principal values of
-!>   rotated diagonal tensors and the *MAT_ADD_EROSION criteria on rotated states.
+!>   rotated diagonal tensors and the *MAT_ADD_EROSION criteria on rotated states;
+!> 10 Johnson-Cook damage along a heated uniaxial path at a fixed rate against its integral.
 program test_materials
   use mefem_kinds, only: wp
   use mefem_testing, only: test_start, test_finish, check, check_close
   use mefem_errors, only: status_t
   use mefem_strings, only: rtoa, itoa
   use mefem_model, only: material_t, curve_t, MAT_ELASTIC, MAT_PIECEWISE_LINEAR, MAT_POWER_LAW, &
-                         MAT_MOONEY_RIVLIN, MAT_RIGID, EROSION_MXPRES, EROSION_MNEPS, &
+                         MAT_MOONEY_RIVLIN, MAT_RIGID, MAT_JOHNSON_COOK, EROSION_MXPRES, EROSION_MNEPS, &
                          EROSION_EFFEPS, EROSION_VOLEPS, EROSION_MNPRES, EROSION_SIGP1, &
                          EROSION_SIGVM, EROSION_MXEPS, EROSION_FAILTM
-  use mefem_material_state, only: NHIST, HIST_ALPHA, material_state_init, &
+  use mefem_material_state, only: NHIST, HIST_ALPHA, HIST_DAMAGE, material_state_init, &
                                   state_elastic_strain, state_plastic_metric
   use mefem_material_update, only: material_update, erosion_criteria_met
   use mefem_hardening, only: hardening_yield, hardening_yield_block, piecewise_linear_law, power_law_strain_offset, &
@@ -44,6 +45,7 @@ program test_materials
   call test_tangents()
   call test_failures()
   call test_erosion_criteria()
+  call test_johnson_cook_damage()
   call test_finish()
 
 contains
@@ -90,36 +92,38 @@ contains
 
   !> F = diag(stretch, lateral, lateral) with lateral solved (Newton, central-difference
   !> slope) for |tau_22| <= tolerance from hist_old; returns the update at the solution.
-  subroutine uniaxial_step(mat, stretch, lateral, hist_old, hist_new, tau, tolerance, ok)
+  subroutine uniaxial_step(mat, stretch, lateral, hist_old, hist_new, tau, tolerance, ok, rate)
     type(material_t), intent(in) :: mat
     real(wp), intent(in) :: stretch, tolerance
     real(wp), intent(inout) :: lateral
     real(wp), intent(in) :: hist_old(NHIST)
     real(wp), intent(out) :: hist_new(NHIST), tau(3,3)
     logical, intent(out) :: ok
+    real(wp), intent(in), optional :: rate      !< effective strain rate given to the law
     real(wp) :: plus, minus, h, tau_h(3,3), hist_h(NHIST)
     integer :: iteration
     ok = .false.
     do iteration = 1, 50
-      call update_diagonal(mat, stretch, lateral, hist_old, tau, hist_new)
+      call update_diagonal(mat, stretch, lateral, hist_old, tau, hist_new, rate)
       if (abs(tau(2,2)) <= tolerance) then
         ok = .true.
         return
       end if
       h = 1.0e-7_wp*lateral
-      call update_diagonal(mat, stretch, lateral + h, hist_old, tau_h, hist_h)
+      call update_diagonal(mat, stretch, lateral + h, hist_old, tau_h, hist_h, rate)
       plus = tau_h(2,2)
-      call update_diagonal(mat, stretch, lateral - h, hist_old, tau_h, hist_h)
+      call update_diagonal(mat, stretch, lateral - h, hist_old, tau_h, hist_h, rate)
       minus = tau_h(2,2)
       lateral = lateral - tau(2,2)*2.0_wp*h/(plus - minus)
     end do
   end subroutine uniaxial_step
 
   !> Update at F = diag(stretch, lateral, lateral) from hist_old.
-  subroutine update_diagonal(mat, stretch, lateral, hist_old, tau, hist_new)
+  subroutine update_diagonal(mat, stretch, lateral, hist_old, tau, hist_new, rate)
     type(material_t), intent(in) :: mat
     real(wp), intent(in) :: stretch, lateral, hist_old(NHIST)
     real(wp), intent(out) :: tau(3,3), hist_new(NHIST)
+    real(wp), intent(in), optional :: rate      !< effective strain rate given to the law
     real(wp) :: f(3,3), speed
     type(status_t) :: status
     f = 0.0_wp
@@ -127,7 +131,7 @@ contains
     f(2,2) = lateral
     f(3,3) = lateral
     call material_update(mat, curves, f, hist_old, hist_new, tau, sound_speed=speed, &
-                         status=status)
+                         status=status, strain_rate=rate)
   end subroutine update_diagonal
 
   ! ---------------------------------------------------------------- 7 hardening
@@ -868,5 +872,77 @@ contains
       end do
     end do
   end subroutine sort_descending
+
+  ! ---------------------------------------------------------------- 10 Johnson-Cook damage
+
+  !> *MAT_015, perfectly plastic (A, B = 0), C = 0, heated by its plastic work (CP, TM; M = 50
+  !> so that the softening (T*)^50 stays below 1e-13), at a fixed rate 1000 EPSO, in uniaxial
+  !> tension (triaxiality 1/3): T* = k alpha with k = A/(rho CP (TM - TR)), so
+  !> D(alpha) = int da/(eps0 R (1 + D5 k a)) = ln(1 + D5 k alpha)/(eps0 R D5 k) with
+  !> eps0 = D1 + D2 exp(D3/3) and R = 1 + D4 ln 1000. The update sums the increments at the
+  !> step's end temperature (a right Riemann sum): relative error <= D5 k d_alpha/2 = 2.7e-4
+  !> at the steps below, so 1e-3 can fail. Also: compression (triaxiality -1/3) gives the
+  !> larger eps_f of exp(+D3/3); no damage without plastic flow.
+  subroutine test_johnson_cook_damage()
+    type(material_t) :: mat
+    real(wp) :: hist_old(NHIST), hist_new(NHIST), tau(3,3), lateral, stretch, k, eps0, rr
+    real(wp) :: expected, alpha
+    integer :: step
+    logical :: ok, all_ok
+    mat%id = 15
+    mat%kind = MAT_JOHNSON_COOK
+    mat%density = 7.85e-9_wp
+    mat%young = 200000.0_wp
+    mat%poisson = 0.3_wp
+    mat%jc_a = 300.0_wp
+    mat%n_exponent = 1.0_wp
+    mat%jc_m = 50.0_wp
+    mat%melt_temperature = 1800.0_wp
+    mat%room_temperature = 300.0_wp
+    mat%heat_capacity = 4.77e7_wp
+    mat%reference_rate = 1.0_wp
+    mat%jc_fails = .true.
+    mat%jc_damage = [0.05_wp, 0.5_wp, -1.5_wp, 0.01_wp, 1.0_wp]
+    mat%jc_min_failure_strain = 1.0e-6_wp
+    k = mat%jc_a/(mat%density*mat%heat_capacity*(mat%melt_temperature - mat%room_temperature))
+    rr = 1.0_wp + mat%jc_damage(4)*log(1000.0_wp)
+    eps0 = mat%jc_damage(1) + mat%jc_damage(2)*exp(mat%jc_damage(3)/3.0_wp)
+    call material_state_init(hist_old)
+    lateral = 1.0_wp
+    all_ok = .true.
+    do step = 1, 300
+      stretch = exp(0.001_wp*real(step, wp))
+      call uniaxial_step(mat, stretch, lateral, hist_old, hist_new, tau, 1.0e-9_wp, ok, &
+                         rate=1000.0_wp)
+      all_ok = all_ok .and. ok
+      hist_old = hist_new
+    end do
+    alpha = hist_new(HIST_ALPHA)
+    expected = log(1.0_wp + mat%jc_damage(5)*k*alpha)/(eps0*rr*mat%jc_damage(5)*k)
+    call check(all_ok .and. alpha > 0.29_wp, 'Johnson-Cook damage: uniaxial path to alpha = '// &
+               rtoa(alpha))
+    call check_close(hist_new(HIST_DAMAGE), expected, 1.0e-3_wp*expected, 'Johnson-Cook '// &
+                     'damage D = ln(1 + D5 k alpha)/(eps0 R D5 k) = '//rtoa(expected)// &
+                     ' (heated, rate 1000 EPSO, triaxiality 1/3)')
+    ! compression: triaxiality -1/3, no heating, no rate term: D = alpha/(D1 + D2 exp(-D3/3))
+    mat%heat_capacity = 0.0_wp
+    call material_state_init(hist_old)
+    lateral = 1.0_wp
+    do step = 1, 100
+      stretch = exp(-0.002_wp*real(step, wp))
+      call uniaxial_step(mat, stretch, lateral, hist_old, hist_new, tau, 1.0e-9_wp, ok)
+      hist_old = hist_new
+    end do
+    alpha = hist_new(HIST_ALPHA)
+    expected = alpha/(mat%jc_damage(1) + mat%jc_damage(2)*exp(-mat%jc_damage(3)/3.0_wp))
+    call check_close(hist_new(HIST_DAMAGE), expected, 1.0e-9_wp*expected, 'Johnson-Cook '// &
+                     'damage in compression: alpha/(D1 + D2 exp(-D3/3)) = '//rtoa(expected))
+    ! elastic: no damage
+    call material_state_init(hist_old)
+    lateral = 1.0_wp
+    call uniaxial_step(mat, 1.0005_wp, lateral, hist_old, hist_new, tau, 1.0e-9_wp, ok)
+    call check(ok .and. hist_new(HIST_DAMAGE) == 0.0_wp .and. hist_new(HIST_ALPHA) == 0.0_wp, &
+               'Johnson-Cook damage: none in an elastic step')
+  end subroutine test_johnson_cook_damage
 
 end program test_materials

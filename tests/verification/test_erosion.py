@@ -15,6 +15,9 @@ and carries no stress from then on (explicit; mm, t, s, N, MPa; doc/theory.md 6.
 3. *MAT_003 FS and *MAT_018 EPSF on the one-hexahedron case: eroded as well; *MAT_ADD_EROSION
    on it (an elastic cube: MXEPS, EFFEPS, FAILTM, NCS 2 with MXEPS and FAILTM; the hardening
    cube: SIGVM): not eroded at 0.99, eroded at 1.01 of the failure time of each criterion.
+   *MAT_015 with the Johnson-Cook failure D1 D2 D3 (perfectly plastic, no rate or heat): in
+   tension (triaxiality 1/3) the point fails at alpha = D1 + D2 exp(D3/3), in compression
+   (-1/3) at D1 + D2 exp(-D3/3), 2.5 times later: each erodes between 0.99 and 1.01 of its time.
 4. Contact: a strip of 4 hexahedra lying on a rigid support under a body load of 1e8 mm/s^2,
    pulled apart at its ends (FAIL 0.01): the support holds it until its elements erode; then
    their faces leave the contact and the free nodes fall through the support (with the faces
@@ -37,7 +40,7 @@ checks = Checks('erosion')
 SIGY, FAIL, V = 200.0, 0.1, 1000.0
 
 
-def cube_deck(end_time, material):
+def cube_deck(end_time, material, velocity=V):
     x, conn = box_hexes(1.0, 1.0, 1.0, 1, 1, 1)
     bottom = np.nonzero(x[:, 2] < 1e-9)[0]
     top = np.nonzero(x[:, 2] > 1.0 - 1e-9)[0]
@@ -48,7 +51,7 @@ def cube_deck(end_time, material):
         spc.append(f10(n + 1, 0, int(px == 0.0), int(py == 0.0), 1))
     return [nodes_card(x), elements_card('ELEMENT_SOLID', conn),
             ['*PART', 'cube', f10(1, 1, 1), '*SECTION_SOLID', f10(1, 1)], material,
-            spc, node_set(2, top), ['*BOUNDARY_PRESCRIBED_MOTION_SET', f10(2, 3, 0, 1, V)],
+            spc, node_set(2, top), ['*BOUNDARY_PRESCRIBED_MOTION_SET', f10(2, 3, 0, 1, velocity)],
             curve(1, [(0.0, 1.0), (1.0, 1.0)]),
             ['*CONTROL_TERMINATION', f10(end_time), '*DATABASE_GLSTAT', f10(end_time / 50),
              '*DATABASE_BINARY_D3PLOT', f10(end_time)]]
@@ -239,7 +242,28 @@ def add_erosion():
                      't_f = %.4g s' % (label, t_fail), text[-400:])
 
 
+def johnson_cook_cube():
+    """*MAT_015 with D1 0.05, D2 0.5, D3 -1.5 (A = SIGY, B = 0): the damage sum reaches 1 at
+    alpha = D1 + D2 exp(D3 s*), s* = +1/3 pulled, -1/3 pushed; |ln stretch| = alpha + SIGY/E."""
+    d1, d2, d3 = 0.05, 0.5, -1.5
+    material = ['*MAT_JOHNSON_COOK', free(1, DENSITY, 0.0, YOUNG, 0.3),
+                free(SIGY, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0),
+                free(0.0, 0.0, 0.0, 0.0, d1, d2, d3, 0.0)]
+    for label, sign in (('tension', 1.0), ('compression', -1.0)):
+        eps_f = d1 + d2 * np.exp(d3 * sign / 3.0)
+        t_fail = abs(np.exp(sign * (eps_f + SIGY / YOUNG)) - 1.0) / V
+        outcome = []
+        for factor in (0.99, 1.01):
+            name = 'erosion_jc_%s_%d' % (label, int(100 * factor))
+            rc, text, out = run_case(name, cube_deck(factor * t_fail, material, sign * V))
+            outcome.append(rc == 0 and ('eroded 1 cells' in text) == (factor > 1.0))
+        checks.check(all(outcome), '*MAT_015 D1-D3, %s: fails at alpha = %.4f: not eroded at '
+                     '0.99 t_f, eroded at 1.01 t_f = %.4g s' % (label, eps_f, t_fail),
+                     text[-400:])
+
+
 one_cube()
+johnson_cook_cube()
 add_erosion()
 bars()
 strip_on_support()
