@@ -22,6 +22,7 @@ module mefem_read_conditions
   private
 
   public :: read_boundary_spc, read_prescribed_motion, read_define_curve, read_load_node, &
+            read_define_curve_smooth, &
             read_load_segment, read_load_segment_set, read_initial_velocity, &
             read_initial_velocity_node, read_initial_velocity_generation, read_load_body, &
             read_load_body_parts, read_constrained_rigid_bodies, read_constrained_extra_nodes, &
@@ -318,6 +319,104 @@ contains
     curve%f = f(1:n)
     call add_curve(model, curve)
   end subroutine read_define_curve
+
+  !> *DEFINE_CURVE_SMOOTH(_TITLE): LCID SIDR DIST TSTART TEND TRISE V0. A velocity curve
+  !> that rises from 0 at TSTART to V0 over TRISE, stays at V0 and falls back to 0 at TEND over
+  !> TRISE, its area DIST: V0 = DIST/(TEND - TSTART - TRISE) when TEND is given, else
+  !> TEND = TSTART + TRISE + DIST/V0. The ramps are half cosine waves, V0 (1 - cos(pi s))/2,
+  !> sampled at SMOOTH_RAMP_INTERVALS intervals (the sampled curve's area is DIST exactly: the
+  !> cosine terms cancel in pairs); 0 before TSTART and after TEND.
+  subroutine read_define_curve_smooth(rd, options, model)
+    type(reader_t), intent(inout) :: rd          !< reading state
+    character(len=*), intent(in) :: options      !< keyword options
+    type(model_t), intent(inout) :: model        !< model appended to
+    integer, parameter :: SMOOTH_RAMP_INTERVALS = 16
+    real(wp), parameter :: PI = 3.14159265358979323846_wp
+    type(card_t) :: card
+    type(curve_t) :: curve
+    logical :: got
+    real(wp) :: dist, t_start, t_end, t_rise, v_max, s, span
+    integer :: k, n
+    character(len=:), allocatable :: who
+    call read_title_card(rd, options, curve%title)
+    call next_card(rd, card, got)
+    if (.not. got) then
+      call keyword_error(rd, 'missing card 1 (LCID SIDR DIST TSTART TEND TRISE V0)')
+      return
+    end if
+    call split_card(rd, card, W_10)
+    call get_int(card, 1, 'LCID', curve%id, required=.true.)
+    call get_int(card, 2, 'SIDR', curve%sidr)
+    call get_real(card, 3, 'DIST', dist)
+    call get_real(card, 4, 'TSTART', t_start)
+    call get_real(card, 5, 'TEND', t_end)
+    call get_real(card, 6, 'TRISE', t_rise)
+    call get_real(card, 7, 'V0', v_max)
+    curve%src = source_t(card%file, card%line)
+    call reject_extra_cards(rd, 'curve '//itoa(curve%id))
+    if (card%bad) return
+    who = 'curve '//itoa(curve%id)//': '
+    if (curve%id <= 0) then
+      call card_error(card, 'field LCID: curve id must be positive (got '//itoa(curve%id)//')')
+      return
+    else if (curve%sidr /= 0 .and. curve%sidr /= 2) then
+      call card_error(card, who//'field SIDR must be 0 or 2 (got '//itoa(curve%sidr)//')')
+      return
+    else if (t_start < 0.0_wp .or. .not. t_rise > 0.0_wp) then
+      call card_error(card, who//'fields TSTART >= 0 and TRISE > 0 are needed (got '// &
+          rtoa(t_start)//', '//rtoa(t_rise)//')')
+      return
+    else if ((t_end /= 0.0_wp) .eqv. (v_max /= 0.0_wp)) then
+      call card_error(card, who//'give exactly one of TEND and V0 (the other follows from DIST)')
+      return
+    end if
+    if (t_end /= 0.0_wp) then
+      if (t_end - t_start < 2.0_wp*t_rise) then
+        call card_error(card, who//'TEND - TSTART = '//rtoa(t_end - t_start)//' must be at '// &
+            'least 2 TRISE = '//rtoa(2.0_wp*t_rise)//' (a rise and a fall)')
+        return
+      end if
+      v_max = dist/(t_end - t_start - t_rise)
+    else
+      t_end = t_start + t_rise + dist/v_max
+      if (dist/v_max < t_rise) then
+        call card_error(card, who//'DIST/V0 = '//rtoa(dist/v_max)//' must be at least TRISE '// &
+            '(the curve rises and falls over TRISE each)')
+        return
+      end if
+    end if
+    span = t_end - t_start
+    n = 2*SMOOTH_RAMP_INTERVALS + 6
+    allocate(curve%t(n), curve%f(n))
+    curve%t(1) = t_start - span                   ! zero before TSTART (flat extrapolation)
+    curve%f(1) = 0.0_wp
+    n = 1
+    do k = 0, SMOOTH_RAMP_INTERVALS
+      s = real(k, wp)/real(SMOOTH_RAMP_INTERVALS, wp)
+      call add_point(t_start + s*t_rise, 0.5_wp*v_max*(1.0_wp - cos(PI*s)))
+    end do
+    do k = 0, SMOOTH_RAMP_INTERVALS
+      s = real(k, wp)/real(SMOOTH_RAMP_INTERVALS, wp)
+      call add_point(t_end - t_rise + s*t_rise, 0.5_wp*v_max*(1.0_wp + cos(PI*s)))
+    end do
+    call add_point(t_end + span, 0.0_wp)          ! zero after TEND
+    curve%n = n
+    curve%t = curve%t(1:n)
+    curve%f = curve%f(1:n)
+    call add_curve(model, curve)
+
+  contains
+
+    !> Append a point; one at the abscissa of the last (no plateau) is the same point.
+    subroutine add_point(t, f)
+      real(wp), intent(in) :: t, f               !< abscissa, ordinate
+      if (t <= curve%t(n)) return
+      n = n + 1
+      curve%t(n) = t
+      curve%f(n) = f
+    end subroutine add_point
+
+  end subroutine read_define_curve_smooth
 
   !> *LOAD_NODE_POINT / *LOAD_NODE_SET: NID|NSID DOF LCID SF CID M1 M2 M3, repeated.
   subroutine read_load_node(rd, on_set, model)
