@@ -35,6 +35,7 @@ module mefem_keyword_reader
   use mefem_read_sets, only: read_set_node, read_set_part, read_set_segment
   use mefem_read_conditions, only: read_boundary_spc, read_prescribed_motion, &
                                    read_define_curve, read_define_curve_smooth, read_define_box, &
+                                   read_define_table, &
                                    read_constrained_global, read_load_node, read_load_segment, &
                                    read_load_segment_set, read_initial_velocity, &
                                    read_initial_velocity_node, read_initial_velocity_generation, &
@@ -81,7 +82,7 @@ module mefem_keyword_reader
                         H_CONSTRAINED_NODAL_RIGID_BODY = 66, H_CONSTRAINED_SPOTWELD = 67, &
                         H_ELEMENT_MASS = 68, H_ELEMENT_MASS_PART = 69, H_DEFINE_BOX = 70, &
                         H_CONSTRAINED_GLOBAL = 71, H_MAT_ADD_EROSION = 72, &
-                        H_DEFINE_CURVE_SMOOTH = 73
+                        H_DEFINE_CURVE_SMOOTH = 73, H_DEFINE_TABLE = 74
 
   !> Id read from the first card of a rejected keyword (skip_cards), 0 when none.
   integer :: rejected_id = 0
@@ -93,7 +94,7 @@ module mefem_keyword_reader
     character(len=64) :: options = ''    !< options accepted, as ' OPT1 OPT2 '
   end type keyword_entry_t
 
-  integer, parameter :: N_ENTRIES = 87
+  integer, parameter :: N_ENTRIES = 88
   type(keyword_entry_t), parameter :: REGISTRY(N_ENTRIES) = [ &
     keyword_entry_t('NODE', H_NODE, ' '), &
     keyword_entry_t('ELEMENT_SOLID', H_ELEMENT_SOLID, ' '), &
@@ -139,6 +140,7 @@ module mefem_keyword_reader
     keyword_entry_t('BOUNDARY_PRESCRIBED_MOTION_RIGID', H_MOTION_RIGID, ' ID '), &
     keyword_entry_t('DEFINE_CURVE', H_DEFINE_CURVE, ' TITLE '), &
     keyword_entry_t('DEFINE_CURVE_SMOOTH', H_DEFINE_CURVE_SMOOTH, ' TITLE '), &
+    keyword_entry_t('DEFINE_TABLE', H_DEFINE_TABLE, ' TITLE '), &
     keyword_entry_t('DEFINE_BOX', H_DEFINE_BOX, ' TITLE '), &
     keyword_entry_t('MAT_ADD_EROSION', H_MAT_ADD_EROSION, ' TITLE '), &
     keyword_entry_t('LOAD_NODE_POINT', H_LOAD_NODE_POINT, ' '), &
@@ -465,6 +467,8 @@ contains
       call read_define_curve(rd, options, model)
     case (H_DEFINE_CURVE_SMOOTH)
       call read_define_curve_smooth(rd, options, model)
+    case (H_DEFINE_TABLE)
+      call read_define_table(rd, options, model)
     case (H_LOAD_NODE_POINT)
       call read_load_node(rd, .false., model)
     case (H_LOAD_NODE_SET)

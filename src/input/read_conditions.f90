@@ -22,7 +22,7 @@ module mefem_read_conditions
   private
 
   public :: read_boundary_spc, read_prescribed_motion, read_define_curve, read_load_node, &
-            read_define_curve_smooth, &
+            read_define_curve_smooth, read_define_table, &
             read_load_segment, read_load_segment_set, read_initial_velocity, &
             read_initial_velocity_node, read_initial_velocity_generation, read_load_body, &
             read_load_body_parts, read_constrained_rigid_bodies, read_constrained_extra_nodes, &
@@ -319,6 +319,84 @@ contains
     curve%f = f(1:n)
     call add_curve(model, curve)
   end subroutine read_define_curve
+
+  !> *DEFINE_TABLE(_TITLE): TBID SFA OFFA / VALUE LCID (2 x 20 columns) repeated: one curve
+  !> per value (values stored as SFA (VALUE + OFFA), strictly increasing); a blank LCID takes
+  !> the curves defined right after the table, in order (LS-DYNA's original form).
+  subroutine read_define_table(rd, options, model)
+    type(reader_t), intent(inout) :: rd          !< reading state
+    character(len=*), intent(in) :: options      !< keyword options
+    type(model_t), intent(inout) :: model        !< model appended to
+    type(card_t) :: card, entry
+    type(curve_t) :: table
+    logical :: got, bad
+    real(wp) :: sfa, offa, value
+    integer :: lcid, n
+    real(wp), allocatable :: values(:)
+    integer, allocatable :: ids(:)
+    call read_title_card(rd, options, table%title)
+    call next_card(rd, card, got)
+    if (.not. got) then
+      call keyword_error(rd, 'missing card 1 (TBID SFA OFFA)')
+      return
+    end if
+    call split_card(rd, card, W_10)
+    call get_int(card, 1, 'TBID', table%id, required=.true.)
+    call get_real(card, 2, 'SFA', sfa, default=1.0_wp)
+    call get_real(card, 3, 'OFFA', offa)
+    table%src = source_t(card%file, card%line)
+    table%is_table = .true.
+    bad = card%bad
+    if (sfa == 0.0_wp) sfa = 1.0_wp
+    if (.not. bad .and. table%id <= 0) then
+      call card_error(card, 'field TBID: table id must be positive (got '//itoa(table%id)//')')
+      bad = .true.
+    else if (.not. bad .and. sfa < 0.0_wp) then
+      call card_error(card, 'table '//itoa(table%id)//': field SFA must be > 0 '// &
+                      quoted_real(sfa))
+      bad = .true.
+    end if
+    allocate(values(0), ids(0))
+    n = 0
+    do
+      call next_card(rd, entry, got)
+      if (.not. got) exit
+      call split_card(rd, entry, W_POINT)
+      call get_real(entry, 1, 'VALUE', value, required=.true.)
+      call get_int(entry, 2, 'LCID', lcid)
+      if (entry%bad) then
+        bad = .true.
+        cycle
+      end if
+      value = sfa*(value + offa)
+      if (n > 0) then
+        if (value <= values(n)) then
+          call card_error(entry, 'table '//itoa(table%id)//': value '//rtoa(value)// &
+              ' does not increase (values must be strictly increasing)')
+          bad = .true.
+        end if
+      end if
+      if (lcid < 0) then
+        call card_error(entry, 'table '//itoa(table%id)//': field LCID must not be negative '// &
+                        '(got '//itoa(lcid)//')')
+        bad = .true.
+      end if
+      n = n + 1
+      values = [values, value]
+      ids = [ids, lcid]
+    end do
+    if (n == 0 .and. .not. card%bad) then
+      call card_error(card, 'table '//itoa(table%id)//' has no values (give VALUE and LCID, '// &
+          'one per card, after card 1)')
+      bad = .true.
+    end if
+    if (bad) return
+    table%n = n
+    table%t = values
+    table%member_ids = ids
+    table%follows = model%n_curves + 2
+    call add_curve(model, table)
+  end subroutine read_define_table
 
   !> *DEFINE_CURVE_SMOOTH(_TITLE): LCID SIDR DIST TSTART TEND TRISE V0. A velocity curve
   !> that rises from 0 at TSTART to V0 over TRISE, stays at V0 and falls back to 0 at TEND over

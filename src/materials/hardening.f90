@@ -23,7 +23,9 @@
 !>   the points (LS-DYNA: true stress vs effective plastic strain), extended linearly with the
 !>   first/last segment's slope outside the table (as *DEFINE_CURVE is evaluated).
 !> - HARDENING_CURVE, *MAT_024 with LCSS: K = curve_value(curve, alpha) of the yield stress
-!>   vs effective plastic strain curve; K' the slope of the segment curve_value uses.
+!>   vs effective plastic strain curve; K' the slope of the segment curve_value uses. LCSS a
+!>   table of such curves by strain rate: the material passed in (rate_table_material) names
+!>   the two curves around the rate and the weight of the upper one, and K, K' blend them.
 !> - HARDENING_JOHNSON_COOK, *MAT_JOHNSON_COOK and *MAT_SIMPLIFIED_JOHNSON_COOK:
 !>   K = A + B alpha^N, capped at SIGMAX (*MAT_098) when SIGMAX > 0; K' = N B alpha^(N-1),
 !>   taken at alpha >= JC_SLOPE_STRAIN (for N < 1 the slope is infinite at alpha = 0: a
@@ -55,7 +57,7 @@ module mefem_hardening
 
   public :: hardening_yield, hardening_yield_block, piecewise_linear_law
   public :: power_law_strain_offset, plastic_modulus, hardening_rate_factor,  &
-            rate_dependent
+            rate_dependent, rate_table_material
 
   !> Curves of at most this many points have their segment found by counting (the block
   !> version); longer ones by bisection, point by point
@@ -105,6 +107,14 @@ contains
         yield_stress = curve_value(curve, alpha)
         slope = segment_slope(curve%n, curve%t, curve%f, alpha)
       end associate
+      if (mat%lcss_weight > 0.0_wp) then           ! a rate table: blend with the next curve
+        associate (upper => curves(mat%lcss_upper))
+          yield_stress = (1.0_wp - mat%lcss_weight)*yield_stress + &
+                         mat%lcss_weight*curve_value(upper, alpha)
+          slope = (1.0_wp - mat%lcss_weight)*slope + &
+                  mat%lcss_weight*segment_slope(upper%n, upper%t, upper%f, alpha)
+        end associate
+      end if
     case (HARDENING_JOHNSON_COOK)
       if (mat%n_exponent == 0.0_wp) then
         yield_stress = mat%jc_a + mat%jc_b
@@ -206,7 +216,7 @@ contains
   !> D4 /= 0 (its failure strain depends on the rate).
   pure logical function rate_dependent(mat)
     type(material_t), intent(in) :: mat        !< the material's parameters
-    rate_dependent = mat%lcsr_curve > 0 .or. mat%cowper_c > 0.0_wp .or. &
+    rate_dependent = mat%lcss_table > 0 .or. mat%lcsr_curve > 0 .or. mat%cowper_c > 0.0_wp .or. &
                      ((mat%kind == MAT_JOHNSON_COOK .or. &
                        mat%kind == MAT_SIMPLIFIED_JOHNSON_COOK) .and. mat%jc_c /= 0.0_wp) .or. &
                      (mat%jc_fails .and. mat%jc_damage(4) /= 0.0_wp)
@@ -220,6 +230,7 @@ contains
     type(curve_t), intent(in) :: curves(:)     !< the model's curves (for LCSR)
     real(wp), intent(in) :: strain_rate        !< effective strain rate (1/time, >= 0)
     factor = 1.0_wp
+    if (mat%lcss_table > 0) return                 ! the table's curves hold the rate effect
     if (mat%kind == MAT_JOHNSON_COOK .or. mat%kind == MAT_SIMPLIFIED_JOHNSON_COOK) then
       if (strain_rate > mat%reference_rate) factor = 1.0_wp + &
           mat%jc_c*log(strain_rate/mat%reference_rate)
@@ -293,5 +304,41 @@ contains
       end do
     end if
   end function segment
+
+  !> *MAT_024 with an LCSS table: the material with the curves around the strain rate set for
+  !> one update: lcss_curve the table's curve at or below the rate (ln of the rate when the
+  !> table's values are logarithms), lcss_upper the next, lcss_weight the linear weight of the
+  !> upper in the rate (or ln rate); rates outside the table take its first or last curve.
+  pure function rate_table_material(mat, curves, strain_rate) result(local)
+    type(material_t), intent(in) :: mat        !< *MAT_024 with lcss_table > 0
+    type(curve_t), intent(in) :: curves(:)     !< the model's curves and tables
+    real(wp), intent(in) :: strain_rate        !< effective strain rate (1/time, >= 0)
+    type(material_t) :: local
+    real(wp) :: x
+    integer :: lo
+    local = mat
+    associate (table => curves(mat%lcss_table))
+      local%lcss_weight = 0.0_wp
+      if (mat%lcss_log_rates) then
+        if (.not. strain_rate > 0.0_wp) then
+          local%lcss_curve = table%members(1)
+          return
+        end if
+        x = log(strain_rate)
+      else
+        x = strain_rate
+      end if
+      if (x <= table%t(1)) then
+        local%lcss_curve = table%members(1)
+      else if (x >= table%t(table%n)) then
+        local%lcss_curve = table%members(table%n)
+      else
+        lo = segment(table%n, table%t, x)
+        local%lcss_curve = table%members(lo)
+        local%lcss_upper = table%members(lo + 1)
+        local%lcss_weight = (x - table%t(lo))/(table%t(lo + 1) - table%t(lo))
+      end if
+    end associate
+  end function rate_table_material
 
 end module mefem_hardening

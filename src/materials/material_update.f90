@@ -39,6 +39,7 @@ module mefem_material_update
   use mefem_material_state, only: NHIST, BLOCK_POINTS, HIST_ALPHA, HIST_TEMPERATURE, HIST_DAMAGE
   use mefem_hardening, only: HARDENING_POWER_LAW, HARDENING_JOHNSON_COOK, HARDENING_LINEAR, &
                              piecewise_linear_law, hardening_rate_factor, rate_dependent, &
+                             rate_table_material, HARDENING_CURVE, &
                              hardening_yield
   use mefem_mat_elastic, only: mat_elastic_update, lame_constants
   use mefem_mat_j2_plasticity, only: mat_j2_update, mat_j2_update_block, mat_j2_kinematic_update
@@ -96,8 +97,16 @@ contains
     case (MAT_ELASTIC)
       call mat_elastic_update(mat, f_new, hist_old, hist_new, tau, sound_speed, status, c_tau)
     case (MAT_PIECEWISE_LINEAR)
-      call mat_j2_update(mat, curves, piecewise_linear_law(mat), f_new, hist_old, hist_new, &
-                         tau, sound_speed, status, c_tau, factor, committed)
+      if (mat%lcss_table > 0) then              ! LCSS a table: the curves of the rate
+        rate = 0.0_wp
+        if (present(strain_rate)) rate = strain_rate
+        call mat_j2_update(rate_table_material(mat, curves, rate), curves, HARDENING_CURVE, &
+                           f_new, hist_old, hist_new, tau, sound_speed, status, c_tau, factor, &
+                           committed)
+      else
+        call mat_j2_update(mat, curves, piecewise_linear_law(mat), f_new, hist_old, hist_new, &
+                           tau, sound_speed, status, c_tau, factor, committed)
+      end if
     case (MAT_POWER_LAW)
       call mat_j2_update(mat, curves, HARDENING_POWER_LAW, f_new, hist_old, hist_new, tau, &
                          sound_speed, status, c_tau, factor, committed)
@@ -160,7 +169,9 @@ contains
                                hist(i, HIST_TEMPERATURE), tau(i, :), hist(i, HIST_DAMAGE))
       end do
     case (MAT_PIECEWISE_LINEAR, MAT_POWER_LAW)
-      if (present(strain_rate)) then
+      if (mat%lcss_table > 0) then              ! a curve per point's rate: point by point
+        call points_one_by_one()
+      else if (present(strain_rate)) then
         do i = 1, n
           factor(i) = hardening_rate_factor(mat, curves, rate(i))
         end do
@@ -169,6 +180,13 @@ contains
         call mat_j2_update_block(mat, curves, block_law(mat), n, f, j, hist, tau, ok)
       end if
     case default
+      call points_one_by_one()
+    end select
+
+  contains
+
+    !> The block's points one by one through material_update.
+    subroutine points_one_by_one()
       do i = 1, n
         f_point = reshape(f(i, :), [3, 3])
         call material_update(mat, curves, f_point, hist(i, :), hist_new, tau_point, &
@@ -178,7 +196,8 @@ contains
                      tau_point(2, 3), tau_point(3, 1)]
         if (ok(i)) hist(i, :) = hist_new
       end do
-    end select
+    end subroutine points_one_by_one
+
   end subroutine material_update_block
 
   !> The hardening law of a J2 material of the block kernel (*MAT_024's or the power law).

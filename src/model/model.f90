@@ -145,7 +145,13 @@ module mefem_model
     integer :: erosion_conditions = 1       !< NCS: criteria met at once for failure
     real(wp) :: cowper_c = 0.0_wp, cowper_p = 0.0_wp   !< C, P (MAT_024) / SRC, SRP (MAT_018)
     integer :: lcss = 0                     !< curve id of stress vs plastic strain (MAT_024)
-    integer :: lcss_curve = 0               !< its index (after resolve)
+    integer :: lcss_curve = 0               !< its index (after resolve; a table: its
+                                            !< first, lowest-rate curve)
+    integer :: lcss_table = 0               !< LCSS a *DEFINE_TABLE of curves by strain rate:
+                                            !< its index in the curves (after resolve)
+    logical :: lcss_log_rates = .false.     !< the table's values are ln(rate) (first < 0)
+    integer :: lcss_upper = 0               !< (one update) the next rate's curve and its
+    real(wp) :: lcss_weight = 0.0_wp        !< weight in the blend with lcss_curve
     integer :: lcsr = 0                     !< strain-rate curve id (MAT_024)
     integer :: lcsr_curve = 0               !< its index (after resolve)
     real(wp) :: vp = 0.0_wp                 !< VP rate formulation flag
@@ -191,13 +197,20 @@ module mefem_model
   end type set_t
 
   !> *DEFINE_CURVE with its scale factors and offsets already applied.
+  !> *DEFINE_CURVE (or _SMOOTH), or a *DEFINE_TABLE (is_table: one curve per value, ids
+  !> shared with the curves as in LS-DYNA).
   type, public :: curve_t
     integer :: id = 0
     character(len=80) :: title = ''
     integer :: sidr = 0
     integer :: n = 0
-    real(wp), allocatable :: t(:), f(:)     !< abscissas and ordinates
+    real(wp), allocatable :: t(:), f(:)     !< abscissas and ordinates (table: f unused)
     type(source_t) :: src
+    logical :: is_table = .false.           !< a *DEFINE_TABLE: t holds its values
+    integer, allocatable :: member_ids(:)   !< table: curve id per value (0: the k-th curve
+                                            !< that follows the table in the deck)
+    integer, allocatable :: members(:)      !< table: their curve indices (after resolve)
+    integer :: follows = 0                  !< table: index of the curve defined after it
   end type curve_t
 
   !> *BOUNDARY_SPC_NODE/_SET: fixed degrees of freedom.

@@ -40,6 +40,7 @@ module mefem_resolve_conditions
   type :: lookup_t
     type(id_map_t) :: nodes, parts, curves, materials, boxes
     type(set_lookup_t) :: sets(3)          !< by SET_NODE, SET_SEGMENT, SET_PART
+    logical, allocatable :: is_table(:)    !< (curve index) a *DEFINE_TABLE
   end type lookup_t
 
 contains
@@ -59,9 +60,17 @@ contains
     ids = [(model%curves(k)%id, k = 1, model%n_curves)]
     call id_map_build(ids, model%n_curves, curve_map)
     do k = 2, curve_map%n
-      if (curve_map%ids(k) == curve_map%ids(k-1)) call report_duplicate( &
-          model%curves(curve_map%index(k))%src, model%curves(curve_map%index(k-1))%src, &
-          '*DEFINE_CURVE', 'curve', curve_map%ids(k))
+      if (curve_map%ids(k) /= curve_map%ids(k-1)) cycle
+      if (model%curves(curve_map%index(k))%is_table .or. &
+          model%curves(curve_map%index(k-1))%is_table) then
+        call report_duplicate(model%curves(curve_map%index(k))%src, &
+            model%curves(curve_map%index(k-1))%src, &
+            merge('*DEFINE_TABLE', '*DEFINE_CURVE', model%curves(curve_map%index(k))%is_table), &
+            'curve or table (one id space)', curve_map%ids(k))
+      else
+        call report_duplicate(model%curves(curve_map%index(k))%src, &
+            model%curves(curve_map%index(k-1))%src, '*DEFINE_CURVE', 'curve', curve_map%ids(k))
+      end if
     end do
     ids = [(model%materials(k)%id, k = 1, model%n_materials)]
     call id_map_build(ids, model%n_materials, material_map)
@@ -75,6 +84,8 @@ contains
     look%nodes = node_map
     look%parts = part_map
     look%curves = curve_map
+    look%is_table = [(model%curves(k)%is_table, k = 1, model%n_curves)]
+    call resolve_tables(model, look)
     look%materials = material_map
     ids = [(model%boxes(k)%id, k = 1, model%n_boxes)]
     call id_map_build(ids, model%n_boxes, look%boxes)
@@ -266,8 +277,58 @@ contains
     character(len=*), intent(in) :: where           !< "file:line: *KEYWORD"
     character(len=*), intent(in) :: field           !< prefix naming the field
     index = id_map_find(look%curves, id)
-    if (index == 0) call input_error(where, field//'curve '//itoa(id)//' is not defined')
+    if (index == 0) then
+      call input_error(where, field//'curve '//itoa(id)//' is not defined')
+    else if (look%is_table(index)) then
+      call input_error(where, field//'id '//itoa(id)//' is a table (*DEFINE_TABLE); a curve '// &
+                       'is needed here')
+      index = 0
+    end if
   end subroutine resolve_curve
+
+  !> The curves of every *DEFINE_TABLE: by LCID, or, for a blank LCID, the curves defined
+  !> right after the table in deck order (the k-th blank takes the k-th); each must be a
+  !> curve, not a table.
+  subroutine resolve_tables(model, look)
+    type(model_t), intent(inout) :: model     !< the model
+    type(lookup_t), intent(in) :: look        !< lookups (curves)
+    integer :: k, j, next, index
+    character(len=:), allocatable :: where
+    do k = 1, model%n_curves
+      associate (table => model%curves(k))
+        if (.not. table%is_table) cycle
+        where = where_is(table%src, '*DEFINE_TABLE')
+        allocate(table%members(table%n))
+        table%members = 0
+        next = table%follows
+        do j = 1, table%n
+          if (table%member_ids(j) > 0) then
+            index = id_map_find(look%curves, table%member_ids(j))
+            if (index == 0) then
+              call input_error(where, 'table '//itoa(table%id)//': curve '// &
+                  itoa(table%member_ids(j))//' (value '//itoa(j)//') is not defined')
+              cycle
+            end if
+          else
+            index = next
+            next = next + 1
+            if (index > model%n_curves) then
+              call input_error(where, 'table '//itoa(table%id)//': value '//itoa(j)// &
+                  ' has no LCID and no *DEFINE_CURVE follows the table for it (give LCID, or '// &
+                  'the curves right after the table, one per value)')
+              cycle
+            end if
+          end if
+          if (model%curves(index)%is_table) then
+            call input_error(where, 'table '//itoa(table%id)//': value '//itoa(j)// &
+                ' refers to table '//itoa(model%curves(index)%id)//'; a curve is needed')
+            cycle
+          end if
+          table%members(j) = index
+        end do
+      end associate
+    end do
+  end subroutine resolve_tables
 
   !> Curves of *MAT_024 (LCSS, LCSR).
   subroutine resolve_materials(model, look)
@@ -279,8 +340,25 @@ contains
       associate (mat => model%materials(m))
         if (mat%kind /= MAT_PIECEWISE_LINEAR) cycle
         where = where_is(mat%src, material_keyword(mat%kind))
-        if (mat%lcss > 0) call resolve_curve(look, mat%lcss, mat%lcss_curve, where, &
-            'material '//itoa(mat%id)//': LCSS ')
+        if (mat%lcss > 0) then
+          k = id_map_find(look%curves, mat%lcss)
+          if (k == 0) then
+            call input_error(where, 'material '//itoa(mat%id)//': LCSS curve '// &
+                             itoa(mat%lcss)//' is not defined')
+          else if (look%is_table(k)) then
+            ! a table of hardening curves by strain rate (its values: ln(rate) when the first
+            ! is negative); C, P and LCSR then do not apply
+            mat%lcss_table = k
+            mat%lcss_curve = model%curves(k)%members(1)
+            mat%lcss_log_rates = model%curves(k)%t(1) < 0.0_wp
+            if (any(model%curves(k)%members == 0)) mat%lcss_table = 0
+            if (mat%cowper_c > 0.0_wp .or. mat%lcsr > 0) call warn(where//': material '// &
+                itoa(mat%id)//': C, P and LCSR are ignored: the table LCSS '// &
+                itoa(mat%lcss)//' gives the rate dependence')
+          else
+            mat%lcss_curve = k
+          end if
+        end if
         if (mat%lcsr > 0) call resolve_curve(look, mat%lcsr, mat%lcsr_curve, where, &
             'material '//itoa(mat%id)//': LCSR ')
       end associate

@@ -6,6 +6,10 @@ alpha at the element's plastic strain is the yield scale of that rate (to 1e-6):
 - *MAT_PIECEWISE_LINEAR_PLASTICITY C = 40 /s, P = 5 (Cowper-Symonds 1 + (rate/C)^(1/P));
 - *MAT_PLASTIC_KINEMATIC SRC = 40, SRP = 5 (the same law);
 - *MAT_PIECEWISE_LINEAR_PLASTICITY with an LCSR curve (scale 1 at rate 0, 1.5 at 2000 /s);
+- *MAT_PIECEWISE_LINEAR_PLASTICITY with LCSS a *DEFINE_TABLE of hardening curves by strain
+  rate (scales 1, 1.3, 1.6 of SIGY + Ep alpha at 0, 500, 2000 /s, LCIDs given; and the same at
+  ln rates ln 0.1, ln 500, ln 2000, the first value negative, its curves following the table
+  without LCIDs): the scale interpolated linearly in the rate, or in ln rate;
 each at 100 /s and 1000 /s; and C = 0 at 1000 /s gives the quasi-static stress (scale 1).
 Implicit (the rate from the step's F and F_n): the element in uniaxial stress (base on rollers,
 sides free, IHQ 6), the top driven at 1000 /s, *MAT_024 C, P: the same scale within 1 %. (An
@@ -43,8 +47,30 @@ def material(kind):
     if kind == 'mat003':
         return ['*MAT_PLASTIC_KINEMATIC', free(1, RHO, E, NU, SIGY, ETAN, 1.0),
                 free(40.0, 5.0, 0.0, 0.0)]
+    if kind == 'table':
+        cards = ['*DEFINE_TABLE', f10(20)] + ['%20.10e%20d' % (r, 21 + k)
+                                              for k, r in enumerate(TABLE_RATES)]
+        for k, scale in enumerate(TABLE_SCALES):
+            cards += static_curve(21 + k, scale)
+        return ['*MAT_PIECEWISE_LINEAR_PLASTICITY', free(1, RHO, E, NU, SIGY, ETAN),
+                free(0.0, 0.0, 20, 0, 0.0)] + cards
+    if kind == 'table_log':
+        cards = ['*DEFINE_TABLE', f10(30)] + ['%20.10e' % np.log(r) for r in TABLE_LOG_RATES]
+        for k, scale in enumerate(TABLE_SCALES):
+            cards += static_curve(31 + k, scale)
+        return ['*MAT_PIECEWISE_LINEAR_PLASTICITY', free(1, RHO, E, NU, SIGY, ETAN),
+                free(0.0, 0.0, 30, 0, 0.0)] + cards
     return ['*MAT_PIECEWISE_LINEAR_PLASTICITY', free(1, RHO, E, NU, SIGY, ETAN),
             free(0.0, 0.0, 0, 9, 0.0)] + curve(9, [(0.0, 1.0), (2000.0, 1.5)])
+
+
+TABLE_RATES, TABLE_LOG_RATES, TABLE_SCALES = [0.0, 500.0, 2000.0], [0.1, 500.0, 2000.0], \
+    [1.0, 1.3, 1.6]
+
+
+def static_curve(lcid, scale):
+    """scale x (SIGY + Ep alpha) as an LCSS curve (linear: two points)"""
+    return curve(lcid, [(0.0, scale * SIGY), (1.0, scale * (SIGY + EP))])
 
 
 def expected_scale(kind, rate):
@@ -52,6 +78,10 @@ def expected_scale(kind, rate):
         return 1.0
     if kind == 'lcsr':
         return 1.0 + 0.5 * rate / 2000.0
+    if kind == 'table':
+        return float(np.interp(rate, TABLE_RATES, TABLE_SCALES))
+    if kind == 'table_log':
+        return float(np.interp(np.log(rate), np.log(TABLE_LOG_RATES), TABLE_SCALES))
     return 1.0 + (rate / 40.0) ** (1.0 / 5.0)
 
 
@@ -143,7 +173,7 @@ def uniaxial_implicit(kind, axial_rate):
                  'scale (1 %%)' % name, '%.4f vs %.4f' % (scale, want))
 
 
-for kind in ('mat024', 'mat003', 'lcsr'):
+for kind in ('mat024', 'mat003', 'lcsr', 'table', 'table_log'):
     for axial in (100.0, 1000.0):
         driven(kind, axial)
 driven('mat024_static', 1000.0)
