@@ -14,7 +14,8 @@ module mefem_keyword_reader
                                LINE_KEYWORD, LINE_DATA, LINE_EOF
   use mefem_cards, only: reader_t, card_t, next_card, keyword_error, keyword_where
   use mefem_model, only: model_t, ON_NODE, ON_NODE_SET, ON_PART, WALL_FLAT, WALL_PRISM, &
-                         WALL_CYLINDER, WALL_SPHERE
+                         WALL_CYLINDER, WALL_SPHERE, SYSTEM_BY_POINTS, SYSTEM_BY_VECTORS, &
+                         SYSTEM_BY_NODES
   use mefem_read_mesh, only: read_node, read_element_solid, read_element_shell, read_part, &
                              read_section_solid, read_section_shell, read_hourglass, &
                              read_element_mass, read_element_mass_part
@@ -33,6 +34,7 @@ module mefem_keyword_reader
                                   read_mat_power_law, read_mat_mooney_rivlin, read_mat_rigid, read_mat_add_erosion, &
                                   read_mat_plastic_kinematic
   use mefem_read_sets, only: read_set_node, read_set_part, read_set_segment
+  use mefem_read_coordinates, only: read_define_coordinate, read_define_vector
   use mefem_read_conditions, only: read_boundary_spc, read_prescribed_motion, &
                                    read_define_curve, read_define_curve_smooth, read_define_box, &
                                    read_define_table, &
@@ -82,7 +84,9 @@ module mefem_keyword_reader
                         H_CONSTRAINED_NODAL_RIGID_BODY = 66, H_CONSTRAINED_SPOTWELD = 67, &
                         H_ELEMENT_MASS = 68, H_ELEMENT_MASS_PART = 69, H_DEFINE_BOX = 70, &
                         H_CONSTRAINED_GLOBAL = 71, H_MAT_ADD_EROSION = 72, &
-                        H_DEFINE_CURVE_SMOOTH = 73, H_DEFINE_TABLE = 74
+                        H_DEFINE_CURVE_SMOOTH = 73, H_DEFINE_TABLE = 74, &
+                        H_DEFINE_COORDINATE_SYSTEM = 75, H_DEFINE_COORDINATE_VECTOR = 76, &
+                        H_DEFINE_COORDINATE_NODES = 77, H_DEFINE_VECTOR = 78
 
   !> Id read from the first card of a rejected keyword (skip_cards), 0 when none.
   integer :: rejected_id = 0
@@ -94,7 +98,7 @@ module mefem_keyword_reader
     character(len=64) :: options = ''    !< options accepted, as ' OPT1 OPT2 '
   end type keyword_entry_t
 
-  integer, parameter :: N_ENTRIES = 88
+  integer, parameter :: N_ENTRIES = 92
   type(keyword_entry_t), parameter :: REGISTRY(N_ENTRIES) = [ &
     keyword_entry_t('NODE', H_NODE, ' '), &
     keyword_entry_t('ELEMENT_SOLID', H_ELEMENT_SOLID, ' '), &
@@ -141,6 +145,10 @@ module mefem_keyword_reader
     keyword_entry_t('DEFINE_CURVE', H_DEFINE_CURVE, ' TITLE '), &
     keyword_entry_t('DEFINE_CURVE_SMOOTH', H_DEFINE_CURVE_SMOOTH, ' TITLE '), &
     keyword_entry_t('DEFINE_TABLE', H_DEFINE_TABLE, ' TITLE '), &
+    keyword_entry_t('DEFINE_COORDINATE_SYSTEM', H_DEFINE_COORDINATE_SYSTEM, ' TITLE '), &
+    keyword_entry_t('DEFINE_COORDINATE_VECTOR', H_DEFINE_COORDINATE_VECTOR, ' TITLE '), &
+    keyword_entry_t('DEFINE_COORDINATE_NODES', H_DEFINE_COORDINATE_NODES, ' TITLE '), &
+    keyword_entry_t('DEFINE_VECTOR', H_DEFINE_VECTOR, ' TITLE '), &
     keyword_entry_t('DEFINE_BOX', H_DEFINE_BOX, ' TITLE '), &
     keyword_entry_t('MAT_ADD_EROSION', H_MAT_ADD_EROSION, ' TITLE '), &
     keyword_entry_t('LOAD_NODE_POINT', H_LOAD_NODE_POINT, ' '), &
@@ -469,6 +477,14 @@ contains
       call read_define_curve_smooth(rd, options, model)
     case (H_DEFINE_TABLE)
       call read_define_table(rd, options, model)
+    case (H_DEFINE_COORDINATE_SYSTEM)
+      call read_define_coordinate(rd, SYSTEM_BY_POINTS, options, model)
+    case (H_DEFINE_COORDINATE_VECTOR)
+      call read_define_coordinate(rd, SYSTEM_BY_VECTORS, options, model)
+    case (H_DEFINE_COORDINATE_NODES)
+      call read_define_coordinate(rd, SYSTEM_BY_NODES, options, model)
+    case (H_DEFINE_VECTOR)
+      call read_define_vector(rd, options, model)
     case (H_LOAD_NODE_POINT)
       call read_load_node(rd, .false., model)
     case (H_LOAD_NODE_SET)

@@ -95,9 +95,8 @@ contains
             ' must be a positive id (got '//itoa(spc%target_id)//')')
         cycle
       end if
-      if (spc%cid /= 0) then
-        call card_error(card, 'field CID = '//itoa(spc%cid)//': constraints in a local '// &
-            'coordinate system are not supported (use CID = 0)')
+      if (spc%cid < 0) then
+        call card_error(card, 'field CID must not be negative (got '//itoa(spc%cid)//')')
         cycle
       end if
       ok = .true.
@@ -532,9 +531,8 @@ contains
       else if (load%curve_id <= 0) then
         call card_error(card, 'field LCID must be a positive curve id (got '// &
             itoa(load%curve_id)//')')
-      else if (load%cid /= 0) then
-        call card_error(card, 'field CID = '//itoa(load%cid)//': forces in a local '// &
-            'coordinate system are not supported (use CID = 0)')
+      else if (load%cid < 0) then
+        call card_error(card, 'field CID must not be negative (got '//itoa(load%cid)//')')
       else
         call add_nodal_load(model, load)
       end if
@@ -748,10 +746,10 @@ contains
       iv%target_kind = merge(ON_NODE_SET, ON_ALL_NODES, iv%target_id /= 0)
       if (iv%target_id < 0 .or. iv%exempt_set_id < 0 .or. iv%box_id < 0) then
         call card_error(card, 'fields NSID/NSIDEX/BOXID must not be negative')
-      else if (icid /= 0) then
-        call card_error(card, 'field ICID = '//itoa(icid)//': velocities in a local '// &
-            'coordinate system are not supported')
+      else if (icid < 0) then
+        call card_error(card, 'field ICID must not be negative (got '//itoa(icid)//')')
       else
+        iv%system_id = icid
         call add_initial_velocity(model, iv)
       end if
     end do
@@ -785,10 +783,10 @@ contains
       if (iv%target_id <= 0) then
         call card_error(card, 'field NID must be a positive node id (got '// &
             itoa(iv%target_id)//')')
-      else if (icid /= 0) then
-        call card_error(card, 'field ICID = '//itoa(icid)//': velocities in a local '// &
-            'coordinate system are not supported')
+      else if (icid < 0) then
+        call card_error(card, 'field ICID must not be negative (got '//itoa(icid)//')')
       else
+        iv%system_id = icid
         call add_initial_velocity(model, iv)
       end if
     end do
@@ -848,9 +846,8 @@ contains
       if (iv%target_id <= 0) then
         call card_error(card, 'field ID must be a positive set or part id (got '// &
             itoa(iv%target_id)//')')
-      else if (icid /= 0) then
-        call card_error(card, 'field ICID = '//itoa(icid)//': velocities in a local '// &
-            'coordinate system are not supported')
+      else if (icid < 0) then
+        call card_error(card, 'field ICID must not be negative (got '//itoa(icid)//')')
       else if (iv%omega /= 0.0_wp .and. norm2(iv%axis) == 0.0_wp) then
         call card_error(card2, 'fields NX NY NZ: the rotation axis is zero but OMEGA = '// &
             rtoa(iv%omega)//' is given')
@@ -858,6 +855,7 @@ contains
         call card_error(card2, 'field PHASE must be 0 or 1 (got '//itoa(phase)//')')
       else
         if (norm2(iv%axis) > 0.0_wp) iv%axis = iv%axis/norm2(iv%axis)
+        iv%system_id = icid
         call add_initial_velocity(model, iv)
       end if
     end do

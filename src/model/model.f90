@@ -218,7 +218,11 @@ module mefem_model
     integer :: target_kind = ON_NODE
     integer :: target_id = 0, target = 0     !< id and index of node or node set
     integer :: cid = 0
-    logical :: dof(6) = .false.              !< x y z rx ry rz fixed
+    logical :: dof(6) = .false.              !< x y z rx ry rz fixed (after resolve: global
+                                             !< axes; with CID those local axes that are
+                                             !< global ones)
+    integer :: n_skew = 0                    !< (resolve) fixed local axes that are not
+    real(wp) :: skew(3, 3) = 0.0_wp          !< global axes: their directions (columns)
     real(wp) :: birth = 0.0_wp, death = 1.0e20_wp
     type(source_t) :: src
   end type spc_t
@@ -231,6 +235,7 @@ module mefem_model
     integer :: curve_id = 0, curve = 0
     real(wp) :: scale = 1.0_wp
     integer :: vector_id = 0
+    real(wp) :: direction(3) = 0.0_wp        !< (resolve) DOF 4, 8: the unit vector of VID
     real(wp) :: death = 1.0e28_wp, birth = 0.0_wp
     type(source_t) :: src
   end type prescribed_motion_t
@@ -243,6 +248,7 @@ module mefem_model
     integer :: curve_id = 0, curve = 0
     real(wp) :: scale = 1.0_wp
     integer :: cid = 0
+    real(wp) :: direction(3) = 0.0_wp        !< (resolve) CID: the local axis DOF, global
     type(source_t) :: src
   end type nodal_load_t
 
@@ -278,6 +284,8 @@ module mefem_model
     real(wp) :: center(3) = 0.0_wp, axis(3) = 0.0_wp
     logical :: generation = .false.          !< from _GENERATION: v + omega axis x (x - center)
     integer :: box_id = 0, box = 0           !< BOXID: only the nodes inside this box
+    integer :: system_id = 0                 !< ICID: v, omega_vector, v_exempt and axis are
+                                             !< given in this system (global after resolve)
     type(source_t) :: src
   end type initial_velocity_t
 
@@ -300,6 +308,32 @@ module mefem_model
   end type global_constraint_t
 
   !> *DEFINE_BOX: an axis-aligned box of the reference configuration.
+  !> *DEFINE_COORDINATE_SYSTEM / _VECTOR / _NODES: a Cartesian system fixed in the reference
+  !> configuration.
+  type, public :: coordinate_system_t
+    integer :: id = 0
+    integer :: kind = 0                      !< SYSTEM_BY_POINTS, _BY_VECTORS, _BY_NODES
+    real(wp) :: points(3, 3) = 0.0_wp        !< by points: origin, on x, in x-y; by vectors:
+                                             !< x axis, in x-y, (unused)
+    integer :: node_ids(3) = 0               !< by nodes: origin, on x, in x-y
+    integer :: reference_id = 0              !< CIDL (by points): the system of the points
+    real(wp) :: origin(3) = 0.0_wp           !< (resolve) global origin
+    real(wp) :: axes(3, 3) = 0.0_wp          !< (resolve) global unit axes (columns x, y, z)
+    logical :: resolved = .false.
+    type(source_t) :: src
+  end type coordinate_system_t
+  integer, parameter, public :: SYSTEM_BY_POINTS = 1, SYSTEM_BY_VECTORS = 2, &
+                                SYSTEM_BY_NODES = 3
+
+  !> *DEFINE_VECTOR: from tail to head, in system CID (0: global).
+  type, public :: vector_t
+    integer :: id = 0
+    real(wp) :: tail(3) = 0.0_wp, head(3) = 0.0_wp
+    integer :: system_id = 0
+    real(wp) :: direction(3) = 0.0_wp        !< (resolve) global unit vector
+    type(source_t) :: src
+  end type vector_t
+
   type, public :: box_t
     integer :: id = 0
     real(wp) :: low(3) = 0.0_wp, high(3) = 0.0_wp   !< XMN YMN ZMN, XMX YMX ZMX
@@ -467,6 +501,9 @@ module mefem_model
     type(added_mass_t), allocatable :: added_masses(:)
     integer :: n_boxes = 0
     type(box_t), allocatable :: boxes(:)
+    integer :: n_systems = 0, n_vectors = 0
+    type(coordinate_system_t), allocatable :: systems(:)
+    type(vector_t), allocatable :: vectors(:)
     integer :: n_add_erosions = 0
     type(add_erosion_t), allocatable :: add_erosions(:)
     integer :: n_global_constraints = 0

@@ -20,7 +20,8 @@ module mefem_resolve_conditions
                          RIGID_MERGE, RIGID_NODAL, &
                          GENERAL_SET, &
                          ON_PART_SET, ON_SEGMENT_SET, SET_NODE, SET_SEGMENT, SET_PART, &
-                         MAT_PIECEWISE_LINEAR, MAT_RIGID, GENERAL_BOX, box_holds
+                         MAT_PIECEWISE_LINEAR, MAT_RIGID, GENERAL_BOX, box_holds, &
+                         coordinate_system_t, spc_t, SYSTEM_BY_POINTS, SYSTEM_BY_VECTORS
   use mefem_read_materials, only: material_keyword
   use mefem_read_sets, only: set_keyword
   implicit none
@@ -29,6 +30,8 @@ module mefem_resolve_conditions
   public :: resolve_conditions
 
   character(len=1), parameter :: AXIS_NAMES(3) = ['X', 'Y', 'Z']   !< *LOAD_BODY_ suffixes
+  !> *DEFINE_COORDINATE_ suffixes by system kind (SYSTEM_BY_POINTS, _VECTORS, _NODES)
+  character(len=6), parameter :: SYSTEM_KIND(3) = ['SYSTEM', 'VECTOR', 'NODES ']
 
   !> Map of the ids of the sets of one kind to their positions in model%sets.
   type :: set_lookup_t
@@ -38,7 +41,7 @@ module mefem_resolve_conditions
 
   !> Everything a reference may point to.
   type :: lookup_t
-    type(id_map_t) :: nodes, parts, curves, materials, boxes
+    type(id_map_t) :: nodes, parts, curves, materials, boxes, systems, vectors
     type(set_lookup_t) :: sets(3)          !< by SET_NODE, SET_SEGMENT, SET_PART
     logical, allocatable :: is_table(:)    !< (curve index) a *DEFINE_TABLE
   end type lookup_t
@@ -94,6 +97,24 @@ contains
           model%boxes(look%boxes%index(k))%src, model%boxes(look%boxes%index(k-1))%src, &
           '*DEFINE_BOX', 'box', look%boxes%ids(k))
     end do
+    ids = [(model%systems(k)%id, k = 1, model%n_systems)]
+    call id_map_build(ids, model%n_systems, look%systems)
+    do k = 2, look%systems%n
+      if (look%systems%ids(k) == look%systems%ids(k-1)) call report_duplicate( &
+          model%systems(look%systems%index(k))%src, &
+          model%systems(look%systems%index(k-1))%src, '*DEFINE_COORDINATE_'// &
+          trim(SYSTEM_KIND(model%systems(look%systems%index(k))%kind)), &
+          'coordinate system', look%systems%ids(k))
+    end do
+    ids = [(model%vectors(k)%id, k = 1, model%n_vectors)]
+    call id_map_build(ids, model%n_vectors, look%vectors)
+    do k = 2, look%vectors%n
+      if (look%vectors%ids(k) == look%vectors%ids(k-1)) call report_duplicate( &
+          model%vectors(look%vectors%index(k))%src, &
+          model%vectors(look%vectors%index(k-1))%src, '*DEFINE_VECTOR', 'vector', &
+          look%vectors%ids(k))
+    end do
+    call resolve_coordinate_systems(model, look)
     call build_set_lookups(model, look)
     call resolve_materials(model, look)
     call resolve_sets(model, look)
@@ -120,6 +141,8 @@ contains
     if (.not. allocated(model%rigid_walls)) allocate(model%rigid_walls(0))
     if (.not. allocated(model%body_loads)) allocate(model%body_loads(0))
     if (.not. allocated(model%boxes)) allocate(model%boxes(0))
+    if (.not. allocated(model%systems)) allocate(model%systems(0))
+    if (.not. allocated(model%vectors)) allocate(model%vectors(0))
   end subroutine allocate_empty
 
   !> The id is in the list (an unallocated list holds none).
@@ -285,6 +308,161 @@ contains
       index = 0
     end if
   end subroutine resolve_curve
+
+  !> The axes of every coordinate system (reference configuration) and the global direction
+  !> of every vector. A system by points in another system (CIDL) waits for that one; a
+  !> chain that never resolves (undefined or circular CIDL) is reported.
+  subroutine resolve_coordinate_systems(model, look)
+    type(model_t), intent(inout) :: model     !< the model
+    type(lookup_t), intent(in) :: look        !< lookups (nodes, systems)
+    real(wp) :: p(3, 3)
+    integer :: k, j, pass, n_done, n_node
+    logical :: ready
+    character(len=:), allocatable :: where
+    do pass = 1, model%n_systems
+      n_done = 0
+      do k = 1, model%n_systems
+        associate (system => model%systems(k))
+          if (system%resolved) cycle
+          where = where_is(system%src, '*DEFINE_COORDINATE_'//trim(SYSTEM_KIND(system%kind)))
+          p = system%points
+          select case (system%kind)
+          case (SYSTEM_BY_POINTS)
+            ready = system%reference_id == 0
+            if (.not. ready) then
+              j = id_map_find(look%systems, system%reference_id)
+              if (j == 0) then
+                call input_error(where, 'coordinate system '//itoa(system%id)//': CIDL: '// &
+                    'coordinate system '//itoa(system%reference_id)//' is not defined')
+                system%resolved = .true.
+                cycle
+              end if
+              ready = model%systems(j)%resolved
+              if (.not. ready) cycle
+              p = spread(model%systems(j)%origin, 2, 3) + matmul(model%systems(j)%axes, p)
+            end if
+            call set_axes(system, p(:, 1), p(:, 2) - p(:, 1), p(:, 3) - p(:, 1), where)
+          case (SYSTEM_BY_VECTORS)
+            call set_axes(system, [0.0_wp, 0.0_wp, 0.0_wp], p(:, 1), p(:, 2), where)
+          case default
+            n_node = 0
+            do j = 1, 3
+              p(:, j) = 0.0_wp
+              if (id_map_find(look%nodes, system%node_ids(j)) == 0) then
+                call input_error(where, 'coordinate system '//itoa(system%id)//': node '// &
+                                 itoa(system%node_ids(j))//' (N'//itoa(j)//') is not defined')
+              else
+                n_node = n_node + 1
+                p(:, j) = model%nodes%x(:, id_map_find(look%nodes, system%node_ids(j)))
+              end if
+            end do
+            if (n_node == 3) call set_axes(system, p(:, 1), p(:, 2) - p(:, 1), &
+                                           p(:, 3) - p(:, 1), where)
+          end select
+          system%resolved = .true.
+          n_done = n_done + 1
+        end associate
+      end do
+      if (n_done == 0) exit
+    end do
+    do k = 1, model%n_systems
+      if (.not. model%systems(k)%resolved) call input_error(where_is(model%systems(k)%src, &
+          '*DEFINE_COORDINATE_SYSTEM'), 'coordinate system '//itoa(model%systems(k)%id)// &
+          ': CIDL: the systems refer to each other in a circle')
+    end do
+    do k = 1, model%n_vectors
+      associate (vector => model%vectors(k))
+        where = where_is(vector%src, '*DEFINE_VECTOR')
+        vector%direction = vector%head - vector%tail
+        if (.not. norm2(vector%direction) > 0.0_wp) then
+          call input_error(where, 'vector '//itoa(vector%id)//': head and tail coincide (a '// &
+                           'vector of length 0 has no direction)')
+          cycle
+        end if
+        vector%direction = vector%direction/norm2(vector%direction)
+        if (vector%system_id > 0) then
+          j = find_system(look, vector%system_id, where, 'vector '//itoa(vector%id)//': CID: ')
+          if (j > 0) vector%direction = matmul(model%systems(j)%axes, vector%direction)
+        end if
+      end associate
+    end do
+  end subroutine resolve_coordinate_systems
+
+  !> Axes of a system from its origin, its x direction and a vector in its x-y plane:
+  !> x = along/|along|, z = x cross in_plane normalised, y = z cross x; a degenerate
+  !> definition (zero x, or in_plane parallel to it) is reported.
+  subroutine set_axes(system, origin, along, in_plane, where)
+    type(coordinate_system_t), intent(inout) :: system   !< the system
+    real(wp), intent(in) :: origin(3), along(3), in_plane(3)  !< global
+    character(len=*), intent(in) :: where                !< "file:line: *KEYWORD"
+    !> sin of the least angle between the x axis and the in-plane vector
+    real(wp), parameter :: PARALLEL_SINE = 1.0e-10_wp
+    real(wp) :: x(3), z(3)
+    system%origin = origin
+    if (.not. norm2(along) > 0.0_wp .or. .not. norm2(in_plane) > 0.0_wp) then
+      call input_error(where, 'coordinate system '//itoa(system%id)//': its x axis or its '// &
+                       'in-plane vector has length 0')
+      return
+    end if
+    x = along/norm2(along)
+    z = cross(x, in_plane)
+    if (norm2(z) <= PARALLEL_SINE*norm2(in_plane)) then
+      call input_error(where, 'coordinate system '//itoa(system%id)//': the point (or '// &
+          'vector) of the x-y plane lies on the x axis: the plane is undefined')
+      return
+    end if
+    z = z/norm2(z)
+    system%axes(:, 1) = x
+    system%axes(:, 3) = z
+    system%axes(:, 2) = cross(z, x)
+  end subroutine set_axes
+
+  !> Cross product.
+  pure function cross(a, b) result(c)
+    real(wp), intent(in) :: a(3), b(3)        !< the vectors
+    real(wp) :: c(3)
+    c = [a(2)*b(3) - a(3)*b(2), a(3)*b(1) - a(1)*b(3), a(1)*b(2) - a(2)*b(1)]
+  end function cross
+
+  !> Index of coordinate system id (resolved); reported and 0 when undefined.
+  integer function find_system(look, id, where, field)
+    type(lookup_t), intent(in) :: look              !< lookups
+    integer, intent(in) :: id                       !< system id
+    character(len=*), intent(in) :: where           !< "file:line: *KEYWORD"
+    character(len=*), intent(in) :: field           !< prefix naming the field
+    find_system = id_map_find(look%systems, id)
+    if (find_system == 0) call input_error(where, field//'coordinate system '//itoa(id)// &
+                                           ' is not defined (*DEFINE_COORDINATE_...)')
+  end function find_system
+
+  !> An SPC in a local system: each fixed local translation whose axis is a global axis
+  !> (to round-off) fixes that global dof; the others become skew constraints (their
+  !> directions kept); all three fixed fix all three global dofs.
+  subroutine local_spc(spc, axes)
+    type(spc_t), intent(inout) :: spc               !< the SPC (dof: local flags)
+    real(wp), intent(in) :: axes(3, 3)              !< the system's global axes
+    !> |component| above which a unit axis is the global axis
+    real(wp), parameter :: ALIGNED = 1.0_wp - 1.0e-12_wp
+    logical :: local(3)
+    integer :: k, j
+    local = spc%dof(1:3)
+    spc%dof(1:3) = .false.
+    spc%n_skew = 0
+    if (all(local)) then
+      spc%dof(1:3) = .true.
+      return
+    end if
+    do k = 1, 3
+      if (.not. local(k)) cycle
+      j = maxloc(abs(axes(:, k)), dim=1)
+      if (abs(axes(j, k)) >= ALIGNED) then
+        spc%dof(j) = .true.
+      else
+        spc%n_skew = spc%n_skew + 1
+        spc%skew(:, spc%n_skew) = axes(:, k)
+      end if
+    end do
+  end subroutine local_spc
 
   !> The curves of every *DEFINE_TABLE: by LCID, or, for a blank LCID, the curves defined
   !> right after the table in deck order (the k-th blank takes the k-th); each must be a
@@ -607,6 +785,10 @@ contains
         where = where_is(spc%src, trim(merge('*BOUNDARY_SPC_SET ', '*BOUNDARY_SPC_NODE', &
                                              spc%target_kind == ON_NODE_SET)))
         call resolve_target(look, spc%target_kind, spc%target_id, spc%target, where)
+        if (spc%cid > 0) then
+          m = find_system(look, spc%cid, where, 'CID: ')
+          if (m > 0) call local_spc(spc, model%systems(m)%axes)
+        end if
       end associate
     end do
     do k = 1, model%n_motions
@@ -630,9 +812,15 @@ contains
                 'its nodes with _NODE or _SET')
           end if
         end if
-        if (motion%vector_id > 0 .and. (abs(motion%dof) == 4 .or. abs(motion%dof) == 8)) &
-          call input_error(where, 'vector '//itoa(motion%vector_id)//' (VID) is not '// &
-              'defined (*DEFINE_VECTOR is not supported)')
+        if (motion%vector_id > 0 .and. (abs(motion%dof) == 4 .or. abs(motion%dof) == 8)) then
+          m = id_map_find(look%vectors, motion%vector_id)
+          if (m == 0) then
+            call input_error(where, 'vector '//itoa(motion%vector_id)//' (VID) is not '// &
+                'defined (*DEFINE_VECTOR)')
+          else
+            motion%direction = model%vectors(m)%direction
+          end if
+        end if
       end associate
     end do
   end subroutine resolve_constraints
@@ -649,6 +837,10 @@ contains
                                               load%target_kind == ON_NODE_SET)))
         call resolve_target(look, load%target_kind, load%target_id, load%target, where)
         call resolve_curve(look, load%curve_id, load%curve, where, '')
+        if (load%cid > 0) then                   ! the force along the system's axis DOF
+          i = find_system(look, load%cid, where, 'CID: ')
+          if (i > 0) load%direction = model%systems(i)%axes(:, load%dof)
+        end if
       end associate
     end do
     do k = 1, model%n_pressure_loads
@@ -686,7 +878,7 @@ contains
   subroutine resolve_initial_velocities(model, look)
     type(model_t), intent(inout) :: model     !< the model
     type(lookup_t), intent(in) :: look        !< lookups
-    integer :: k
+    integer :: k, m
     character(len=:), allocatable :: where
     do k = 1, model%n_initial_velocities
       associate (iv => model%initial_velocities(k))
@@ -701,6 +893,18 @@ contains
         if (iv%exempt_set_id > 0) call resolve_target(look, ON_NODE_SET, iv%exempt_set_id, &
             iv%exempt_set, where, 'NSIDEX: ')
         if (iv%box_id > 0) call resolve_box(look, iv%box_id, iv%box, where)
+        if (iv%system_id > 0) then               ! ICID: the components into global ones
+          m = find_system(look, iv%system_id, where, 'ICID: ')
+          if (m > 0) then
+            associate (axes => model%systems(m)%axes)
+              iv%v = matmul(axes, iv%v)
+              iv%omega_vector = matmul(axes, iv%omega_vector)
+              iv%v_exempt = matmul(axes, iv%v_exempt)
+              iv%axis = matmul(axes, iv%axis)
+            end associate
+            iv%system_id = 0
+          end if
+        end if
       end associate
     end do
   end subroutine resolve_initial_velocities

@@ -208,9 +208,15 @@ contains
         if (dof < 1 .or. dof > size(force, 1)) cycle
         amount = load%scale*curve_value(model%curves(load%curve), t)
         call target_nodes(model, load%target_kind, load%target, nodes)
-        do n = 1, size(nodes)
-          force(dof, nodes(n)) = force(dof, nodes(n)) + amount
-        end do
+        if (any(load%direction /= 0.0_wp)) then    ! CID: along the local axis DOF
+          do n = 1, size(nodes)
+            force(:, nodes(n)) = force(:, nodes(n)) + amount*load%direction(1:size(force, 1))
+          end do
+        else
+          do n = 1, size(nodes)
+            force(dof, nodes(n)) = force(dof, nodes(n)) + amount
+          end do
+        end if
       end associate
     end do
     do k = 1, model%n_pressure_loads

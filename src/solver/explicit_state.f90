@@ -104,6 +104,15 @@ module mefem_explicit_state
     real(wp), allocatable :: prescribed_v_old(:) !< (nprescribed) their v^{n-1/2}, this cycle
     logical, allocatable :: was_driven(:)      !< (nprescribed) the dof was driven in the
                                                !< last cycle (update_velocities)
+    ! skew conditions (SPCs in a local system, node motions along a vector VID): entry k
+    ! acts on the velocity of local node skew_node(k) along the unit vector skew_dir(:, k):
+    ! an SPC (skew_source -index of the SPC) keeps that component zero; a motion (skew_source
+    ! the motion's index) sets it, and with DOF -4 (skew_whole) zeroes the rest as well
+    integer :: nskew = 0
+    integer, allocatable :: skew_node(:), skew_source(:)
+    real(wp), allocatable :: skew_dir(:,:)     !< (3, nskew)
+    logical, allocatable :: skew_whole(:)      !< (nskew)
+    real(wp), allocatable :: skew_v_old(:,:)   !< (dim, nskew) v^{n-1/2} of the node
     ! cells
     ! blocks of the 3D cell loop: the cells grouped by (material, number of nodes) in
     ! ascending cell order and cut into at most BLOCK_CELLS

@@ -317,7 +317,16 @@ contains
         if (pm%target_kind == ON_PART .and. (pm%dof < 1 .or. pm%dof > 3)) call fatal( &
             'implicit analysis moves rigid tools by translations (DOF 1-3) only; see '// &
             '*BOUNDARY_PRESCRIBED_MOTION_RIGID at line '//itoa(pm%src%line))
+        if (abs(pm%dof) == 4) call fatal('implicit analysis takes node motions along the '// &
+            'global axes (DOF 1-3) only; DOF 4/-4 along a vector (VID) is explicit only; see '// &
+            '*BOUNDARY_PRESCRIBED_MOTION at line '//itoa(pm%src%line))
       end associate
+    end do
+    do k = 1, model%n_spcs
+      if (model%spcs(k)%n_skew > 0) call fatal('implicit analysis takes SPCs along the '// &
+          'global axes only; the local axes of CID '//itoa(model%spcs(k)%cid)//' are not '// &
+          'global ones (explicit only); see *BOUNDARY_SPC at line '// &
+          itoa(model%spcs(k)%src%line))
     end do
     if (model%n_rigid_walls > 0) call fatal('implicit analysis does not take rigid walls '// &
         '(use a rigid part as a contact tool)')

@@ -142,6 +142,15 @@ contains
       if (model%motions(k)%vad /= 2 .or. model%motions(k)%target_kind == ON_PART) call fatal( &
           'linear static analysis takes prescribed displacements (VAD=2) on nodes and node '// &
           'sets only; see *BOUNDARY_PRESCRIBED_MOTION at line '//itoa(model%motions(k)%src%line))
+      if (abs(model%motions(k)%dof) == 4) call fatal('linear static analysis takes node '// &
+          'motions along the global axes (DOF 1-3) only; DOF 4/-4 along a vector is explicit '// &
+          'only; see *BOUNDARY_PRESCRIBED_MOTION at line '//itoa(model%motions(k)%src%line))
+    end do
+    do k = 1, model%n_spcs
+      if (model%spcs(k)%n_skew > 0) call fatal('linear static analysis takes SPCs along the '// &
+          'global axes only; the local axes of CID '//itoa(model%spcs(k)%cid)//' are not '// &
+          'global ones (explicit only); see *BOUNDARY_SPC at line '// &
+          itoa(model%spcs(k)%src%line))
     end do
     if (model%n_contacts > 0 .or. model%n_rigid_walls > 0) call fatal( &
         'linear static analysis does not take contact or rigid walls')

@@ -1,0 +1,158 @@
+"""Coordinate systems and vectors (issue 23): *DEFINE_COORDINATE_NODES, _SYSTEM, _VECTOR and
+*DEFINE_VECTOR where the explicit analysis uses them (keywords.md 3.8; mm, t, s, N, MPa). A free
+steel block (2 x 2 x 2 hexahedra, 1 mm) moves rigidly for T = 1e-4 s; its node displacements
+against the closed forms:
+1. *BOUNDARY_SPC_SET CID (a _NODES system turned by atan(4/3) about z, e1 = (0.6, 0.8, 0);
+   local y and z fixed), the block started at (V, 0, 0): it slides along e1 at 0.6 V (the
+   velocity's other components removed at t = 0): u = 0.6 V T e1 at every node (1e-12 of |u|);
+   on 2 ranks the same bits;
+2. *INITIAL_VELOCITY and *INITIAL_VELOCITY_GENERATION with ICID (a _VECTOR system): the velocity
+   components given in the local system: u = V T e1 (1e-12);
+3. *BOUNDARY_PRESCRIBED_MOTION_SET DOF 4 along *DEFINE_VECTOR e = (1, 2, 2)/3 (VAD 0, W): with
+   the block started at a velocity P normal to e, DOF 4 keeps P: u = (W e + P) T; DOF -4 removes
+   it: u = W e T (1e-12); the velocity along e ramped from 0 over T/2 instead: u = 0.75 W T e
+   + P T (1e-6: the midpoint rule misses dt^2 |slope jump|/8 = 3e-8 mm at the kink) and glstat's
+   energy ratio 1 (1e-6; the axis motion DOF 3 gives 5.3e-7 on the same ramp); along (0, 0, 2)
+   DOF 4 gives the bits of DOF 3 (displacements and energy ratios);
+4. *LOAD_NODE_SET CID (a _SYSTEM system given by points in another system, CIDL): one
+   hexahedron (8 equal nodal masses m), a constant force F on every node along the local x
+   axis: u = F T^2/(2 m) e1 (1e-6: the last step's landing on ENDTIM). TSSFAC 0.6: a single
+   free one-point hexahedron is unstable at the characteristic-length step (its dilatation
+   mode with corner masses m/8 has 2/omega = 0.82 L/c; meshes of them are not: a free
+   2 x 2 x 2 block under the same loads runs 1 ms, measured);
+5. the implicit analysis refuses an SPC whose local axes are not global ones, naming it.
+"""
+import os
+import sys
+
+import numpy as np
+import h5py
+
+sys.path.insert(0, os.path.dirname(__file__))
+from deck_writer import Checks, f10, free, nodes_card, elements_card
+from explicit_cases import DENSITY, YOUNG, OUT, box_hexes, node_set, curve, run_case, glstat
+
+checks = Checks('coordinate systems')
+V, T = 1000.0, 1.0e-4
+E1 = np.array([0.6, 0.8, 0.0])          # turned by atan(4/3) about z: exact in the deck
+COS = E1[0]
+
+
+def block(n=2):
+    x, conn = box_hexes(1.0, 1.0, 1.0, n, n, n)
+    return x, conn
+
+
+def deck(x, conn, extra, end=T, implicit=False):
+    blocks = [nodes_card(x), elements_card('ELEMENT_SOLID', conn),
+              ['*PART', 'block', f10(1, 1, 1), '*SECTION_SOLID', f10(1, 1),
+               '*MAT_ELASTIC', free(1, DENSITY, YOUNG, 0.3)],
+              node_set(1, range(len(x))), extra]
+    blocks.append(['*CONTROL_TERMINATION', f10(end), '*DATABASE_BINARY_D3PLOT', f10(end)])
+    if implicit:
+        blocks.append(['*CONTROL_IMPLICIT_GENERAL', f10(1, end)])
+    return blocks
+
+
+def final_displacement(out, name):
+    with h5py.File(os.path.join(out, name + '.h5')) as f:
+        order = np.argsort(f['mesh/node_ids'][()])
+        last = sorted(f['states'])[-1]
+        return f['states/%s/point/displacement' % last][()][order]
+
+
+def run_and_compare(name, blocks, want, tolerance, ranks=1, n_nodes=None):
+    """Run; every node of the block (the first n_nodes) against the displacement want."""
+    rc, text, out = run_case(name, blocks, ranks=ranks)
+    checks.check(rc == 0, '%s: run succeeds' % name, text[-600:])
+    if rc != 0:
+        return None
+    u = final_displacement(out, name)[:n_nodes]
+    error = np.max(np.abs(u - want)) / np.linalg.norm(want)
+    checks.check(error < tolerance, '%s: u = %s mm at every node (relative error %.1e)'
+                 % (name, np.array2string(want, precision=6), error), '%s' % u[:2])
+    return u
+
+
+x, conn = block()
+# 1. SPC in a local system by nodes: N1 the origin corner, N2 along e1, N3 in the x-y plane; the
+# three extra nodes (not in any element) carry the system only
+corner = len(x)
+xs = np.vstack([x, [[5.0, 5.0, 0.0], [5.0 + E1[0], 5.0 + E1[1], 0.0],
+                    [5.0 - E1[1], 5.0 + E1[0], 0.0]]])
+spc = ['*DEFINE_COORDINATE_NODES', f10(7, corner + 1, corner + 2, corner + 3),
+       '*BOUNDARY_SPC_SET', f10(1, 7, 0, 1, 1),
+       '*INITIAL_VELOCITY', f10(1), f10(V, 0.0, 0.0)]
+want = V * COS * T * E1
+u1 = run_and_compare('cs_spc', deck(xs, conn, spc), want, 1e-12, n_nodes=len(x))
+u2 = run_and_compare('cs_spc_2ranks', deck(xs, conn, spc), want, 1e-12, ranks=2, n_nodes=len(x))
+if u1 is not None and u2 is not None:
+    checks.check(np.array_equal(u1, u2), 'cs_spc: 1 and 2 ranks give the same bits')
+
+# 2. initial velocities in a local system (_VECTOR: x axis e1, (0, 0, 1) in its x-z... the
+# second vector lies in the x-y plane)
+vector_system = ['*DEFINE_COORDINATE_VECTOR', f10(3, E1[0], E1[1], 0.0, -E1[1], E1[0], 0.0)]
+run_and_compare('cs_iv_icid', deck(x, conn, vector_system + [
+    '*INITIAL_VELOCITY', f10(1, 0, 0, 0, 3), f10(V, 0.0, 0.0)]), V * T * E1, 1e-12)
+run_and_compare('cs_ivg_icid', deck(x, conn, vector_system + [
+    '*INITIAL_VELOCITY_GENERATION', f10(1, 2, 0.0, V, 0.0, 0.0, 0, 3),
+    f10(0.0, 0.0, 0.0, 0.0, 0.0, 1.0)]), V * T * E1, 1e-12)
+
+# 3. motion along a vector, DOF 4 and -4, the block started at P normal to e
+e = np.array([1.0, 2.0, 2.0]) / 3.0
+p = 100.0 * np.array([2.0, -1.0, 0.0])
+W = 800.0
+for dof, keeps in ((4, True), (-4, False)):
+    motion = ['*DEFINE_VECTOR', f10(5, 0.0, 0.0, 0.0, 1.0, 2.0, 2.0),
+              '*BOUNDARY_PRESCRIBED_MOTION_SET', f10(1, dof, 0, 9, W, 5),
+              '*INITIAL_VELOCITY', f10(1), f10(*p)] + curve(9, [(0.0, 1.0), (1.0, 1.0)])
+    want = (W * e + (p if keeps else 0.0)) * T
+    run_and_compare('cs_motion_dof%d' % dof, deck(x, conn, motion), want, 1e-12)
+# the velocity along e ramped from 0 to W over T/2 (no jump): u = 0.75 W T e + P T, and the
+# reaction's work balances the kinetic energy
+motion = ['*DEFINE_VECTOR', f10(5, 0.0, 0.0, 0.0, 1.0, 2.0, 2.0),
+          '*BOUNDARY_PRESCRIBED_MOTION_SET', f10(1, 4, 0, 9, W, 5),
+          '*INITIAL_VELOCITY', f10(1), f10(*p), '*DATABASE_GLSTAT', f10(T / 10)] + \
+    curve(9, [(0.0, 0.0), (T / 2, 1.0), (1.0, 1.0)])
+if run_and_compare('cs_motion_ramp', deck(x, conn, motion), (0.75 * W * e + p) * T,
+                   1e-6) is not None:
+    ratio = glstat(os.path.join(OUT, 'cs_motion_ramp'))['total energy / initial energy'][-1]
+    checks.check(abs(ratio - 1.0) < 1e-6, 'cs_motion_ramp: the work of the reaction along e '
+                 'balances the kinetic energy: energy ratio %.9f (1e-6)' % ratio)
+# along a vector that is the z axis: the same bits as DOF 3 (displacements, glstat)
+found = {}
+for label, cards in (('dof3', ['*BOUNDARY_PRESCRIBED_MOTION_SET', f10(1, 3, 0, 9, W)]),
+                     ('vid_z', ['*DEFINE_VECTOR', f10(5, 0.0, 0.0, 0.0, 0.0, 0.0, 2.0),
+                                '*BOUNDARY_PRESCRIBED_MOTION_SET', f10(1, 4, 0, 9, W, 5)])):
+    name = 'cs_motion_%s' % label
+    rc, text, out = run_case(name, deck(x, conn, cards + motion[4:]))
+    if rc == 0:
+        found[label] = (final_displacement(out, name),
+                        glstat(out)['total energy / initial energy'])
+checks.check(len(found) == 2 and np.array_equal(found['dof3'][0], found['vid_z'][0]) and
+             np.array_equal(found['dof3'][1], found['vid_z'][1]), 'DOF 4 along (0, 0, 2) gives '
+             'the bits of DOF 3: displacements and glstat energy ratios')
+
+# 4. nodal forces along the local x axis of a system given by points in another (CIDL)
+x1, conn1 = block(1)
+mass = DENSITY * 1.0 / 8.0
+F = 2.0e-3
+base = ['*DEFINE_COORDINATE_SYSTEM', f10(11, 1.0, 2.0, 3.0, 1.0, 3.0, 3.0), f10(0.0, 2.0, 4.0)]
+# system 11: origin (1, 2, 3), x along global y, x-y plane through (0, 2, 4) - O = (-1, 0, 1):
+# axes x = (0, 1, 0), z = x cross (-1, 0, 1) = (1, 0, 1)/sqrt2, y = z cross x = (-1, 0, 1)/sqrt2
+# system 12 in 11: x along 11's (0.6, 0.8, 0)
+local = ['*DEFINE_COORDINATE_SYSTEM', f10(12, 0.0, 0.0, 0.0, E1[0], E1[1], 0.0, 11),
+         f10(-E1[1], E1[0], 0.0)]
+axes11 = np.array([[0.0, 1.0, 0.0], [-1.0, 0.0, 1.0] / np.sqrt(2.0), [1.0, 0.0, 1.0] / np.sqrt(2.0)]).T
+e12 = axes11 @ E1
+load = ['*LOAD_NODE_SET', f10(1, 1, 9, F, 12), '*CONTROL_TIMESTEP', f10(0.0, 0.6)] + \
+    curve(9, [(0.0, 1.0), (1.0, 1.0)])
+run_and_compare('cs_load_cid', deck(x1, conn1, base + local + load), F * T ** 2 / (2 * mass) * e12,
+                1e-6)
+
+# 5. the implicit analysis names the SPC it cannot take
+rc, text, out = run_case('cs_spc_implicit', deck(xs, conn, spc[:-3], implicit=True))
+checks.check(rc != 0 and 'implicit analysis takes SPCs along the global axes only' in text and
+             'CID 7' in text, 'implicit: an SPC in a turned system is refused, naming CID and '
+             'line', text[-400:])
+checks.exit()
