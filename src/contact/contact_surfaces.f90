@@ -31,7 +31,7 @@ module mefem_contact_surfaces
 
   public :: contact_surface_build, contact_surface_pair_build, contact_facet_area_vector, &
             contact_surface_triangulate
-  public :: contact_search_build
+  public :: contact_search_build, exterior_nodes
 
 
   !> Most vertices of a facet and most faces of an element.
@@ -421,6 +421,25 @@ contains
     end do
     e = shell
   end subroutine adjacent_element
+
+  !> The nodes on the exterior faces of the model's solids (faces met once among all
+  !> solid elements; in 2D the boundary edges of the in-plane elements).
+  subroutine exterior_nodes(model, on_surface)
+    type(model_t), intent(in) :: model                  !< the model
+    logical, allocatable, intent(out) :: on_surface(:)  !< (nodes) on an exterior face
+    type(contact_surface_t) :: surface
+    type(status_t) :: status
+    logical, allocatable :: selected(:)
+    integer :: f
+    allocate(on_surface(model%nodes%n), selected(model%n_parts))
+    on_surface = .false.
+    selected = .true.
+    if (model%dimension == 2) return                   ! (the hexahedra are 3D)
+    call parts_to_facets(model, selected, surface, status, 'exterior nodes')
+    do f = 1, surface%nfacet
+      on_surface(surface%facets(1:surface%nvertex(f), f)) = .true.
+    end do
+  end subroutine exterior_nodes
 
   !> Faces of an element that bound its body: faces of a 3D solid, edges of a 2D element
   !> (none for 3D shells and 2D solids). pos holds corner positions, a cycle per face.

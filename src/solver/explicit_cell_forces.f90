@@ -725,7 +725,8 @@ contains
     if (hexahedral) then
       ! one-point hexahedra: the hourglass forces (velocities of the padded slots: the first
       ! node's, their gamma is zero) and the step: the larger of the element bound's and
-      ! LS-DYNA's characteristic length rule's, plus the hourglass stiffness' bound over the 8
+      ! LS-DYNA's characteristic length rule's (the bound's alone for an element without a
+      ! node inside the body, hg_rule), plus the hourglass stiffness' bound over the 8
       ! elements that share a node of a regular mesh, (K : C^-1) lambda_max(G)/8, C^-1 =
       ! adj adj^T / J^2 (doc/theory.md 2.8)
       do i = 1, n
@@ -751,7 +752,8 @@ contains
       call block_hexahedron_frequency(n, position, s%block_weight(:, b), det, &
           s%lame(1, l) + 2.0_wp*s%lame(2, l), model%materials(s%material(l))%density, rule)
       do i = 1, n
-        omega2(i) = min(omega2(i), rule(i))
+        if (s%hg_rule(s%hg_slot(s%block_cell(first + i - 1)))) omega2(i) = min(omega2(i), &
+                                                                                rule(i))
       end do
       do i = 1, n
         s%hourglass_stored = s%hourglass_stored + energy(i)
@@ -1030,7 +1032,8 @@ contains
     allocate(s%hg_slot(s%ncell))
     nh = count(cells%hex_of(s%cell_global) > 0)
     allocate(s%hg_gamma(CELL_MAX_NODES, HOURGLASS_MODES, nh), s%hg_stiffness(6, nh), &
-             s%hg_viscosity(nh), s%hg_metric(nh), s%hg_corner(8, nh))
+             s%hg_viscosity(nh), s%hg_metric(nh), s%hg_corner(8, nh), s%hg_rule(nh))
+    s%hg_rule = .true.                   ! (explicit_dynamics' set-up decides)
     nh = 0
     do l = 1, s%ncell
       h = cells%hex_of(s%cell_global(l))

@@ -71,7 +71,7 @@ module mefem_explicit_dynamics
                                   apply_rigid_walls
   use mefem_history_output, only: rbdout_open, rbdout_write, rbdout_close, rcforc_open, &
                                   rcforc_write, rcforc_close
-  use mefem_contact_surfaces, only: contact_surface_t, contact_surface_build
+  use mefem_contact_surfaces, only: contact_surface_t, contact_surface_build, exterior_nodes
   use mefem_mortar_contact, only: mortar_contact_setup, mortar_contact_forces, mortar_contact_erode, &
                                   mortar_contact_set_masses
   use mefem_explicit_ties, only: explicit_ties_set_up, tie_accelerations
@@ -403,6 +403,7 @@ contains
     call erosion_set_up(model, cells, s)
     if (dim == 3) call explicit_cells_set_up(s, cells, w0, halo, block_starts, block_nodes_of, &
                                              block_order)
+    if (dim == 3) call hexahedra_under_the_rule(model, cells, s)
     if (s%mass_scaling) then
       s%share = share
       s%added = 0.0_wp
@@ -759,6 +760,33 @@ contains
     if (s%nskew > 0) call apply_skew_conditions(model, s, t, dt_old, dt, work)
     s%external_work = s%external_work + work
   end subroutine update_velocities
+
+  !> One-point hexahedra whose step LS-DYNA's characteristic-length rule may set: those with a
+  !> node inside the body (on no exterior face). The rule (L/c, L = V/A_max) is the exact limit
+  !> of a mesh of cubes, where the neighbours hold an element's corners; an element without
+  !> an interior node (a free element, a layer one element thick) has a dilatation mode of
+  !> frequency 2 sqrt(3K/rho)/L: its own bound, 2/omega = 0.73 L/c at PR 0.3, is the limit
+  !> (doc/theory.md 2.8). The same on every rank (global mesh).
+  subroutine hexahedra_under_the_rule(model, cells, s)
+    type(model_t), intent(in) :: model                !< resolved model
+    type(cells_t), intent(in) :: cells                !< all cells
+    type(explicit_state_t), intent(inout) :: s        !< local state (hexahedra set up)
+    logical, allocatable :: on_surface(:)
+    integer :: l, h, e, k
+    if (.not. s%hourglass) return
+    if (size(s%hg_rule) == 0) return
+    call exterior_nodes(model, on_surface)
+    do l = 1, s%ncell
+      h = s%hg_slot(l)
+      if (h == 0) cycle
+      e = cells%elements(1, s%cell_global(l))
+      s%hg_rule(h) = .false.
+      do k = 1, size(model%elements%conn, 1)
+        if (model%elements%conn(k, e) <= 0) cycle
+        if (.not. on_surface(model%elements%conn(k, e))) s%hg_rule(h) = .true.
+      end do
+    end do
+  end subroutine hexahedra_under_the_rule
 
   !> The skew conditions of the local nodes: SPCs in a local system (their fixed local axes
   !> that are not global ones; spc%skew) and node motions along a vector (DOF 4, -4). An SPC's

@@ -191,6 +191,9 @@ module mefem_explicit_state
     real(wp), allocatable :: hg_stiffness(:,:) !< (6, local hexahedra) K
     real(wp), allocatable :: hg_viscosity(:)   !< (local hexahedra) c
     real(wp), allocatable :: hg_metric(:)      !< (local hexahedra) bound of lambda_max(G)
+    logical, allocatable :: hg_rule(:)         !< (local hexahedra) LS-DYNA's characteristic
+                                               !< length rule may set its step: a node of it
+                                               !< lies inside the body (explicit_dynamics)
     integer, allocatable :: hg_corner(:,:)     !< (8, local hexahedra) node slot per corner
     real(wp) :: hourglass_stored = 0.0_wp      !< energy of the stiffness forms, this rank's
                                                !< cells at the last force evaluation

@@ -22,6 +22,12 @@
    final length and footprint radius against the published ranges, energy balance, hourglass
    energy below 10 % of the internal energy.
 6. The loaded block on 1 and 3 ranks: the same bits.
+7. Step of free and thin structures: a free block under equal forces at every node (2 ms).
+   One element thick (1 x 1 x 1, 1 x 1 x 4, 1 x 4 x 4 elements: no node inside the body) the
+   step is the element bound's, 0.9 x 2/omega of the dilatation mode omega^2 = 12 K/(rho L^2),
+   and the run stays stable (energy ratio 1 to 1e-6); at LS-DYNA's L/c rule these blocks
+   invert within 40-400 cycles (measured). Two elements thick (2 x 4 x 4) every element has
+   an interior node and the rule's 0.9 L/c holds, stable as well.
 """
 import os
 import sys
@@ -368,4 +374,30 @@ if one and three:
     a, b = last_state(one)[0]['displacement'], last_state(three)[0]['displacement']
     checks.check(np.array_equal(a, b), 'load on 2 x 2 mm on 1 and 3 ranks: the same '
                  'displacements, bit for bit', '%.2e' % np.abs(a - b).max())
+# ---- 7. free and thin structures: the step ------------------------------------------------------
+K_BULK = YOUNG / (3 * (1 - 2 * POISSON))
+for shape in ((1, 1, 1), (1, 1, 4), (1, 4, 4), (2, 4, 4)):
+    xf, cf = box_hexes(float(shape[0]), float(shape[1]), float(shape[2]), *shape)
+    name = 'hex_free_%d%d%d' % shape
+    blocks = [nodes_card(xf), elements_card('ELEMENT_SOLID', cf), hex_part(1, elastic()),
+              node_set(1, range(len(xf))), ['*LOAD_NODE_SET', f10(1, 1, 9, 0.002)],
+              curve(9, [(0.0, 1.0), (1.0, 1.0)]),
+              ['*CONTROL_TERMINATION', f10(2e-3), '*DATABASE_GLSTAT', f10(2e-4),
+               '*DATABASE_BINARY_D3PLOT', f10(2e-3)]]
+    rc, text, out = run_case(name, blocks)
+    checks.check(rc == 0, '%s: a free block of %s hexahedra under nodal forces runs 2 ms' %
+                 (name, 'x'.join(map(str, shape))), text[-500:])
+    if rc != 0:
+        continue
+    g = glstat(out)
+    thin = min(shape) == 1
+    expected = 0.9 * (1.0 / np.sqrt(3 * K_BULK / DENSITY) if thin else 1.0 / wave_speeds()[1])
+    ratio = g['total energy / initial energy'][-1]
+    print('    %s: first step %.6e s (expected %.6e: %s), energy ratio %.9f'
+          % (name, g['time step'][0], expected, 'element bound' if thin else 'L/c rule', ratio))
+    checks.check(abs(g['time step'][0] / expected - 1) < 1e-6 and abs(ratio - 1) < 1e-6,
+                 '%s: step %s, energy ratio 1 (1e-6)' % (name, '0.9 x 2/omega of the free '
+                 'dilatation mode' if thin else '0.9 L/c (LS-DYNA\'s rule)'),
+                 '%.6e %.9f' % (g['time step'][0], ratio))
+
 checks.exit()
