@@ -66,6 +66,7 @@ module mefem_explicit_dynamics
   use mefem_progress, only: progress_start, progress_update, progress_finish
   use mefem_rigid_walls, only: rigid_wall_nodes, rigid_wall_normal
   use mefem_rigid_bodies, only: rigid_bodies_build, rigid_bodies_set_velocity, &
+                                rigid_body_velocity_fit, &
                                 rigid_body_point_motion, rigid_bodies_kinetic_energy
   use mefem_explicit_rigid, only: move_rigid_bodies, rigid_body_resultants, rigid_body_loads, &
                                   apply_rigid_walls
@@ -534,15 +535,29 @@ contains
     end if
     do k = 1, s%bodies%n
       block
-        real(wp) :: v_mean(3)
+        real(wp), allocatable :: x_body(:,:), v_body(:,:), m_body(:)
+        real(wp) :: v_centre(3), spin(3)
         integer :: members
-        v_mean = 0.0_wp
-        members = count(s%bodies%node_body == k)
+        members = count(s%bodies%node_body(1:cells%n_mesh_nodes) == k)
+        allocate(x_body(3, members), v_body(3, members), m_body(members))
+        x_body = 0.0_wp
+        v_body = 0.0_wp
+        members = 0
         do g = 1, cells%n_mesh_nodes
-          if (s%bodies%node_body(g) == k) v_mean(1:dim) = v_mean(1:dim) + v_global(:, g)
+          if (s%bodies%node_body(g) /= k) cycle
+          members = members + 1
+          x_body(1:dim, members) = model%nodes%x(1:dim, g)
+          v_body(1:dim, members) = v_global(:, g)
+          m_body(members) = 1.0_wp
         end do
-        if (members > 0) call rigid_bodies_set_velocity(s%bodies, k, v_mean/members, &
-                                                         [0.0_wp, 0.0_wp, 0.0_wp])
+        ! the nodes' initial velocities as a rigid field (translation and spin; the nodes
+        ! weigh alike: a rigid field is recovered exactly with any weights, and a body's
+        ! own nodes carry no lumped mass)
+        if (members > 0) then
+          call rigid_body_velocity_fit(s%bodies%body(k)%centre0, x_body, v_body, m_body, &
+                                       v_centre, spin)
+          call rigid_bodies_set_velocity(s%bodies, k, v_centre, spin)
+        end if
         ! *PART_INERTIA: its velocities VTX VTY VTZ (of the centre) and VRX VRY VRZ (spin),
         ! when given, replace the nodes' mean
         if (s%bodies%body(k)%part > 0) then

@@ -34,6 +34,7 @@ module mefem_rigid_bodies
   use mefem_errors, only: status_t, say
   use mefem_strings, only: itoa
   use mefem_vector_math, only: cross
+  use mefem_tensor_algebra, only: determinant, inverse
   use mefem_model, only: model_t, MAT_RIGID, ELEM_SOLID, ON_PART, ON_NODE, RIGID_MERGE, &
                          RIGID_EXTRA_NODES, RIGID_NODAL, TOPO_TRI3, TOPO_QUAD4, &
                          TOPO_TET4, TOPO_PENTA6, TOPO_HEX8
@@ -42,6 +43,7 @@ module mefem_rigid_bodies
   private
 
   public :: rigid_bodies_build, rigid_bodies_set_velocity, rigid_bodies_accumulate, &
+            rigid_body_velocity_fit, &
             rigid_bodies_advance, rigid_body_point_motion, rigid_bodies_kinetic_energy, &
             rigid_body_reaction
 
@@ -582,6 +584,50 @@ contains
       body%angular_momentum = matmul(inertia, body%omega)
     end associate
   end subroutine rigid_bodies_set_velocity
+
+  !> The rigid velocity field v = v_c + omega x (x - c) nearest to nodal velocities in the
+  !> weighted least-squares sense (exact when they are a rigid field, as
+  !> *INITIAL_VELOCITY_GENERATION's spin gives): about the nodes' mass centroid c_m the fit
+  !> decouples, v_m = sum m v/M and J omega = sum m r x v with J = sum m (|r|^2 I - r r^T);
+  !> then v_c = v_m + omega x (c - c_m) at the body's centre c. A direction J cannot resolve
+  !> (nodes on a line, one node) gets no spin about it (J regularised by 1e-12 tr J).
+  subroutine rigid_body_velocity_fit(centre, x, v, m, v_c, omega)
+    real(wp), intent(in) :: centre(3)              !< the body's centre of mass
+    real(wp), intent(in) :: x(:,:), v(:,:)         !< (3, n) node positions, velocities
+    real(wp), intent(in) :: m(:)                   !< (n) node weights (masses)
+    real(wp), intent(out) :: v_c(3), omega(3)      !< velocity at the centre, spin
+    !> relative regularisation of the nodes' inertia (directions it cannot resolve)
+    real(wp), parameter :: INERTIA_FLOOR = 1.0e-12_wp
+    real(wp) :: mass, c_m(3), v_m(3), r(3), j(3, 3), j_inverse(3, 3), moment(3), det
+    integer :: k, a
+    mass = sum(m)
+    v_c = 0.0_wp
+    omega = 0.0_wp
+    if (.not. mass > 0.0_wp) return
+    c_m = matmul(x, m)/mass
+    v_m = matmul(v, m)/mass
+    j = 0.0_wp
+    moment = 0.0_wp
+    do k = 1, size(m)
+      r = x(:, k) - c_m
+      moment = moment + m(k)*cross(r, v(:, k) - v_m)   ! (exactly 0 for a uniform v)
+      do a = 1, 3
+        j(:, a) = j(:, a) - m(k)*r*r(a)
+        j(a, a) = j(a, a) + m(k)*dot_product(r, r)
+      end do
+    end do
+    if (j(1, 1) + j(2, 2) + j(3, 3) > 0.0_wp) then
+      do a = 1, 3
+        j(a, a) = j(a, a) + INERTIA_FLOOR*(j(1, 1) + j(2, 2) + j(3, 3))
+      end do
+      det = determinant(j)
+      if (det > 0.0_wp) then
+        call inverse(j, j_inverse)
+        omega = matmul(j_inverse, moment)
+      end if
+    end if
+    v_c = v_m + cross(omega, centre - c_m)
+  end subroutine rigid_body_velocity_fit
 
   !> Add the force f at the point x_current (current position, dim components) of body b to
   !> its resultant force and moment about its current centre. force_sum and moment_sum are

@@ -1,7 +1,8 @@
 """Rigid bodies in the explicit solver (issue 5): a *MAT_RIGID part moved by
 *BOUNDARY_PRESCRIBED_MOTION_RIGID compresses an elastic block it shares nodes with, slowly
 (quasi-static): its reaction equals the block's force E A delta / H; and a free rigid body
-keeps its momentum; a free rigid plate struck by a block moves the same bits on 1-4 ranks.
+keeps its momentum, and one given a spin by *INITIAL_VELOCITY_GENERATION spins; a free rigid
+plate struck by a block moves the same bits on 1-4 ranks.
 ME-FEM tets, units mm, t, s, MPa.
 """
 import os
@@ -112,6 +113,42 @@ if rc == 0:
     mass = DENSITY * 1000.0
     checks.check(np.all(abs(ke / (0.5 * mass * v0 @ v0) - 1) < 1e-12), 'free rigid body: '
                  'kinetic energy 1/2 m v0^2 throughout', '%s' % ke[:3])
+
+# ---- a spinning rigid body ---------------------------------------------------------------------
+# The same block given *INITIAL_VELOCITY_GENERATION: OMEGA = 1000 rad/s about z through its centre
+# c = (5, 5, 5) plus (VX, VY, VZ): the body takes the rigid field's translation and spin (the
+# nodes' velocities fitted as a rigid field); a cube spins about a principal axis, so at T every
+# node is at c + v T + Rz(OMEGA T)(x0 - c) (1e-10 of the displacement) and the kinetic energy is
+# M |v|^2/2 + I_zz OMEGA^2/2, I_zz = M (10^2 + 10^2)/12, throughout (1e-10).
+OMEGA0, T_SPIN = 1000.0, 1.0e-4
+blocks = [nodes_card(xr), elements_card('ELEMENT_SOLID', connr),
+          ['*PART', 'rigid block', f10(1, 1, 1), '*SECTION_SOLID', f10(1, 1),
+           '*MAT_RIGID', free(1, DENSITY, YOUNG, POISSON), f10(0.0, 0, 0)],
+          ['*INITIAL_VELOCITY_GENERATION', f10(1, 2, OMEGA0, *v0),
+           f10(5.0, 5.0, 5.0, 0.0, 0.0, 1.0)],
+          ['*CONTROL_TERMINATION', f10(T_SPIN), '*CONTROL_TIMESTEP', free(1.0e-6, 0.9),
+           '*DATABASE_BINARY_D3PLOT', f10(T_SPIN), '*DATABASE_GLSTAT', f10(T_SPIN / 10)]]
+rc, text, out = run_case('spinning_rigid_body', blocks)
+checks.check(rc == 0, 'spinning rigid body: run succeeds', text[-600:])
+if rc == 0:
+    with h5py.File(os.path.join(out, 'spinning_rigid_body.h5')) as f:
+        order = np.argsort(f['mesh/node_ids'][()])
+        last = sorted(f['states'])[-1]
+        t_end = float(f['time_history/time'][-1])
+        u = f['states/%s/point/displacement' % last][()][order]
+    angle = OMEGA0 * t_end
+    rz = np.array([[np.cos(angle), -np.sin(angle), 0.0], [np.sin(angle), np.cos(angle), 0.0],
+                   [0.0, 0.0, 1.0]])
+    centre = np.array([5.0, 5.0, 5.0])
+    want = centre + v0 * t_end + (xr - centre) @ rz.T - xr
+    err = np.max(np.linalg.norm(u - want, axis=1)) / np.max(np.linalg.norm(want, axis=1))
+    checks.check(err < 1e-10, 'spinning rigid body: every node at c + v T + Rz(OMEGA T)(x0 - c) '
+                 '(error %.1e)' % err)
+    mass = DENSITY * 1000.0
+    ke_want = 0.5 * mass * v0 @ v0 + 0.5 * mass * 200.0 / 12.0 * OMEGA0 ** 2
+    ke = glstat(out)['kinetic energy']
+    checks.check(np.all(abs(ke / ke_want - 1) < 1e-10), 'spinning rigid body: kinetic energy '
+                 'M v^2/2 + I_zz OMEGA^2/2 throughout (1e-10)', '%s vs %.9e' % (ke[:3], ke_want))
 
 # ---- rigid parts only: the step is DTINIT -----------------------------------------------------
 # The rigid block driven in x by a velocity curve (VAD 0) that ramps from 0 at 20 us to 1 m/s at
