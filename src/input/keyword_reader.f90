@@ -15,7 +15,7 @@ module mefem_keyword_reader
   use mefem_cards, only: reader_t, card_t, next_card, keyword_error, keyword_where
   use mefem_model, only: model_t, ON_NODE, ON_NODE_SET, ON_PART, WALL_FLAT, WALL_PRISM, &
                          WALL_CYLINDER, WALL_SPHERE, SYSTEM_BY_POINTS, SYSTEM_BY_VECTORS, &
-                         SYSTEM_BY_NODES
+                         SYSTEM_BY_NODES, SET_SOLID, SET_SHELL
   use mefem_read_mesh, only: read_node, read_element_solid, read_element_shell, read_part, &
                              read_section_solid, read_section_shell, read_hourglass, &
                              read_element_mass, read_element_mass_part
@@ -33,7 +33,7 @@ module mefem_keyword_reader
                                   read_mat_elastic, read_mat_piecewise_linear, &
                                   read_mat_power_law, read_mat_mooney_rivlin, read_mat_rigid, read_mat_add_erosion, &
                                   read_mat_plastic_kinematic
-  use mefem_read_sets, only: read_set_node, read_set_part, read_set_segment
+  use mefem_read_sets, only: read_set_node, read_set_part, read_set_segment, read_set_element
   use mefem_read_coordinates, only: read_define_coordinate, read_define_vector
   use mefem_read_conditions, only: read_boundary_spc, read_prescribed_motion, &
                                    read_define_curve, read_define_curve_smooth, read_define_box, &
@@ -86,7 +86,8 @@ module mefem_keyword_reader
                         H_CONSTRAINED_GLOBAL = 71, H_MAT_ADD_EROSION = 72, &
                         H_DEFINE_CURVE_SMOOTH = 73, H_DEFINE_TABLE = 74, &
                         H_DEFINE_COORDINATE_SYSTEM = 75, H_DEFINE_COORDINATE_VECTOR = 76, &
-                        H_DEFINE_COORDINATE_NODES = 77, H_DEFINE_VECTOR = 78
+                        H_DEFINE_COORDINATE_NODES = 77, H_DEFINE_VECTOR = 78, &
+                        H_SET_SOLID = 79, H_SET_SHELL = 80
 
   !> Id read from the first card of a rejected keyword (skip_cards), 0 when none.
   integer :: rejected_id = 0
@@ -98,7 +99,7 @@ module mefem_keyword_reader
     character(len=64) :: options = ''    !< options accepted, as ' OPT1 OPT2 '
   end type keyword_entry_t
 
-  integer, parameter :: N_ENTRIES = 92
+  integer, parameter :: N_ENTRIES = 94
   type(keyword_entry_t), parameter :: REGISTRY(N_ENTRIES) = [ &
     keyword_entry_t('NODE', H_NODE, ' '), &
     keyword_entry_t('ELEMENT_SOLID', H_ELEMENT_SOLID, ' '), &
@@ -136,6 +137,8 @@ module mefem_keyword_reader
     keyword_entry_t('SET_NODE', H_SET_NODE, ' LIST GENERATE GENERAL TITLE '), &
     keyword_entry_t('SET_PART', H_SET_PART, ' LIST GENERAL TITLE '), &
     keyword_entry_t('SET_SEGMENT', H_SET_SEGMENT, ' TITLE '), &
+    keyword_entry_t('SET_SOLID', H_SET_SOLID, ' LIST GENERATE TITLE '), &
+    keyword_entry_t('SET_SHELL', H_SET_SHELL, ' LIST GENERATE TITLE '), &
     ! boundary conditions, curves, loads, initial conditions
     keyword_entry_t('BOUNDARY_SPC_NODE', H_SPC_NODE, ' ID BIRTH DEATH '), &
     keyword_entry_t('BOUNDARY_SPC_SET', H_SPC_SET, ' ID BIRTH DEATH '), &
@@ -455,6 +458,10 @@ contains
       call read_set_part(rd, options, model)
     case (H_SET_SEGMENT)
       call read_set_segment(rd, options, model)
+    case (H_SET_SOLID)
+      call read_set_element(rd, options, SET_SOLID, model)
+    case (H_SET_SHELL)
+      call read_set_element(rd, options, SET_SHELL, model)
     case (H_SPC_NODE)
       call read_boundary_spc(rd, options, .false., model)
     case (H_SPC_SET)

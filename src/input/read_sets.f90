@@ -10,12 +10,12 @@ module mefem_read_sets
   use mefem_cards, only: reader_t, card_t, next_card, split_card, get_int, get_real, &
                          get_text, card_error, keyword_error
   use mefem_card_helpers, only: has_option, read_title_card
-  use mefem_model, only: model_t, set_t, source_t, SET_NODE, SET_PART, SET_SEGMENT, &
+  use mefem_model, only: model_t, set_t, source_t, SET_NODE, SET_PART, SET_SEGMENT, SET_SOLID, SET_SHELL, &
                          GENERAL_ALL, GENERAL_NODE, GENERAL_PART, GENERAL_SET, GENERAL_BOX
   implicit none
   private
 
-  public :: read_set_node, read_set_part, read_set_segment, set_keyword
+  public :: read_set_node, read_set_part, read_set_segment, set_keyword, read_set_element
 
   integer, parameter :: W_10(8) = 10                       !< standard 8 x 10 card
   integer, parameter :: W_HEADER(6) = [10, 10, 10, 10, 10, 10]   !< SID DA1-DA4 SOLVER
@@ -31,10 +31,29 @@ contains
       s = '*SET_NODE_LIST'
     case (SET_PART)
       s = '*SET_PART_LIST'
+    case (SET_SOLID)
+      s = '*SET_SOLID'
+    case (SET_SHELL)
+      s = '*SET_SHELL'
     case default
       s = '*SET_SEGMENT'
     end select
   end function set_keyword
+
+  !> *SET_SOLID and *SET_SHELL (_LIST)(_GENERATE)(_TITLE): element sets (solids and shells
+  !> have separate id spaces). They are read and checked (every id defined; a range names at
+  !> least one element); mefem computes nothing that takes an element set (the keywords that
+  !> do are output requests, skipped), so a set changes no result.
+  subroutine read_set_element(rd, options, kind, model)
+    type(reader_t), intent(inout) :: rd          !< reading state
+    character(len=*), intent(in) :: options      !< keyword options
+    integer, intent(in) :: kind                  !< SET_SOLID or SET_SHELL
+    type(model_t), intent(inout) :: model        !< model appended to
+    type(set_t) :: set
+    set%kind = kind
+    call read_set(rd, options, model, set, trim(merge('solid', 'shell', kind == SET_SOLID)), &
+                  generate=has_option(options, 'GENERATE'))
+  end subroutine read_set_element
 
   !> *SET_NODE(_LIST)(_GENERATE)(_TITLE).
   subroutine read_set_node(rd, options, model)
@@ -210,7 +229,7 @@ contains
     character(len=*), intent(in) :: options      !< keyword options
     type(model_t), intent(inout) :: model        !< model appended to
     type(set_t), intent(inout) :: set            !< the set (kind given)
-    character(len=*), intent(in) :: what         !< 'node' or 'part'
+    character(len=*), intent(in) :: what         !< 'node', 'part', 'solid' or 'shell'
     logical, intent(in) :: generate              !< cards hold ranges B1 E1 B2 E2 ...
     type(card_t) :: card
     logical :: got, bad
@@ -230,7 +249,7 @@ contains
         if (generate) then
           call get_int(card, i, merge('B', 'E', mod(i, 2) == 1)//itoa((i + 1)/2), ids(i))
         else
-          call get_int(card, i, trim(merge('NID', 'PID', what == 'node'))//itoa(i), ids(i))
+          call get_int(card, i, id_field(what)//itoa(i), ids(i))
         end if
       end do
       if (card%bad) then
@@ -260,7 +279,7 @@ contains
           if (ids(i) == 0) cycle
           if (ids(i) < 0) then
             call card_error(card, what//' set '//itoa(set%id)//': field '// &
-                trim(merge('NID', 'PID', what == 'node'))//itoa(i)// &
+                id_field(what)//itoa(i)// &
                 ' must be a positive id (got '//itoa(ids(i))//')')
             bad = .true.
             cycle
@@ -274,6 +293,20 @@ contains
     if (bad) return
     call finish_set(rd, model, set, what)
   end subroutine read_set
+
+  !> Name of the id fields of a set's cards: NID (node), PID (part), EID (elements).
+  function id_field(what) result(name)
+    character(len=*), intent(in) :: what         !< 'node', 'part', 'solid' or 'shell'
+    character(len=3) :: name
+    select case (what)
+    case ('node')
+      name = 'NID'
+    case ('part')
+      name = 'PID'
+    case default
+      name = 'EID'
+    end select
+  end function id_field
 
   !> Title (when _TITLE) and card 1 SID DA1-DA4 SOLVER; false when the set cannot be read.
   logical function read_header(rd, options, set)

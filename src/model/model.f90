@@ -28,7 +28,8 @@ module mefem_model
   integer, parameter, public :: ON_NODE = 1, ON_NODE_SET = 2, ON_PART = 3, ON_ALL_NODES = 4, &
                                 ON_PART_SET = 5, ON_SEGMENT_SET = 6
   ! sets
-  integer, parameter, public :: SET_NODE = 1, SET_SEGMENT = 2, SET_PART = 3
+  integer, parameter, public :: SET_NODE = 1, SET_SEGMENT = 2, SET_PART = 3, SET_SOLID = 4, &
+                                SET_SHELL = 5, SET_KINDS = 5
   ! entries of *SET_NODE_GENERAL (negative: the D- options, which remove)
   !> TC code of *NODE and *CONSTRAINED_GLOBAL -> fixed x, y, z (1 x, 2 y, 3 z, 4 xy, 5 yz,
   !> 6 zx, 7 xyz).

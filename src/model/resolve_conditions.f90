@@ -21,7 +21,8 @@ module mefem_resolve_conditions
                          GENERAL_SET, &
                          ON_PART_SET, ON_SEGMENT_SET, SET_NODE, SET_SEGMENT, SET_PART, &
                          MAT_PIECEWISE_LINEAR, MAT_RIGID, GENERAL_BOX, box_holds, &
-                         coordinate_system_t, spc_t, SYSTEM_BY_POINTS, SYSTEM_BY_VECTORS
+                         coordinate_system_t, spc_t, SYSTEM_BY_POINTS, SYSTEM_BY_VECTORS, &
+                         SET_SOLID, SET_SHELL, SET_KINDS, ELEM_SOLID, ELEM_SHELL
   use mefem_read_materials, only: material_keyword
   use mefem_read_sets, only: set_keyword
   implicit none
@@ -42,7 +43,8 @@ module mefem_resolve_conditions
   !> Everything a reference may point to.
   type :: lookup_t
     type(id_map_t) :: nodes, parts, curves, materials, boxes, systems, vectors
-    type(set_lookup_t) :: sets(3)          !< by SET_NODE, SET_SEGMENT, SET_PART
+    type(set_lookup_t) :: sets(SET_KINDS)  !< by SET_NODE, SET_SEGMENT, SET_PART, SET_SOLID,
+                                           !< SET_SHELL
     logical, allocatable :: is_table(:)    !< (curve index) a *DEFINE_TABLE
   end type lookup_t
 
@@ -188,7 +190,7 @@ contains
     type(lookup_t), intent(inout) :: look     !< lookups, sets filled in
     integer :: kind, s, n, k
     integer, allocatable :: ids(:)
-    do kind = 1, 3
+    do kind = 1, SET_KINDS
       n = count(model%sets(1:model%n_sets)%kind == kind)
       allocate(ids(n), look%sets(kind)%position(n))
       n = 0
@@ -229,6 +231,10 @@ contains
       s = 'node set'
     case (SET_PART)
       s = 'part set'
+    case (SET_SOLID)
+      s = 'solid set'
+    case (SET_SHELL)
+      s = 'shell set'
     case default
       s = 'segment set'
     end select
@@ -578,6 +584,7 @@ contains
   subroutine resolve_sets(model, look)
     type(model_t), intent(inout) :: model     !< the model
     type(lookup_t), intent(in) :: look        !< lookups
+    type(id_map_t) :: element_map(SET_SOLID:SET_SHELL)   !< element ids of each id space
     integer :: s, i
     character(len=:), allocatable :: where, member
     do s = 1, model%n_sets
@@ -586,8 +593,16 @@ contains
         if (set%general) cycle                      ! (after the others: they may name them)
         ! _GENERATE: "all defined ids between B and E" (LS-DYNA), in ascending id order,
         ! each once; an empty set is an error
-        if (set%generated) then
-          call nodes_in_ranges(model, set%member_ids, set%members)
+        if (set%generated .and. (set%kind == SET_SOLID .or. set%kind == SET_SHELL)) then
+          call ids_in_ranges(element_ids(set%kind), set%member_ids, set%members)
+          set%member_ids = model%elements%id(set%members)
+          set%n = size(set%members)
+          if (set%n == 0) call input_error(where_is(set%src, set_keyword(set%kind)), &
+              set_name(set%kind)//' '//itoa(set%id)//': no '//element_kind(set%kind)// &
+              ' element of its ranges is defined')
+          cycle
+        else if (set%generated) then
+          call ids_in_ranges(model%nodes%id(1:model%nodes%n), set%member_ids, set%members)
           set%member_ids = model%nodes%id(set%members)
           set%n = size(set%members)
           if (set%n == 0) call input_error(where_is(set%src, set_keyword(set%kind)), &
@@ -599,9 +614,16 @@ contains
         set%members = 0
         where = where_is(set%src, set_keyword(set%kind))
         member = merge('part', 'node', set%kind == SET_PART)
+        if (set%kind == SET_SOLID .or. set%kind == SET_SHELL) then
+          member = element_kind(set%kind)//' element'
+          if (.not. allocated(element_map(set%kind)%ids)) call id_map_build( &
+              element_ids(set%kind), model%elements%n, element_map(set%kind))
+        end if
         do i = 1, size(set%member_ids)
           if (set%kind == SET_PART) then
             set%members(i) = id_map_find(look%parts, set%member_ids(i))
+          else if (set%kind == SET_SOLID .or. set%kind == SET_SHELL) then
+            set%members(i) = id_map_find(element_map(set%kind), set%member_ids(i))
           else
             set%members(i) = id_map_find(look%nodes, set%member_ids(i))
           end if
@@ -614,6 +636,26 @@ contains
     do s = 1, model%n_sets
       if (model%sets(s)%general) call resolve_general_set(model, look, s)
     end do
+
+  contains
+
+    !> The ids of the solid (SET_SOLID) or shell (SET_SHELL) elements, the others -1 (no
+    !> element id is negative), in element order.
+    function element_ids(kind) result(ids)
+      integer, intent(in) :: kind                   !< SET_SOLID or SET_SHELL
+      integer, allocatable :: ids(:)
+      ids = merge(model%elements%id(1:model%elements%n), -1, &
+                  model%elements%keyword(1:model%elements%n) == &
+                  merge(ELEM_SOLID, ELEM_SHELL, kind == SET_SOLID))
+    end function element_ids
+
+    !> 'solid' or 'shell'.
+    function element_kind(kind) result(name)
+      integer, intent(in) :: kind                   !< SET_SOLID or SET_SHELL
+      character(len=5) :: name
+      name = merge('solid', 'shell', kind == SET_SOLID)
+    end function element_kind
+
   end subroutine resolve_sets
 
   !> *SET_NODE_GENERAL set s: its entries (GENERAL_* code, count, ids) applied in order to a
@@ -725,13 +767,13 @@ contains
     end function find_set
   end subroutine resolve_general_set
 
-  !> The nodes whose ids lie in any of the ranges (B1 E1 B2 E2 ...), each once, in ascending
-  !> id order: the ranges sorted and merged, each node's id found by bisection (time
-  !> n log(ranges), memory of the nodes found).
-  subroutine nodes_in_ranges(model, ranges, members)
-    type(model_t), intent(in) :: model               !< the model (nodes read)
+  !> The items (nodes, elements) whose ids lie in any of the ranges (B1 E1 B2 E2 ...), each
+  !> once, in ascending id order: the ranges sorted and merged, each item's id found by
+  !> bisection (time n log(ranges), memory of the items found).
+  subroutine ids_in_ranges(all_ids, ranges, members)
+    integer, intent(in) :: all_ids(:)                !< ids of the items (negative: none)
     integer, intent(in) :: ranges(:)                 !< (2 * ranges) B E pairs
-    integer, allocatable, intent(out) :: members(:)  !< node indices
+    integer, allocatable, intent(out) :: members(:)  !< item indices
     integer, allocatable :: b(:), e(:), ids(:)
     integer :: nr, k, m, node, lo, hi, mid
     logical, allocatable :: inside(:)
@@ -752,27 +794,27 @@ contains
       b(m) = b(k)
       e(m) = e(k)
     end do
-    allocate(inside(model%nodes%n))
-    do node = 1, model%nodes%n
+    allocate(inside(size(all_ids)))
+    do node = 1, size(all_ids)
       lo = 1                                       ! last range with b <= id
       hi = m
       inside(node) = .false.
       if (m == 0) cycle
-      if (model%nodes%id(node) < b(1)) cycle
+      if (all_ids(node) < b(1)) cycle
       do while (lo < hi)
         mid = (lo + hi + 1)/2
-        if (b(mid) <= model%nodes%id(node)) then
+        if (b(mid) <= all_ids(node)) then
           lo = mid
         else
           hi = mid - 1
         end if
       end do
-      inside(node) = model%nodes%id(node) <= e(lo)
+      inside(node) = all_ids(node) <= e(lo)
     end do
-    members = pack([(node, node = 1, model%nodes%n)], inside)
-    ids = model%nodes%id(members)
+    members = pack([(node, node = 1, size(all_ids))], inside)
+    ids = all_ids(members)
     call sort_with_index(ids, members)
-  end subroutine nodes_in_ranges
+  end subroutine ids_in_ranges
 
   !> SPCs and prescribed motions: targets, curves, rigid parts.
   subroutine resolve_constraints(model, look)
