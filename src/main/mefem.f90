@@ -22,7 +22,7 @@ program mefem
   use mefem_explicit_dynamics, only: explicit_dynamics_run, explicit_writes_initial_state, &
                                      explicit_analysis
   use mefem_boundary_conditions, only: warn_loads_on_free_nodes
-  use mefem_errors, only: input_error_count
+  use mefem_errors, only: input_error_count, unprinted_error_summary
   implicit none
 
   type(run_options_t) :: options
@@ -44,6 +44,7 @@ program mefem
   call model_resolve(model)
   n_errors = input_error_count()
   if (n_errors > 0) then
+    call unprinted_error_summary()
     call say(options%deck//': '//itoa(n_errors)//' input error(s); no analysis was run')
     call terminate(1)
   end if

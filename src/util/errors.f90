@@ -17,18 +17,24 @@ module mefem_errors
   implicit none
   private
 
-  public :: input_error, input_error_count, reset_input_errors
+  public :: input_error, input_error_count, reset_input_errors, unprinted_error_summary
   public :: warn, warn_once, fatal, fatal_local, fatal_abort, say, terminate, log_open
   public :: status_t
 
   integer, parameter :: MAX_PRINTED = 500   !< input errors printed before the rest is only counted
   integer, parameter :: MAX_WARN_KEYS = 200 !< distinct warn_once keys remembered
+  integer, parameter :: MAX_UNPRINTED_KINDS = 50 !< keywords whose unprinted errors are counted
 
   integer :: n_input_errors = 0
   integer :: n_warn_keys = 0
   integer :: log_handle = 0                 !< the log file (mefem_text_file), 0: not open
   character(len=:), allocatable :: early_log !< lines printed before the log file opened
   character(len=80) :: warn_keys(MAX_WARN_KEYS)
+  !> Input errors beyond MAX_PRINTED, counted per keyword (the "*KEYWORD" of their location;
+  !> the last slot takes every keyword beyond the table)
+  integer :: n_unprinted_kinds = 0
+  character(len=64) :: unprinted_keyword(MAX_UNPRINTED_KINDS)
+  integer :: unprinted_count(MAX_UNPRINTED_KINDS) = 0
 
   !> Outcome of an operation that can fail because of the user's data.
   interface
@@ -60,9 +66,12 @@ contains
         write(error_unit, '(a)') 'mefem: '//trim(message)
         call log_line('mefem: '//trim(message))
       end if
-    else if (n_input_errors == MAX_PRINTED + 1) then
-      write(error_unit, '(a)') 'mefem: further input errors are counted but not printed'
-      call log_line('mefem: further input errors are counted but not printed')
+    else
+      if (n_input_errors == MAX_PRINTED + 1) then
+        write(error_unit, '(a)') 'mefem: further input errors are counted but not printed'
+        call log_line('mefem: further input errors are counted but not printed')
+      end if
+      call count_unprinted(where)
     end if
     ! unbuffered in effect: a log redirected to a file keeps every message in order with the
     ! standard output's, and keeps it if the run is killed
@@ -70,6 +79,42 @@ contains
       call flush_output()
     end if
   end subroutine input_error
+
+  !> Count an unprinted input error under its keyword (the text from the last '*' of where).
+  subroutine count_unprinted(where)
+    character(len=*), intent(in) :: where    !< "file:line: *KEYWORD" (or empty)
+    character(len=64) :: keyword
+    integer :: k, star
+    star = index(where, '*', back=.true.)
+    keyword = '(no keyword)'
+    if (star > 0) keyword = where(star:)
+    do k = 1, n_unprinted_kinds
+      if (unprinted_keyword(k) == keyword) exit
+    end do
+    if (k > n_unprinted_kinds) then
+      if (n_unprinted_kinds < MAX_UNPRINTED_KINDS) then
+        n_unprinted_kinds = n_unprinted_kinds + 1
+        unprinted_keyword(n_unprinted_kinds) = keyword
+      else
+        unprinted_keyword(MAX_UNPRINTED_KINDS) = '(other keywords)'
+      end if
+      k = n_unprinted_kinds
+    end if
+    unprinted_count(k) = unprinted_count(k) + 1
+  end subroutine count_unprinted
+
+  !> The input errors that were counted but not printed, per keyword, on rank 0 (nothing
+  !> when every error was printed).
+  subroutine unprinted_error_summary()
+    integer :: k
+    character(len=12) :: number
+    if (n_unprinted_kinds == 0) return
+    call say('mefem: input errors not printed, by keyword:')
+    do k = 1, n_unprinted_kinds
+      write(number, '(i12)') unprinted_count(k)
+      call say('  '//trim(adjustl(number))//' at '//trim(unprinted_keyword(k)))
+    end do
+  end subroutine unprinted_error_summary
 
   !> Number of input errors recorded so far.
   integer function input_error_count()
@@ -80,6 +125,8 @@ contains
   subroutine reset_input_errors()
     n_input_errors = 0
     n_warn_keys = 0
+    n_unprinted_kinds = 0
+    unprinted_count = 0
   end subroutine reset_input_errors
 
   !> Print a warning on rank 0.
