@@ -92,14 +92,12 @@ contains
     look%is_table = [(model%curves(k)%is_table, k = 1, model%n_curves)]
     call resolve_tables(model, look)
     look%materials = material_map
-    ids = [(model%boxes(k)%id, k = 1, model%n_boxes)]
-    call id_map_build(ids, model%n_boxes, look%boxes)
-    do k = 2, look%boxes%n
-      if (look%boxes%ids(k) == look%boxes%ids(k-1)) call report_duplicate( &
-          model%boxes(look%boxes%index(k))%src, model%boxes(look%boxes%index(k-1))%src, &
-          '*DEFINE_BOX', 'box', look%boxes%ids(k))
-    end do
-    ids = [(model%systems(k)%id, k = 1, model%n_systems)]
+    call map_without_duplicates([(model%boxes(k)%id, k = 1, model%n_boxes)], &
+        [(model%boxes(k)%src, k = 1, model%n_boxes)], '*DEFINE_BOX', 'box', look%boxes)
+    call map_without_duplicates([(model%vectors(k)%id, k = 1, model%n_vectors)], &
+        [(model%vectors(k)%src, k = 1, model%n_vectors)], '*DEFINE_VECTOR', 'vector', &
+        look%vectors)
+    ids = [(model%systems(k)%id, k = 1, model%n_systems)]    ! (the keyword by the kind)
     call id_map_build(ids, model%n_systems, look%systems)
     do k = 2, look%systems%n
       if (look%systems%ids(k) == look%systems%ids(k-1)) call report_duplicate( &
@@ -107,14 +105,6 @@ contains
           model%systems(look%systems%index(k-1))%src, '*DEFINE_COORDINATE_'// &
           trim(SYSTEM_KIND(model%systems(look%systems%index(k))%kind)), &
           'coordinate system', look%systems%ids(k))
-    end do
-    ids = [(model%vectors(k)%id, k = 1, model%n_vectors)]
-    call id_map_build(ids, model%n_vectors, look%vectors)
-    do k = 2, look%vectors%n
-      if (look%vectors%ids(k) == look%vectors%ids(k-1)) call report_duplicate( &
-          model%vectors(look%vectors%index(k))%src, &
-          model%vectors(look%vectors%index(k-1))%src, '*DEFINE_VECTOR', 'vector', &
-          look%vectors%ids(k))
     end do
     call resolve_coordinate_systems(model, look)
     call build_set_lookups(model, look)
@@ -183,6 +173,21 @@ contains
     call input_error(where_is(src, keyword), what//' id '//itoa(id)// &
         ' is defined twice (first at '//location(first_src%file, first_src%line)//')')
   end subroutine report_duplicate
+
+  !> The id map of one kind of record, each id given twice reported at its later definition.
+  subroutine map_without_duplicates(ids, sources, keyword, what, map)
+    integer, intent(in) :: ids(:)                  !< the records' ids
+    type(source_t), intent(in) :: sources(:)       !< where each was read
+    character(len=*), intent(in) :: keyword        !< the keyword that defines them
+    character(len=*), intent(in) :: what           !< 'box', 'vector', ...
+    type(id_map_t), intent(out) :: map             !< ids -> record indices
+    integer :: k
+    call id_map_build(ids, size(ids), map)
+    do k = 2, map%n
+      if (map%ids(k) == map%ids(k-1)) call report_duplicate(sources(map%index(k)), &
+          sources(map%index(k-1)), keyword, what, map%ids(k))
+    end do
+  end subroutine map_without_duplicates
 
   !> Per-kind maps of set ids, with duplicate ids reported.
   subroutine build_set_lookups(model, look)
