@@ -32,6 +32,8 @@ module mefem_progress
   integer, parameter, public :: PROGRESS_LINE_LENGTH = 160  !< length of progress_line's text
   integer, parameter, public :: SECONDS_TEXT_LENGTH = 16    !< length of format_seconds' text
   real(wp), parameter :: DEFAULT_INTERVAL = 5.0_wp          !< seconds between two lines
+  !> Fraction of a tenth below which the fraction done counts as having reached that tenth
+  real(wp), parameter :: DECILE_TOLERANCE = 1.0e-9_wp
   ! histogram of cycle wall times: bin k (1..CYCLE_BINS) holds [t_k, t_k*ratio) with
   ! t_k = CYCLE_TIME_LOW*ratio**(k-1); shorter times go to bin 1, longer ones to the last
   real(wp), parameter, public :: CYCLE_TIME_LOW = 1.0e-7_wp  !< lower edge of bin 1 (s)
@@ -86,11 +88,12 @@ contains
   end subroutine progress_start
 
   !> Note the state after a cycle; print a progress line when one is due (rank 0).
-  subroutine progress_update(cycle, time, dt, printed)
+  subroutine progress_update(cycle, time, dt, printed, final)
     integer, intent(in) :: cycle                  !< cycle or step just completed
     real(wp), intent(in) :: time                  !< simulation time reached
     real(wp), intent(in) :: dt                    !< current time step
     logical, intent(out), optional :: printed     !< true when a line was printed
+    logical, intent(in), optional :: final        !< the run's last: a line in any case
     real(wp) :: wall, fraction, eta
     integer :: decile
     logical :: due
@@ -112,8 +115,10 @@ contains
     last_cycle = cycle
     last_time = time
     decile = -1
-    if (fraction >= 0.0_wp) decile = int(10.0_wp*fraction)
+    ! (a time that lands on a tenth of ENDTIM to round-off counts as reaching it)
+    if (fraction >= 0.0_wp) decile = int(10.0_wp*fraction + DECILE_TOLERANCE)
     due = due .or. decile > last_decile .or. wall - wall_last_print >= print_interval
+    if (present(final)) due = due .or. final
     if (.not. due) return
     last_decile = max(last_decile, decile)
     wall_last_print = wall

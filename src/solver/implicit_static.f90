@@ -19,6 +19,7 @@ module mefem_implicit_static
   use mefem_comm, only: comm_sum, comm_max, comm_is_root, comm_wtime, comm_any
   use mefem_errors, only: status_t, fatal, say, warn
   use mefem_signals, only: signals_install, signal_caught, signal_name, signal_record_stop
+  use mefem_progress, only: progress_start, progress_update
   use mefem_strings, only: itoa, rtoa
   use mefem_model, only: model_t, ON_PART, MAT_RIGID, ON_NODE, ON_NODE_SET
   use mefem_decomposition, only: decomposition_t
@@ -173,6 +174,9 @@ contains
     u_last = u
     call sense_switch_warn_leftover()
     call signals_install()
+    ! progress lines (% of ENDTIM, wall time, ETA) at every tenth of the run or every 5 s;
+    ! the run's summary follows the loop (its own, with the solver's figures)
+    call progress_start('implicit', end_time, 0, word='step')
     do while (t < end_time*(1.0_wp - 1.0e-12_wp))
       dt = min(dt, end_time - t)
       ! land on the next output time rather than step over it (then go on with the planned
@@ -220,6 +224,7 @@ contains
       hist = trial%hist_new
       call say('step '//itoa(step)//': t = '//rtoa(t)//', dt = '//rtoa(dt)//', '// &
                itoa(iterations)//' iterations')
+      call progress_update(step, t, dt, final=t >= end_time*(1.0_wp - 1.0e-12_wp))
       if (dt < dt_planned) dt = dt_planned
       written = .false.
       if (t >= next_output*(1.0_wp - 1.0e-9_wp) .or. t >= end_time*(1.0_wp - 1.0e-12_wp)) then

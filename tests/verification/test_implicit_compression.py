@@ -78,6 +78,13 @@ for elform in (43, 10):
     checks.check(rc == 0, name + ': run succeeds', text[-500:])
     if rc != 0:
         continue
+    # progress lines: the % of ENDTIM rising to 100 % with the wall time and an ETA
+    progress = re.findall(r'^implicit: step (\d+) .* ([\d.]+) %  wall \S+  eta \S+$', text,
+                          re.M)
+    percents = [float(p) for _, p in progress]
+    checks.check(len(progress) >= 2 and percents == sorted(percents) and percents[-1] == 100.0,
+                 name + ': progress lines with %% done (%s) to 100 %%, wall time and ETA'
+                 % ', '.join('%g' % p for p in percents), text[-400:])
     states = reactions(os.path.join(OUT, name, name + '.h5'))
     checks.check(len(states) == 10, name + ': 10 output states at the D3PLOT interval',
                  str(len(states)))
