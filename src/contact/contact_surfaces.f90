@@ -31,7 +31,7 @@ module mefem_contact_surfaces
 
   public :: contact_surface_build, contact_surface_pair_build, contact_facet_area_vector, &
             contact_surface_triangulate
-  public :: contact_search_build, exterior_nodes
+  public :: contact_search_build, exterior_nodes, contact_parts_to_facets
 
 
   !> Most vertices of a facet and most faces of an element.
@@ -440,6 +440,17 @@ contains
       on_surface(surface%facets(1:surface%nvertex(f), f)) = .true.
     end do
   end subroutine exterior_nodes
+
+  !> The exterior facets of the parts selected, oriented outward (parts_to_facets): for
+  !> other modules (segment sets).
+  subroutine contact_parts_to_facets(model, selected, surface, status, who)
+    type(model_t), intent(in) :: model                  !< the model
+    logical, intent(in) :: selected(:)                  !< (n_parts) parts of the surface
+    type(contact_surface_t), intent(inout) :: surface   !< facets filled in
+    type(status_t), intent(inout) :: status             !< failure and message
+    character(len=*), intent(in) :: who                 !< message prefix
+    call parts_to_facets(model, selected, surface, status, who)
+  end subroutine contact_parts_to_facets
 
   !> Faces of an element that bound its body: faces of a 3D solid, edges of a 2D element
   !> (none for 3D shells and 2D solids). pos holds corner positions, a cycle per face.

@@ -136,7 +136,7 @@ module mefem_keyword_reader
     ! sets (*SET_NODE and *SET_PART are the older names of the _LIST forms)
     keyword_entry_t('SET_NODE', H_SET_NODE, ' LIST GENERATE GENERAL TITLE '), &
     keyword_entry_t('SET_PART', H_SET_PART, ' LIST GENERAL TITLE '), &
-    keyword_entry_t('SET_SEGMENT', H_SET_SEGMENT, ' TITLE '), &
+    keyword_entry_t('SET_SEGMENT', H_SET_SEGMENT, ' GENERAL TITLE '), &
     keyword_entry_t('SET_SOLID', H_SET_SOLID, ' LIST GENERATE TITLE '), &
     keyword_entry_t('SET_SHELL', H_SET_SHELL, ' LIST GENERATE TITLE '), &
     ! boundary conditions, curves, loads, initial conditions

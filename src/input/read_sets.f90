@@ -10,8 +10,9 @@ module mefem_read_sets
   use mefem_cards, only: reader_t, card_t, next_card, split_card, get_int, get_real, &
                          get_text, card_error, keyword_error
   use mefem_card_helpers, only: has_option, read_title_card
-  use mefem_model, only: model_t, set_t, source_t, SET_NODE, SET_PART, SET_SEGMENT, SET_SOLID, SET_SHELL, &
-                         GENERAL_ALL, GENERAL_NODE, GENERAL_PART, GENERAL_SET, GENERAL_BOX
+  use mefem_model, only: model_t, set_t, source_t, SET_NODE, SET_PART, SET_SEGMENT, SET_SOLID, &
+                         SET_SHELL, &
+                         GENERAL_ALL, GENERAL_NODE, GENERAL_PART, GENERAL_SET, GENERAL_BOX, GENERAL_SEG
   implicit none
   private
 
@@ -82,11 +83,16 @@ contains
     character(len=*), intent(in) :: options      !< keyword options
     type(model_t), intent(inout) :: model        !< model appended to
     type(set_t), intent(inout) :: set            !< the set (kind given)
-    integer, parameter :: N_OPTIONS = 9
+    integer, parameter :: N_OPTIONS = 11
     character(len=5), parameter :: OPTION_NAME(N_OPTIONS) = [character(len=5) :: 'ALL', &
-        'NODE', 'PART', 'SET', 'BOX', 'DNODE', 'DPART', 'DSET', 'DBOX']
+        'NODE', 'PART', 'SET', 'BOX', 'SEG', 'DNODE', 'DPART', 'DSET', 'DBOX', 'DSEG']
     integer, parameter :: OPTION_CODE(N_OPTIONS) = [GENERAL_ALL, GENERAL_NODE, GENERAL_PART, &
-        GENERAL_SET, GENERAL_BOX, -GENERAL_NODE, -GENERAL_PART, -GENERAL_SET, -GENERAL_BOX]
+        GENERAL_SET, GENERAL_BOX, GENERAL_SEG, -GENERAL_NODE, -GENERAL_PART, -GENERAL_SET, &
+        -GENERAL_BOX, -GENERAL_SEG]
+    !> the options each kind takes: node sets, part sets, segment sets
+    logical, parameter :: NODE_TAKES(6) = [.true., .true., .true., .true., .true., .false.]
+    logical, parameter :: PART_TAKES(6) = [.true., .false., .true., .true., .false., .false.]
+    logical, parameter :: SEGMENT_TAKES(6) = [.true., .false., .true., .false., .true., .true.]
     type(card_t) :: card
     logical :: got, bad
     character(len=:), allocatable :: option, what, keyword, accepted
@@ -95,6 +101,10 @@ contains
       what = 'part set '
       keyword = '*SET_PART_GENERAL'
       accepted = '(ALL, PART, SET, DPART, DSET)'
+    else if (set%kind == SET_SEGMENT) then
+      what = 'segment set '
+      keyword = '*SET_SEGMENT_GENERAL'
+      accepted = '(ALL, PART, BOX, SEG, DPART, DBOX, DSEG)'
     else
       what = 'node set '
       keyword = '*SET_NODE_GENERAL'
@@ -117,8 +127,15 @@ contains
       do i = 1, N_OPTIONS
         if (trim(OPTION_NAME(i)) == option) k = i
       end do
-      if (set%kind == SET_PART .and. k > 0) then  ! (no nodes, no box of nodes in a part set)
-        if (abs(OPTION_CODE(k)) == GENERAL_NODE .or. abs(OPTION_CODE(k)) == GENERAL_BOX) k = 0
+      if (k > 0) then                             ! an option of another kind of set
+        select case (set%kind)
+        case (SET_PART)
+          if (.not. PART_TAKES(abs(OPTION_CODE(k)))) k = 0
+        case (SET_SEGMENT)
+          if (.not. SEGMENT_TAKES(abs(OPTION_CODE(k)))) k = 0
+        case default
+          if (.not. NODE_TAKES(abs(OPTION_CODE(k)))) k = 0
+        end select
       end if
       if (k == 0) then
         call card_error(card, what//itoa(set%id)//': option "'//option//'" of '// &
@@ -142,6 +159,16 @@ contains
         call card_error(card, what//itoa(set%id)//': option '//option// &
                         ' names no ids (E1 .. E7)')
         bad = .true.
+      else if (abs(OPTION_CODE(k)) == GENERAL_SEG .and. .not. card%bad) then
+        ! a segment: N1 N2 N3 (triangle, or E4 = E3) or N1 .. N4, in E1 .. E4
+        if (n_ids < 3 .or. n_ids > 4) then
+          call card_error(card, what//itoa(set%id)//': option '//option//' takes one '// &
+              'segment, its nodes N1 N2 N3 (N4) in E1 .. E4')
+          bad = .true.
+        else if (n_ids == 3) then
+          n_ids = 4
+          ids(4) = ids(3)
+        end if
       end if
       call ensure_room(set%member_ids, set%n + 2 + n_ids)
       set%member_ids(set%n + 1:set%n + 2 + n_ids) = [OPTION_CODE(k), n_ids, ids(1:n_ids)]
@@ -179,6 +206,10 @@ contains
     logical :: got, bad
     integer :: nodes(4), i
     set%kind = SET_SEGMENT
+    if (has_option(options, 'GENERAL')) then
+      call read_set_general(rd, options, model, set)
+      return
+    end if
     if (.not. read_header(rd, options, set)) then
       call skip_members(rd)
       return
@@ -367,7 +398,9 @@ contains
       call keyword_error(rd, what//' set '//itoa(set%id)//' has no members')
       return
     end if
-    if (set%kind == SET_SEGMENT) then
+    if (set%general) then
+      exact = set%member_ids(1:set%n)              ! the entries (resolve_conditions)
+    else if (set%kind == SET_SEGMENT) then
       exact = set%member_ids(1:4*set%n)
     else if (set%generated) then
       exact = set%member_ids(1:2*set%n)            ! ranges B E (resolve_sets)

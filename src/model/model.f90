@@ -46,7 +46,7 @@ module mefem_model
       EROSION_VOLEPS = 4, EROSION_MNPRES = 5, EROSION_SIGP1 = 6, EROSION_SIGVM = 7, &
       EROSION_MXEPS = 8, EROSION_FAILTM = 9, EROSION_CRITERIA = 9
   integer, parameter, public :: GENERAL_ALL = 1, GENERAL_NODE = 2, GENERAL_PART = 3, &
-                                GENERAL_SET = 4, GENERAL_BOX = 5
+                                GENERAL_SET = 4, GENERAL_BOX = 5, GENERAL_SEG = 6
   !> a contact's FS of -1: the friction (FS, FD, DC) of its SURFA parts' *PART_CONTACT
   real(wp), parameter, public :: FS_FROM_PARTS = -1.0_wp
 

@@ -15,7 +15,7 @@ module mefem_model_resolve
                          SECTION_SHELL, MAT_RIGID, TOPO_TRI3, TOPO_QUAD4, TOPO_TET4, &
                          TOPO_PENTA6, TOPO_HEX8, ON_NODE, ON_NODE_SET, ON_PART, ON_PART_SET
   use mefem_output_mesh, only: NODES_OF_TOPO
-  use mefem_resolve_conditions, only: resolve_conditions
+  use mefem_resolve_conditions, only: resolve_conditions, resolve_segment_sets
   implicit none
   private
 
@@ -92,6 +92,7 @@ contains
       end associate
     end do
     call resolve_elements(model, node_map, part_map)
+    call resolve_segment_sets(model, node_map, part_map)
     call apply_global_constraints(model)
     allocate(model%nodes%added_mass(model%nodes%n))
     model%nodes%added_mass = 0.0_wp

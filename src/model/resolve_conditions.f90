@@ -8,7 +8,7 @@
 !> done by the caller (model_resolve).
 module mefem_resolve_conditions
   use mefem_kinds, only: wp
-  use mefem_errors, only: input_error, warn
+  use mefem_errors, only: input_error, warn, status_t
   use mefem_strings, only: itoa
   use mefem_deck_source, only: location
   use mefem_id_map, only: id_map_t, id_map_build, id_map_find, sort_with_index
@@ -22,13 +22,15 @@ module mefem_resolve_conditions
                          ON_PART_SET, ON_SEGMENT_SET, SET_NODE, SET_SEGMENT, SET_PART, &
                          MAT_PIECEWISE_LINEAR, MAT_RIGID, GENERAL_BOX, box_holds, &
                          coordinate_system_t, spc_t, SYSTEM_BY_POINTS, SYSTEM_BY_VECTORS, &
-                         SET_SOLID, SET_SHELL, SET_KINDS, ELEM_SOLID, ELEM_SHELL
+                         SET_SOLID, SET_SHELL, SET_KINDS, ELEM_SOLID, ELEM_SHELL, box_t, &
+                         GENERAL_SEG
   use mefem_read_materials, only: material_keyword
   use mefem_read_sets, only: set_keyword
+  use mefem_contact_surfaces, only: contact_surface_t, contact_parts_to_facets
   implicit none
   private
 
-  public :: resolve_conditions
+  public :: resolve_conditions, resolve_segment_sets
 
   character(len=1), parameter :: AXIS_NAMES(3) = ['X', 'Y', 'Z']   !< *LOAD_BODY_ suffixes
   !> *DEFINE_COORDINATE_ suffixes by system kind (SYSTEM_BY_POINTS, _VECTORS, _NODES)
@@ -638,8 +640,9 @@ contains
         end do
       end associate
     end do
-    do s = 1, model%n_sets
-      if (model%sets(s)%general) call resolve_general_set(model, look, s)
+    do s = 1, model%n_sets      ! (segment sets after the elements: resolve_segment_sets)
+      if (model%sets(s)%general .and. model%sets(s)%kind /= SET_SEGMENT) &
+        call resolve_general_set(model, look, s)
     end do
 
   contains
@@ -662,6 +665,186 @@ contains
     end function element_kind
 
   end subroutine resolve_sets
+
+  !> *SET_SEGMENT_GENERAL (after the elements are resolved): each set's entries applied in
+  !> order to a mask over candidate segments, the exterior faces of solids (and shells, 2D
+  !> edges) as contact surfaces take them, oriented outward: ALL the model's exterior; PART
+  !> each part's own exterior; BOX the model's exterior segments whose nodes all lie in the box
+  !> (reference positions, faces included); SEG one segment N1 .. N4; negative codes remove.
+  !> The members: the segments left, 4 node indices each (a triangle N4 = N3, a 2D line N1 N2
+  !> N2 N2), in the candidates' order.
+  subroutine resolve_segment_sets(model, node_map, part_map)
+    type(model_t), intent(inout) :: model          !< the model (elements resolved)
+    type(id_map_t), intent(in) :: node_map         !< node ids -> indices
+    type(id_map_t), intent(in) :: part_map         !< part ids -> indices
+    integer, allocatable :: pool(:,:), grown(:,:), ids(:)
+    logical, allocatable :: in_set(:), selected(:)
+    type(id_map_t) :: box_map
+    type(contact_surface_t) :: exterior
+    integer :: s, k, code, n, i, id, index, n_pool, n_exterior, c, n_bad
+    logical :: add
+    character(len=:), allocatable :: where, who
+    if (.not. any(model%sets(1:model%n_sets)%general .and. &
+                  model%sets(1:model%n_sets)%kind == SET_SEGMENT)) return
+    ids = [(model%boxes(k)%id, k = 1, model%n_boxes)]
+    call id_map_build(ids, model%n_boxes, box_map)
+    allocate(selected(model%n_parts), pool(4, 64))
+    selected = .true.
+    call exterior_facets(exterior)                 ! the model's exterior: candidates 1 .. n
+    n_pool = 0
+    do k = 1, exterior%nfacet
+      call add_to_pool(facet_nodes(exterior, k))
+    end do
+    n_exterior = n_pool
+    do s = 1, model%n_sets
+      associate (set => model%sets(s))
+        if (.not. (set%general .and. set%kind == SET_SEGMENT)) cycle
+        where = where_is(set%src, '*SET_SEGMENT_GENERAL')
+        who = 'segment set '//itoa(set%id)//': '
+        allocate(in_set(n_pool))
+        in_set = .false.
+        n_bad = 0
+        k = 1
+        do while (k <= size(set%member_ids))
+          code = set%member_ids(k)
+          n = set%member_ids(k + 1)
+          add = code > 0
+          select case (abs(code))
+          case (GENERAL_ALL)
+            in_set(1:n_exterior) = add
+          case (GENERAL_PART)
+            do i = 1, n
+              id = set%member_ids(k + 1 + i)
+              index = id_map_find(part_map, id)
+              if (index == 0) then
+                call input_error(where, who//'part '//itoa(id)//' is not defined')
+                n_bad = n_bad + 1
+                cycle
+              end if
+              selected = .false.
+              selected(index) = .true.
+              call exterior_facets(exterior)       ! this part's own exterior
+              do c = 1, exterior%nfacet
+                call mark(facet_nodes(exterior, c), add)
+              end do
+            end do
+          case (GENERAL_BOX)
+            do i = 1, n
+              id = set%member_ids(k + 1 + i)
+              index = id_map_find(box_map, id)
+              if (index == 0) then
+                call input_error(where, who//'BOX: box '//itoa(id)//' is not defined '// &
+                                 '(*DEFINE_BOX)')
+                n_bad = n_bad + 1
+                cycle
+              end if
+              do c = 1, n_exterior
+                if (all(box_holds_nodes(model%boxes(index), pool(:, c)))) in_set(c) = add
+              end do
+            end do
+          case (GENERAL_SEG)
+            block
+              integer :: nodes(4), a
+              do a = 1, 4
+                nodes(a) = id_map_find(node_map, set%member_ids(k + 1 + a))
+                if (nodes(a) == 0 .and. .not. any(set%member_ids(k + 2:k + a) == &
+                                                  set%member_ids(k + 1 + a))) then
+                  call input_error(where, who//'SEG: node '// &
+                                   itoa(set%member_ids(k + 1 + a))//' is not defined')
+                  n_bad = n_bad + 1
+                end if
+              end do
+              if (all(nodes > 0)) call mark(nodes, add)
+            end block
+          end select
+          k = k + 2 + n
+        end do
+        set%n = count(in_set(1:n_pool))
+        if (set%n == 0 .and. n_bad == 0) call input_error(where, who//'no segment is left '// &
+                                                          'in the set')
+        set%members = reshape(pool(:, pack([(c, c = 1, n_pool)], in_set(1:n_pool))), &
+                              [4*set%n])
+        set%member_ids = model%nodes%id(set%members)
+        set%general = .false.
+        deallocate(in_set)
+      end associate
+    end do
+
+  contains
+
+    !> The exterior facets of the parts selected (contact_surfaces' rule).
+    subroutine exterior_facets(surface)
+      type(contact_surface_t), intent(out) :: surface  !< the facets
+      type(status_t) :: status
+      call contact_parts_to_facets(model, selected, surface, status, 'segment set')
+    end subroutine exterior_facets
+
+    !> Facet k of a surface as a segment's 4 nodes (N4 = N3 for a triangle; 2D: N1 N2 N2 N2).
+    function facet_nodes(surface, k) result(nodes)
+      type(contact_surface_t), intent(in) :: surface   !< the facets
+      integer, intent(in) :: k                         !< which
+      integer :: nodes(4), a
+      nodes = surface%facets(:, k)
+      do a = surface%nvertex(k) + 1, 4
+        nodes(a) = nodes(surface%nvertex(k))
+      end do
+    end function facet_nodes
+
+    !> A candidate segment (a new one at the end of the pool).
+    subroutine add_to_pool(nodes)
+      integer, intent(in) :: nodes(4)               !< its nodes
+      if (n_pool == size(pool, 2)) then
+        allocate(grown(4, 2*n_pool))
+        grown(:, 1:n_pool) = pool(:, 1:n_pool)
+        call move_alloc(grown, pool)
+      end if
+      n_pool = n_pool + 1
+      pool(:, n_pool) = nodes
+    end subroutine add_to_pool
+
+    !> Put a segment in the set (add) or take it out: the candidate with the same nodes, or a
+    !> new candidate (its orientation as given).
+    subroutine mark(nodes, add)
+      integer, intent(in) :: nodes(4)               !< the segment's nodes
+      logical, intent(in) :: add                    !< put in (true) or take out
+      logical, allocatable :: longer(:)
+      integer :: c
+      do c = 1, n_pool
+        if (same_segment(pool(:, c), nodes)) then
+          in_set(c) = add
+          return
+        end if
+      end do
+      if (.not. add) return
+      call add_to_pool(nodes)
+      allocate(longer(n_pool))
+      longer(1:n_pool - 1) = in_set(1:n_pool - 1)
+      longer(n_pool) = .true.
+      call move_alloc(longer, in_set)
+    end subroutine mark
+
+    !> The nodes of a segment all inside a box.
+    function box_holds_nodes(box, nodes) result(inside)
+      type(box_t), intent(in) :: box                 !< the box
+      integer, intent(in) :: nodes(4)                !< the segment's nodes
+      logical :: inside(4)
+      integer :: a
+      do a = 1, 4
+        inside(a) = box_holds(box, model%nodes%x(:, nodes(a)))
+      end do
+    end function box_holds_nodes
+
+  end subroutine resolve_segment_sets
+
+  !> Two segments with the same nodes (in any order).
+  pure logical function same_segment(a, b)
+    integer, intent(in) :: a(4), b(4)               !< the segments' nodes
+    integer :: k
+    same_segment = .true.
+    do k = 1, 4
+      same_segment = same_segment .and. any(b == a(k)) .and. any(a == b(k))
+    end do
+  end function same_segment
 
   !> *SET_NODE_GENERAL set s: its entries (GENERAL_* code, count, ids) applied in order to a
   !> mask over the nodes (negative codes remove), the members the nodes left, ascending; every
