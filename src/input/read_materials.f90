@@ -140,13 +140,6 @@ contains
     end if
     bad = bad .or. card2%bad
     if (.not. bad) call check_piecewise_linear(card, card2, card3, card4, mat, bad)
-    if (.not. bad) then
-      ! read, not modelled: say so where LS-DYNA would compute something else
-      if (mat%vp == 1.0_wp .and. (mat%cowper_c > 0.0_wp .or. mat%lcsr /= 0)) &
-        call card_warning(card2, 'material '//itoa(mat%id)//': VP = 1 (viscoplastic, the '// &
-            'plastic strain rate) is computed as VP = 0: the yield stress is scaled by the '// &
-            'total strain rate (doc/theory.md section 4)')
-    end if
     if (.not. bad) call add_material(model, mat)
     call reject_extra_cards(rd, 'material '//itoa(mat%id))
   end subroutine read_mat_piecewise_linear

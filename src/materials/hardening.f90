@@ -38,7 +38,8 @@
 !> At a table or curve point alpha = EPS_i the slope is that of the segment to the right.
 module mefem_hardening
   use mefem_kinds, only: wp
-  use mefem_model, only: material_t, curve_t, MAT_JOHNSON_COOK, MAT_SIMPLIFIED_JOHNSON_COOK
+  use mefem_model, only: material_t, curve_t, MAT_JOHNSON_COOK, MAT_SIMPLIFIED_JOHNSON_COOK, &
+                         MAT_PIECEWISE_LINEAR
   use mefem_curves, only: curve_value
   implicit none
   private
@@ -57,7 +58,7 @@ module mefem_hardening
 
   public :: hardening_yield, hardening_yield_block, piecewise_linear_law
   public :: power_law_strain_offset, plastic_modulus, hardening_rate_factor,  &
-            rate_dependent, rate_table_material
+            rate_dependent, rate_table_material, viscoplastic
 
   !> Curves of at most this many points have their segment found by counting (the block
   !> version); longer ones by bisection, point by point
@@ -131,6 +132,7 @@ contains
       yield_stress = 0.0_wp
       slope = 0.0_wp
     end select
+    if (mat%vp_dt > 0.0_wp) call viscoplastic_scale(mat, curves, alpha, yield_stress, slope)
   end subroutine hardening_yield
 
   !> hardening_yield for n points at once (the same values, bit for bit): the linear law and
@@ -231,6 +233,7 @@ contains
     real(wp), intent(in) :: strain_rate        !< effective strain rate (1/time, >= 0)
     factor = 1.0_wp
     if (mat%lcss_table > 0) return                 ! the table's curves hold the rate effect
+    if (viscoplastic(mat)) return                  ! VP = 1: the plastic rate (viscoplastic_scale)
     if (mat%kind == MAT_JOHNSON_COOK .or. mat%kind == MAT_SIMPLIFIED_JOHNSON_COOK) then
       if (strain_rate > mat%reference_rate) factor = 1.0_wp + &
           mat%jc_c*log(strain_rate/mat%reference_rate)
@@ -304,6 +307,44 @@ contains
       end do
     end if
   end function segment
+
+  !> *MAT_024 with VP = 1 (viscoplastic, as LS-DYNA defines it): within one update the yield
+  !> stress is K(alpha) R(rate_p), the rate factor (Cowper-Symonds 1 + (rate_p/C)^(1/P), or
+  !> the LCSR curve) of the plastic strain rate rate_p = (alpha - alpha_n)/dt of the step
+  !> (mat%vp_alpha_old, mat%vp_dt); the slope K' R + K R'/dt. R' of Cowper-Symonds is infinite
+  !> at rate_p = 0 (P > 1): it is taken at VP_RATE_FLOOR C there (the return map's bisection
+  !> guards its Newton steps).
+  pure subroutine viscoplastic_scale(mat, curves, alpha, yield_stress, slope)
+    type(material_t), intent(in) :: mat        !< *MAT_024 with vp_dt > 0
+    type(curve_t), intent(in) :: curves(:)     !< the model's curves (LCSR)
+    real(wp), intent(in) :: alpha              !< equivalent plastic strain
+    real(wp), intent(inout) :: yield_stress    !< K(alpha) -> K R
+    real(wp), intent(inout) :: slope           !< K'(alpha) -> d(K R)/d alpha
+    !> fraction of C at which the Cowper-Symonds slope is taken at rate 0
+    real(wp), parameter :: VP_RATE_FLOOR = 1.0e-12_wp
+    real(wp) :: rate, factor, factor_slope
+    rate = max(alpha - mat%vp_alpha_old, 0.0_wp)/mat%vp_dt
+    if (mat%lcsr_curve > 0) then
+      associate (curve => curves(mat%lcsr_curve))
+        factor = curve_value(curve, rate)
+        factor_slope = segment_slope(curve%n, curve%t, curve%f, rate)
+      end associate
+    else
+      factor = 1.0_wp + (rate/mat%cowper_c)**(1.0_wp/mat%cowper_p)
+      factor_slope = (max(rate, VP_RATE_FLOOR*mat%cowper_c)/mat%cowper_c)** &
+                     (1.0_wp/mat%cowper_p - 1.0_wp)/(mat%cowper_p*mat%cowper_c)
+    end if
+    slope = slope*factor + yield_stress*factor_slope/mat%vp_dt
+    yield_stress = yield_stress*factor
+  end subroutine viscoplastic_scale
+
+  !> *MAT_024 with VP = 1 and a rate term (C, P or LCSR; not an LCSS table): its yield
+  !> stress follows the plastic strain rate (viscoplastic_scale), not the total rate.
+  pure logical function viscoplastic(mat)
+    type(material_t), intent(in) :: mat        !< the material's parameters
+    viscoplastic = mat%kind == MAT_PIECEWISE_LINEAR .and. mat%vp == 1.0_wp .and. &
+                   mat%lcss_table == 0 .and. (mat%cowper_c > 0.0_wp .or. mat%lcsr_curve > 0)
+  end function viscoplastic
 
   !> *MAT_024 with an LCSS table: the material with the curves around the strain rate set for
   !> one update: lcss_curve the table's curve at or below the rate (ln of the rate when the

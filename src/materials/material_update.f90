@@ -39,7 +39,7 @@ module mefem_material_update
   use mefem_material_state, only: NHIST, BLOCK_POINTS, HIST_ALPHA, HIST_TEMPERATURE, HIST_DAMAGE
   use mefem_hardening, only: HARDENING_POWER_LAW, HARDENING_JOHNSON_COOK, HARDENING_LINEAR, &
                              piecewise_linear_law, hardening_rate_factor, rate_dependent, &
-                             rate_table_material, HARDENING_CURVE, &
+                             rate_table_material, HARDENING_CURVE, viscoplastic, &
                              hardening_yield
   use mefem_mat_elastic, only: mat_elastic_update, lame_constants
   use mefem_mat_j2_plasticity, only: mat_j2_update, mat_j2_update_block, mat_j2_kinematic_update
@@ -60,7 +60,7 @@ contains
   !> Update one material point to F_{n+1}: new history, Kirchhoff stress, wave speed and
   !> optionally the spatial tangent (contract in the module header).
   pure subroutine material_update(mat, curves, f_new, hist_old, hist_new, tau, c_tau, &
-                                  sound_speed, status, strain_rate, committed)
+                                  sound_speed, status, strain_rate, committed, dt)
     type(material_t), intent(in) :: mat                !< the material card
     type(curve_t), intent(in) :: curves(:)              !< the model's curves (LCSS)
     real(wp), intent(in) :: f_new(3,3)                  !< deformation gradient F_{n+1}
@@ -74,6 +74,8 @@ contains
                                                         !< with rate effects; 0 if absent)
     logical, intent(in), optional :: committed          !< hist_old already holds F (output):
                                                         !< the committed stress, no yield check
+    real(wp), intent(in), optional :: dt                !< the step (VP = 1: the plastic rate
+                                                        !< (alpha - alpha_n)/dt; 0 if absent)
     real(wp) :: factor, rate
     logical :: output
     factor = 1.0_wp
@@ -97,7 +99,12 @@ contains
     case (MAT_ELASTIC)
       call mat_elastic_update(mat, f_new, hist_old, hist_new, tau, sound_speed, status, c_tau)
     case (MAT_PIECEWISE_LINEAR)
-      if (mat%lcss_table > 0) then              ! LCSS a table: the curves of the rate
+      if (viscoplastic(mat) .and. .not. output .and. present(dt)) then
+        ! VP = 1: the yield stress of the plastic strain rate of this step
+        call mat_j2_update(viscoplastic_material(mat, hist_old(HIST_ALPHA), dt), curves, &
+                           piecewise_linear_law(mat), f_new, hist_old, hist_new, tau, &
+                           sound_speed, status, c_tau, factor, committed)
+      else if (mat%lcss_table > 0) then         ! LCSS a table: the curves of the rate
         rate = 0.0_wp
         if (present(strain_rate)) rate = strain_rate
         call mat_j2_update(rate_table_material(mat, curves, rate), curves, HARDENING_CURVE, &
@@ -135,7 +142,7 @@ contains
   !> the other laws point by point through material_update (same results as material_update
   !> point by point). A point whose update fails gets ok(i) = .false. and keeps its history;
   !> material_update on it gives the reason.
-  subroutine material_update_block(mat, curves, n, f, j, hist, tau, ok, strain_rate)
+  subroutine material_update_block(mat, curves, n, f, j, hist, tau, ok, strain_rate, dt)
     type(material_t), intent(in) :: mat                !< the material card
     type(curve_t), intent(in) :: curves(:)              !< the model's curves (LCSS)
     integer, intent(in) :: n                            !< points in the block (<= BLOCK_POINTS)
@@ -146,6 +153,7 @@ contains
     real(wp), intent(out) :: tau(ld, 6)                 !< Kirchhoff stress XX YY ZZ XY YZ ZX
     logical, intent(out) :: ok(ld)                      !< point updated
     real(wp), intent(in), optional :: strain_rate(ld)   !< effective strain rates (0 if absent)
+    real(wp), intent(in), optional :: dt                !< the step (VP = 1)
     real(wp) :: f_point(3, 3), tau_point(3, 3), hist_new(NHIST), sound, rate(ld), factor(ld)
     real(wp) :: alpha_old(ld)
     type(status_t) :: status
@@ -169,7 +177,7 @@ contains
                                hist(i, HIST_TEMPERATURE), tau(i, :), hist(i, HIST_DAMAGE))
       end do
     case (MAT_PIECEWISE_LINEAR, MAT_POWER_LAW)
-      if (mat%lcss_table > 0) then              ! a curve per point's rate: point by point
+      if (mat%lcss_table > 0 .or. viscoplastic(mat)) then   ! a law per point: one by one
         call points_one_by_one()
       else if (present(strain_rate)) then
         do i = 1, n
@@ -190,7 +198,7 @@ contains
       do i = 1, n
         f_point = reshape(f(i, :), [3, 3])
         call material_update(mat, curves, f_point, hist(i, :), hist_new, tau_point, &
-                             sound_speed=sound, status=status, strain_rate=rate(i))
+                             sound_speed=sound, status=status, strain_rate=rate(i), dt=dt)
         ok(i) = status%ok
         tau(i, :) = [tau_point(1, 1), tau_point(2, 2), tau_point(3, 3), tau_point(1, 2), &
                      tau_point(2, 3), tau_point(3, 1)]
@@ -199,6 +207,17 @@ contains
     end subroutine points_one_by_one
 
   end subroutine material_update_block
+
+  !> The material for one VP = 1 update: alpha_n and the step set (viscoplastic_scale).
+  pure function viscoplastic_material(mat, alpha_old, dt) result(local)
+    type(material_t), intent(in) :: mat                !< *MAT_024 with VP = 1
+    real(wp), intent(in) :: alpha_old                  !< alpha_n
+    real(wp), intent(in) :: dt                         !< the step (> 0 for the scale)
+    type(material_t) :: local
+    local = mat
+    local%vp_alpha_old = alpha_old
+    local%vp_dt = max(dt, 0.0_wp)
+  end function viscoplastic_material
 
   !> The hardening law of a J2 material of the block kernel (*MAT_024's or the power law).
   pure integer function block_law(mat)

@@ -156,6 +156,8 @@ module mefem_model
     integer :: lcsr = 0                     !< strain-rate curve id (MAT_024)
     integer :: lcsr_curve = 0               !< its index (after resolve)
     real(wp) :: vp = 0.0_wp                 !< VP rate formulation flag
+    real(wp) :: vp_alpha_old = 0.0_wp       !< (one update, VP = 1) alpha_n and the step dt:
+    real(wp) :: vp_dt = 0.0_wp              !< the plastic rate (alpha - alpha_n)/dt scales K
     integer :: n_points = 0                 !< EPS/ES pairs given (MAT_024)
     real(wp) :: eps(8) = 0.0_wp, es(8) = 0.0_wp
     real(wp) :: k_strength = 0.0_wp         !< K (MAT_018)

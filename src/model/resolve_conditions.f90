@@ -546,6 +546,9 @@ contains
             if (mat%cowper_c > 0.0_wp .or. mat%lcsr > 0) call warn(where//': material '// &
                 itoa(mat%id)//': C, P and LCSR are ignored: the table LCSS '// &
                 itoa(mat%lcss)//' gives the rate dependence')
+            if (mat%vp == 1.0_wp) call warn(where//': material '//itoa(mat%id)//': VP = 1 '// &
+                'with the table LCSS '//itoa(mat%lcss)//' is computed as VP = 0: the curves '// &
+                'are taken at the total strain rate')
           else
             mat%lcss_curve = k
           end if

@@ -164,6 +164,7 @@ contains
         s%peers(j)%dt_stable = huge(1.0_wp)
         s%peers(j)%dt_element = 0
         s%peers(j)%time = s%time
+        s%peers(j)%dt_step = s%dt_step
         s%peers(j)%failed = .false.
         do k = first, last
           call block_forces(model, s%peers(j), k, .true.)
@@ -354,7 +355,8 @@ contains
       jbar = merge(jbar, det, det > 0.0_wp .and. jbar > 0.0_wp)
       fbar = f*volume_scale(jbar, det)
       call material_update(model%materials(s%material(l)), model%curves, fbar, hist_old, &
-                           hist_new, tau, sound_speed=sound, status=status, strain_rate=rate)
+                           hist_new, tau, sound_speed=sound, status=status, strain_rate=rate, &
+                           dt=s%dt_step)
       if (status%ok) then
         call split_pressure(tau(1, 1), tau(2, 2), tau(3, 3), jbar, s%np_pressure(l))
         s%np_jbar(l) = jbar
@@ -365,7 +367,8 @@ contains
       end if
     else
       call material_update(model%materials(s%material(l)), model%curves, f, hist_old, &
-                           hist_new, tau, sound_speed=sound, status=status, strain_rate=rate)
+                           hist_new, tau, sound_speed=sound, status=status, strain_rate=rate, &
+                           dt=s%dt_step)
     end if
     if (.not. status%ok) then
       s%cell_force(:, :, l) = 0.0_wp
@@ -677,7 +680,7 @@ contains
       end do
       if (rated) then
         call material_update_block(model%materials(s%material(l)), model%curves, n, fbar, &
-                                   jbar, s%block_hist(:, :, b), tau, ok, rate)
+                                   jbar, s%block_hist(:, :, b), tau, ok, rate, s%dt_step)
       else
         call material_update_block(model%materials(s%material(l)), model%curves, n, fbar, &
                                    jbar, s%block_hist(:, :, b), tau, ok)
@@ -711,7 +714,7 @@ contains
     else
       if (rated) then
         call material_update_block(model%materials(s%material(l)), model%curves, n, f, det, &
-                                   s%block_hist(:, :, b), tau, ok, rate)
+                                   s%block_hist(:, :, b), tau, ok, rate, s%dt_step)
       else
         call material_update_block(model%materials(s%material(l)), model%curves, n, f, det, &
                                    s%block_hist(:, :, b), tau, ok)

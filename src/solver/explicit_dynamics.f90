@@ -205,6 +205,7 @@ contains
       if (mod(cycle, MASS_SPLIT_INTERVAL) == 0) call explicit_mass_split(s, halo)
       timing%update = timing%update + (comm_wtime() - clock)
       t = t + dt
+      s%dt_step = dt
       call compute_forces(model, s, halo, t, dt_full, timing)
       clock = comm_wtime()
       call energies_and_accelerations(s, dt)

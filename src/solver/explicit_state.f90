@@ -200,6 +200,8 @@ module mefem_explicit_state
     real(wp) :: hourglass_power = 0.0_wp       !< power of the viscous forms, likewise
     real(wp) :: hourglass_dissipated = 0.0_wp  !< work of the viscous forms so far (this rank)
     ! time step of the last force evaluation
+    real(wp) :: dt_step = 0.0_wp               !< the step of the positions the forces are
+                                               !< computed at (VP = 1: the plastic rate)
     real(wp) :: dt_stable = huge(1.0_wp)       !< TSSFAC min 2/omega over the cells computed
     integer :: dt_element = 0                  !< model element (first of its cell) that set it
     logical :: failed = .false.                !< a cell failed (message in failure)

@@ -740,7 +740,7 @@ contains
       end if
       call material_update(model%materials(cells%material(cell)), model%curves, f, &
                            hist(:, cell), trial%hist_new(:, cell), tau, c, sound, status, &
-                           strain_rate=rate)
+                           strain_rate=rate, dt=dt)
       if (.not. status%ok) then
         if (.not. failed) call say('  cell '//itoa(cell)//' (element '// &
             itoa(model%elements%id(cells%elements(1, cell)))//'): '//status%message)

@@ -7,7 +7,8 @@
 !> 7 hardening laws (values, slopes, LS-DYNA *MAT_018 strain offset, the seed-law identity);
 !> 8 the block form of the hardening laws gives the point form's bits; 9 principal values of
 !>   rotated diagonal tensors and the *MAT_ADD_EROSION criteria on rotated states;
-!> 10 Johnson-Cook damage along a heated uniaxial path at a fixed rate against its integral.
+!> 10 Johnson-Cook damage along a heated uniaxial path at a fixed rate against its integral;
+!> 11 *MAT_024 VP = 1: the yield stress of the step's plastic strain rate.
 program test_materials
   use mefem_kinds, only: wp
   use mefem_testing, only: test_start, test_finish, check, check_close
@@ -46,6 +47,7 @@ program test_materials
   call test_failures()
   call test_erosion_criteria()
   call test_johnson_cook_damage()
+  call test_viscoplastic()
   call test_finish()
 
 contains
@@ -92,7 +94,8 @@ contains
 
   !> F = diag(stretch, lateral, lateral) with lateral solved (Newton, central-difference
   !> slope) for |tau_22| <= tolerance from hist_old; returns the update at the solution.
-  subroutine uniaxial_step(mat, stretch, lateral, hist_old, hist_new, tau, tolerance, ok, rate)
+  subroutine uniaxial_step(mat, stretch, lateral, hist_old, hist_new, tau, tolerance, ok, rate, &
+                           dt)
     type(material_t), intent(in) :: mat
     real(wp), intent(in) :: stretch, tolerance
     real(wp), intent(inout) :: lateral
@@ -100,30 +103,32 @@ contains
     real(wp), intent(out) :: hist_new(NHIST), tau(3,3)
     logical, intent(out) :: ok
     real(wp), intent(in), optional :: rate      !< effective strain rate given to the law
+    real(wp), intent(in), optional :: dt        !< the step (VP = 1)
     real(wp) :: plus, minus, h, tau_h(3,3), hist_h(NHIST)
     integer :: iteration
     ok = .false.
     do iteration = 1, 50
-      call update_diagonal(mat, stretch, lateral, hist_old, tau, hist_new, rate)
+      call update_diagonal(mat, stretch, lateral, hist_old, tau, hist_new, rate, dt)
       if (abs(tau(2,2)) <= tolerance) then
         ok = .true.
         return
       end if
       h = 1.0e-7_wp*lateral
-      call update_diagonal(mat, stretch, lateral + h, hist_old, tau_h, hist_h, rate)
+      call update_diagonal(mat, stretch, lateral + h, hist_old, tau_h, hist_h, rate, dt)
       plus = tau_h(2,2)
-      call update_diagonal(mat, stretch, lateral - h, hist_old, tau_h, hist_h, rate)
+      call update_diagonal(mat, stretch, lateral - h, hist_old, tau_h, hist_h, rate, dt)
       minus = tau_h(2,2)
       lateral = lateral - tau(2,2)*2.0_wp*h/(plus - minus)
     end do
   end subroutine uniaxial_step
 
   !> Update at F = diag(stretch, lateral, lateral) from hist_old.
-  subroutine update_diagonal(mat, stretch, lateral, hist_old, tau, hist_new, rate)
+  subroutine update_diagonal(mat, stretch, lateral, hist_old, tau, hist_new, rate, dt)
     type(material_t), intent(in) :: mat
     real(wp), intent(in) :: stretch, lateral, hist_old(NHIST)
     real(wp), intent(out) :: tau(3,3), hist_new(NHIST)
     real(wp), intent(in), optional :: rate      !< effective strain rate given to the law
+    real(wp), intent(in), optional :: dt        !< the step (VP = 1)
     real(wp) :: f(3,3), speed
     type(status_t) :: status
     f = 0.0_wp
@@ -131,7 +136,7 @@ contains
     f(2,2) = lateral
     f(3,3) = lateral
     call material_update(mat, curves, f, hist_old, hist_new, tau, sound_speed=speed, &
-                         status=status, strain_rate=rate)
+                         status=status, strain_rate=rate, dt=dt)
   end subroutine update_diagonal
 
   ! ---------------------------------------------------------------- 7 hardening
@@ -944,5 +949,47 @@ contains
     call check(ok .and. hist_new(HIST_DAMAGE) == 0.0_wp .and. hist_new(HIST_ALPHA) == 0.0_wp, &
                'Johnson-Cook damage: none in an elastic step')
   end subroutine test_johnson_cook_damage
+
+  ! ---------------------------------------------------------------- 11 VP = 1
+
+  !> *MAT_024 with Cowper-Symonds C = 40 /s, P = 5 and VP = 1: a uniaxial step from the virgin
+  !> state to a stretch of 1.01 in dt = 1e-4 s ends on the viscoplastic yield surface, the von
+  !> Mises Kirchhoff stress (SIGY + Ep alpha)(1 + (alpha/(C dt))^(1/P)) of its plastic strain
+  !> alpha (1e-10); the same step with dt ten times longer flows at a lower stress; VP = 0
+  !> (no rate given) gives SIGY + Ep alpha.
+  subroutine test_viscoplastic()
+    type(material_t) :: mat
+    real(wp) :: hist_old(NHIST), hist_new(NHIST), tau(3,3), lateral, alpha, q, want, q_slow
+    real(wp) :: dt
+    logical :: ok
+    mat = linear_steel()
+    mat%cowper_c = 40.0_wp
+    mat%cowper_p = 5.0_wp
+    mat%vp = 1.0_wp
+    dt = 1.0e-4_wp
+    call material_state_init(hist_old)
+    lateral = 1.0_wp
+    call uniaxial_step(mat, 1.01_wp, lateral, hist_old, hist_new, tau, 1.0e-9_wp, ok, &
+                       rate=100.0_wp, dt=dt)
+    alpha = hist_new(HIST_ALPHA)
+    q = von_mises(tau)
+    want = (mat%yield_stress + plastic_modulus(mat)*alpha)* &
+           (1.0_wp + (alpha/(mat%cowper_c*dt))**(1.0_wp/mat%cowper_p))
+    call check(ok .and. alpha > 0.0_wp, 'VP = 1: the step flows (alpha = '//rtoa(alpha)//')')
+    call check_close(q, want, 1.0e-10_wp*want, 'VP = 1: von Mises tau = K(alpha) (1 + '// &
+                     '(alpha/(C dt))^(1/P)) = '//rtoa(want)//' MPa')
+    lateral = 1.0_wp
+    call uniaxial_step(mat, 1.01_wp, lateral, hist_old, hist_new, tau, 1.0e-9_wp, ok, &
+                       rate=10.0_wp, dt=10.0_wp*dt)
+    q_slow = von_mises(tau)
+    call check(ok .and. q_slow < q, 'VP = 1: the same strain in a ten times longer step flows '// &
+               'at a lower stress ('//rtoa(q_slow)//' < '//rtoa(q)//' MPa)')
+    mat%vp = 0.0_wp
+    lateral = 1.0_wp
+    call uniaxial_step(mat, 1.01_wp, lateral, hist_old, hist_new, tau, 1.0e-9_wp, ok)
+    call check_close(von_mises(tau), mat%yield_stress + plastic_modulus(mat)* &
+                     hist_new(HIST_ALPHA), 1.0e-10_wp*mat%yield_stress, &
+                     'VP = 0 without a rate: von Mises tau = SIGY + Ep alpha')
+  end subroutine test_viscoplastic
 
 end program test_materials

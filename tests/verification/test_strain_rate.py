@@ -11,6 +11,11 @@ alpha at the element's plastic strain is the yield scale of that rate (to 1e-6):
   ln rates ln 0.1, ln 500, ln 2000, the first value negative, its curves following the table
   without LCIDs): the scale interpolated linearly in the rate, or in ln rate;
 each at 100 /s and 1000 /s; and C = 0 at 1000 /s gives the quasi-static stress (scale 1).
+*MAT_024 C = 40, P = 5 with VP = 1 (viscoplastic: the plastic strain rate sets the scale): at
+100 and 1000 /s the scale is 1 + (rate_p/40)^(1/5) of the plastic strain rate rate_p measured
+from the last two of 50 states (1e-3: the difference quotient's lag; measured 2e-5; the total
+strain rate would give a scale 3 % higher); implicit, uniaxial stress at 1000 /s: the scale of
+the plastic strain rate of the last output interval (1 %).
 Implicit (the rate from the step's F and F_n): the element in uniaxial stress (base on rollers,
 sides free, IHQ 6), the top driven at 1000 /s, *MAT_024 C, P: the same scale within 1 %. (An
 explicit element with free sides vibrates laterally without damping, and its strain rate with
@@ -44,6 +49,9 @@ def material(kind):
     if kind == 'mat024_static':
         return ['*MAT_PIECEWISE_LINEAR_PLASTICITY', free(1, RHO, E, NU, SIGY, ETAN),
                 free(0.0, 0.0, 0, 0, 0.0)]
+    if kind == 'mat024_vp1':
+        return ['*MAT_PIECEWISE_LINEAR_PLASTICITY', free(1, RHO, E, NU, SIGY, ETAN),
+                free(40.0, 5.0, 0, 0, 1.0)]
     if kind == 'mat003':
         return ['*MAT_PLASTIC_KINEMATIC', free(1, RHO, E, NU, SIGY, ETAN, 1.0),
                 free(40.0, 5.0, 0.0, 0.0)]
@@ -127,6 +135,44 @@ def driven(kind, axial_rate):
                  'rate scale' % name, '%.6f vs %.6f' % (scale, want))
 
 
+def driven_viscoplastic(axial_rate):
+    """VP = 1 on the driven element: the scale of the plastic strain rate of the last states."""
+    t_end = STRAIN / axial_rate
+    v = axial_rate * (xd @ L_RATE.T)
+    blocks = [nodes_card(xd), elements_card('ELEMENT_SOLID', conn),
+              ['*PART', 'cube', f10(1, 1, 1), '*SECTION_SOLID', f10(1, 1)] +
+              material('mat024_vp1')]
+    for k in range(len(xd)):
+        blocks.append(node_set(10 + k, [k]))
+        for d in range(3):
+            blocks.append(['*BOUNDARY_PRESCRIBED_MOTION_SET', free(10 + k, d + 1, 0, 1, v[k, d])])
+    blocks += [curve(1, [(0.0, 1.0), (1.0, 1.0)]),
+               ['*CONTROL_TERMINATION', f10(t_end), '*DATABASE_BINARY_D3PLOT', f10(t_end / 50)]]
+    name = 'rate_vp1_%g' % axial_rate
+    rc, text, out = run_case(name, blocks)
+    checks.check(rc == 0, '%s: run succeeds' % name, text[-600:])
+    if rc != 0:
+        return
+    import h5py
+    with h5py.File(os.path.join(out, name + '.h5')) as h:
+        keys = sorted(h['states'].keys())
+        times = h['time_history/time'][()]
+        last, before = h['states'][keys[-1]], h['states'][keys[-2]]
+        von_mises = float(last['cell']['von_mises'][()].ravel()[0])
+        alpha = float(last['cell']['plastic_strain'][()].ravel()[0])
+        alpha_before = float(before['cell']['plastic_strain'][()].ravel()[0])
+    rate_p = (alpha - alpha_before) / (times[-1] - times[-2])
+    f = np.eye(3) + times[-1] * axial_rate * L_RATE
+    scale = np.linalg.det(f) * von_mises / (SIGY + EP * alpha)
+    want = 1.0 + (rate_p / 40.0) ** (1.0 / 5.0)
+    total = expected_scale('mat024', float(np.sqrt(1.5) * axial_rate))
+    print('    %s: plastic strain %.4f, plastic rate %.2f /s, scale %.6f, expected %.6f (of the '
+          'total rate: %.6f)' % (name, alpha, rate_p, scale, want, total))
+    checks.check(abs(scale / want - 1) < 1e-3, '%s: VP = 1: von Mises stress = quasi-static x '
+                 '(1 + (rate_p/C)^(1/P)) of the plastic strain rate' % name,
+                 '%.6f vs %.6f' % (scale, want))
+
+
 def uniaxial_implicit(kind, axial_rate):
     """The implicit run: uniaxial stress (base on rollers, sides free), the top driven at the
     axial rate (VAD 2, linear in time), 50 steps; the rate from the last output interval."""
@@ -159,6 +205,7 @@ def uniaxial_implicit(kind, axial_rate):
         u1, u0 = last['point']['displacement'][()], before['point']['displacement'][()]
         sigma = last['cell']['stress'][()].ravel()[2]
         alpha = last['cell']['plastic_strain'][()].ravel()[0]
+        alpha_before = before['cell']['plastic_strain'][()].ravel()[0]
     # the effective rate sqrt(d : d): the element's mean logarithmic strain rates over the last
     # output interval (axial from the top, lateral from the sides)
     size = lambda u, k: (x0[:, k] + u[:, k]).max() - (x0[:, k] + u[:, k]).min()  # noqa: E731
@@ -166,6 +213,8 @@ def uniaxial_implicit(kind, axial_rate):
     rate = float(np.sqrt((d ** 2).sum()))
     scale = sigma / (SIGY + EP * alpha)
     want = expected_scale(kind, rate)
+    if kind == 'mat024_vp1':             # VP = 1: the plastic strain rate of the interval
+        want = 1.0 + ((alpha - alpha_before) / dt_out / 40.0) ** (1.0 / 5.0)
     print('    %s: plastic strain %.4f, stress %.2f MPa, scale %.4f; effective rate %.1f /s '
           '(axial %.1f), expected scale %.4f' % (name, alpha, sigma, scale, rate, d[2], want))
     # (the rate of the last output interval against the steps' own: 1 %)
@@ -177,5 +226,8 @@ for kind in ('mat024', 'mat003', 'lcsr', 'table', 'table_log'):
     for axial in (100.0, 1000.0):
         driven(kind, axial)
 driven('mat024_static', 1000.0)
+for axial in (100.0, 1000.0):
+    driven_viscoplastic(axial)
 uniaxial_implicit('mat024', 1000.0)
+uniaxial_implicit('mat024_vp1', 1000.0)
 checks.exit()
