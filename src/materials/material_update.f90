@@ -115,8 +115,14 @@ contains
                            tau, sound_speed, status, c_tau, factor, committed)
       end if
     case (MAT_POWER_LAW)
-      call mat_j2_update(mat, curves, HARDENING_POWER_LAW, f_new, hist_old, hist_new, tau, &
-                         sound_speed, status, c_tau, factor, committed)
+      if (viscoplastic(mat) .and. .not. output .and. present(dt)) then
+        call mat_j2_update(viscoplastic_material(mat, hist_old(HIST_ALPHA), dt), curves, &
+                           HARDENING_POWER_LAW, f_new, hist_old, hist_new, tau, sound_speed, &
+                           status, c_tau, factor, committed)
+      else
+        call mat_j2_update(mat, curves, HARDENING_POWER_LAW, f_new, hist_old, hist_new, tau, &
+                           sound_speed, status, c_tau, factor, committed)
+      end if
     case (MAT_MOONEY_RIVLIN)
       call mat_mooney_rivlin_update(mat, f_new, hist_old, hist_new, tau, sound_speed, status, &
                                     c_tau)

@@ -984,6 +984,23 @@ contains
     q_slow = von_mises(tau)
     call check(ok .and. q_slow < q, 'VP = 1: the same strain in a ten times longer step flows '// &
                'at a lower stress ('//rtoa(q_slow)//' < '//rtoa(q)//' MPa)')
+    ! *MAT_018 (SRC, SRP) likewise: K(alpha) of the power law times the plastic-rate factor
+    block
+      type(material_t) :: power
+      real(wp) :: yield_stress, slope
+      power = power_law_steel()
+      power%cowper_c = 40.0_wp
+      power%cowper_p = 5.0_wp
+      power%vp = 1.0_wp
+      lateral = 1.0_wp
+      call uniaxial_step(power, 1.01_wp, lateral, hist_old, hist_new, tau, 1.0e-9_wp, ok, &
+                         rate=100.0_wp, dt=dt)
+      alpha = hist_new(HIST_ALPHA)
+      call hardening_yield(HARDENING_POWER_LAW, power, curves, alpha, yield_stress, slope)
+      want = yield_stress*(1.0_wp + (alpha/(power%cowper_c*dt))**(1.0_wp/power%cowper_p))
+      call check_close(von_mises(tau), want, 1.0e-10_wp*want, '*MAT_018 VP = 1: von Mises '// &
+                       'tau = K(alpha) (1 + (alpha/(C dt))^(1/P)) = '//rtoa(want)//' MPa')
+    end block
     mat%vp = 0.0_wp
     lateral = 1.0_wp
     call uniaxial_step(mat, 1.01_wp, lateral, hist_old, hist_new, tau, 1.0e-9_wp, ok)
