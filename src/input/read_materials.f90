@@ -603,8 +603,7 @@ contains
   end subroutine johnson_cook_strength
 
   !> The strain-rate and failure fields of *MAT_018 and *MAT_003 (SRC, SRP on rate_card; VP
-  !> and the failure strain, named fs_name, on fail_card): checked; a warning for *MAT_003's
-  !> VP = 1 with rate effects (computed as VP = 0; *MAT_018's is computed).
+  !> and the failure strain, named fs_name, on fail_card): checked.
   subroutine check_rate_and_failure(rate_card, fail_card, mat, fs_name, bad)
     type(card_t), intent(in) :: rate_card, fail_card   !< the cards holding the fields
     type(material_t), intent(in) :: mat                !< the material
@@ -624,10 +623,7 @@ contains
     if (mat%failure_strain < 0.0_wp) call fail_field(fail_card, who//'field '//fs_name// &
         ' must not be negative '//quoted_real(mat%failure_strain), bad)
     if (bad .and. .not. was_bad) return
-    if (mat%cowper_c > 0.0_wp .and. mat%vp == 1.0_wp .and. mat%kind == MAT_PLASTIC_KINEMATIC) &
-      call card_warning(fail_card, who//'VP = 1 (viscoplastic, the plastic strain rate) is '// &
-          'computed as VP = 0: the yield stress is scaled by the total strain rate '// &
-          '(doc/theory.md section 4)')
+
   end subroutine check_rate_and_failure
 
   !> Report an error at a card and remember it.

@@ -39,7 +39,7 @@
 module mefem_hardening
   use mefem_kinds, only: wp
   use mefem_model, only: material_t, curve_t, MAT_JOHNSON_COOK, MAT_SIMPLIFIED_JOHNSON_COOK, &
-                         MAT_PIECEWISE_LINEAR, MAT_POWER_LAW
+                         MAT_PIECEWISE_LINEAR, MAT_POWER_LAW, MAT_PLASTIC_KINEMATIC
   use mefem_curves, only: curve_value
   implicit none
   private
@@ -338,13 +338,14 @@ contains
     yield_stress = yield_stress*factor
   end subroutine viscoplastic_scale
 
-  !> *MAT_024 (C, P or LCSR; not an LCSS table) or *MAT_018 (SRC, SRP) with VP = 1: its
-  !> yield stress follows the plastic strain rate (viscoplastic_scale), not the total rate.
+  !> *MAT_024 (C, P or LCSR; not an LCSS table), *MAT_018 or *MAT_003 (SRC, SRP) with VP = 1:
+  !> its yield stress follows the plastic strain rate (viscoplastic_scale; *MAT_003: its own
+  !> return, kinematic_viscoplastic_dgamma), not the total rate.
   pure logical function viscoplastic(mat)
     type(material_t), intent(in) :: mat        !< the material's parameters
-    viscoplastic = (mat%kind == MAT_PIECEWISE_LINEAR .or. mat%kind == MAT_POWER_LAW) .and. &
-                   mat%vp == 1.0_wp .and. mat%lcss_table == 0 .and. &
-                   (mat%cowper_c > 0.0_wp .or. mat%lcsr_curve > 0)
+    viscoplastic = (mat%kind == MAT_PIECEWISE_LINEAR .or. mat%kind == MAT_POWER_LAW .or. &
+                    mat%kind == MAT_PLASTIC_KINEMATIC) .and. mat%vp == 1.0_wp .and. &
+                   mat%lcss_table == 0 .and. (mat%cowper_c > 0.0_wp .or. mat%lcsr_curve > 0)
   end function viscoplastic
 
   !> *MAT_024 with an LCSS table: the material with the curves around the strain rate set for

@@ -553,8 +553,13 @@ contains
     s = s_trial
     back_new = back_trial
     if (norm_xi - SQRT_TWO_THIRDS*yield_old > 0.0_wp .and. .not. elastic_only) then
-      dgamma = (norm_xi - SQRT_TWO_THIRDS*yield_old)/(2.0_wp*mu_bar + 2.0_wp/3.0_wp* &
-               (factor_rate*mat%beta + 1.0_wp - mat%beta)*plastic_modulus)
+      if (mat%vp_dt > 0.0_wp) then        ! VP = 1: the yield radius of the plastic rate
+        dgamma = kinematic_viscoplastic_dgamma(mat, norm_xi, mu_bar, plastic_modulus, &
+                                               hist_old(HIST_ALPHA))
+      else
+        dgamma = (norm_xi - SQRT_TWO_THIRDS*yield_old)/(2.0_wp*mu_bar + 2.0_wp/3.0_wp* &
+                 (factor_rate*mat%beta + 1.0_wp - mat%beta)*plastic_modulus)
+      end if
       normal = xi/norm_xi
       s = s_trial - 2.0_wp*mu_bar*dgamma*normal
       back_new = back_trial + 2.0_wp/3.0_wp*(1.0_wp - mat%beta)*plastic_modulus*dgamma*normal
@@ -573,6 +578,52 @@ contains
     call symmetric_sandwich(transpose(r), back_new, 1.0_wp, hist_new(HIST_BACK:HIST_BACK + 5))
     sound_speed = sqrt((kappa + 4.0_wp/3.0_wp*mu_bar)/mat%density)
   end subroutine kinematic_stress
+
+  !> *MAT_003 with VP = 1: the plastic multiplier of the return whose isotropic yield radius
+  !> is R (SIGY + BETA Ep alpha), R = 1 + (rate_p/SRC)^(1/SRP) of the plastic strain rate
+  !> rate_p = sqrt(2/3) dgamma/dt of the step (mat%vp_dt): the root of
+  !> g = |xi_tr| - (2 mu_bar + 2/3 (1 - BETA) Ep) dgamma - sqrt(2/3) R (SIGY + BETA Ep alpha),
+  !> which falls with dgamma from g(0) > 0 (the yield check) to g < 0 at |xi_tr|/(2 mu_bar):
+  !> Newton steps kept inside the bracket (bisection where a step leaves it).
+  pure real(wp) function kinematic_viscoplastic_dgamma(mat, norm_xi, mu_bar, plastic_modulus, &
+                                                       alpha_old) result(dgamma)
+    type(material_t), intent(in) :: mat                !< *MAT_003, vp_dt > 0, SRC > 0
+    real(wp), intent(in) :: norm_xi                    !< |xi_tr|, trial relative stress
+    real(wp), intent(in) :: mu_bar                     !< mu I_bar
+    real(wp), intent(in) :: plastic_modulus            !< Ep
+    real(wp), intent(in) :: alpha_old                  !< alpha_n
+    integer, parameter :: MAX_ITERATIONS = 100
+    !> relative residual of the root; fraction of SRC where the rate factor's slope is taken
+    real(wp), parameter :: TOLERANCE = 1.0e-14_wp, RATE_FLOOR = 1.0e-12_wp
+    real(wp) :: lo, hi, g, slope, rate, factor, factor_slope, radius, stiffness, next
+    integer :: iteration
+    stiffness = 2.0_wp*mu_bar + 2.0_wp/3.0_wp*(1.0_wp - mat%beta)*plastic_modulus
+    lo = 0.0_wp
+    hi = norm_xi/(2.0_wp*mu_bar)
+    ! start: the rate-independent return (R = 1), which overshoots the root
+    dgamma = min(hi, (norm_xi - SQRT_TWO_THIRDS*(mat%yield_stress + mat%beta*plastic_modulus* &
+             alpha_old))/(stiffness + 2.0_wp/3.0_wp*mat%beta*plastic_modulus))
+    do iteration = 1, MAX_ITERATIONS
+      rate = SQRT_TWO_THIRDS*dgamma/mat%vp_dt
+      factor = 1.0_wp + (rate/mat%cowper_c)**(1.0_wp/mat%cowper_p)
+      factor_slope = (max(rate, RATE_FLOOR*mat%cowper_c)/mat%cowper_c)** &
+                     (1.0_wp/mat%cowper_p - 1.0_wp)/(mat%cowper_p*mat%cowper_c)* &
+                     SQRT_TWO_THIRDS/mat%vp_dt
+      radius = mat%yield_stress + mat%beta*plastic_modulus*(alpha_old + SQRT_TWO_THIRDS*dgamma)
+      g = norm_xi - stiffness*dgamma - SQRT_TWO_THIRDS*factor*radius
+      if (abs(g) <= TOLERANCE*norm_xi) exit
+      if (g > 0.0_wp) then
+        lo = dgamma
+      else
+        hi = dgamma
+      end if
+      slope = -stiffness - SQRT_TWO_THIRDS*(factor_slope*radius + factor*mat%beta* &
+                                            plastic_modulus*SQRT_TWO_THIRDS)
+      next = dgamma - g/slope
+      if (.not. (next > lo .and. next < hi)) next = 0.5_wp*(lo + hi)
+      dgamma = next
+    end do
+  end function kinematic_viscoplastic_dgamma
 
   !> The elastic trial state of the update at F (det J > 0) from Cbar_p^-1 of t_n: be_tr =
   !> scale F Cbar_p^-1 F^T with scale = J^(-2/3) (upper triangle: exactly symmetric),

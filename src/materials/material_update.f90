@@ -127,8 +127,14 @@ contains
       call mat_mooney_rivlin_update(mat, f_new, hist_old, hist_new, tau, sound_speed, status, &
                                     c_tau)
     case (MAT_PLASTIC_KINEMATIC)
-      call mat_j2_kinematic_update(mat, f_new, hist_old, hist_new, tau, sound_speed, status, &
-                                   c_tau, factor, committed)
+      if (viscoplastic(mat) .and. .not. output .and. present(dt)) then
+        call mat_j2_kinematic_update(viscoplastic_material(mat, hist_old(HIST_ALPHA), dt), &
+                                     f_new, hist_old, hist_new, tau, sound_speed, status, &
+                                     c_tau, factor, committed)
+      else
+        call mat_j2_kinematic_update(mat, f_new, hist_old, hist_new, tau, sound_speed, status, &
+                                     c_tau, factor, committed)
+      end if
     case default
       hist_new = hist_old
       tau = 0.0_wp

@@ -15,7 +15,8 @@ program test_materials
   use mefem_errors, only: status_t
   use mefem_strings, only: rtoa, itoa
   use mefem_model, only: material_t, curve_t, MAT_ELASTIC, MAT_PIECEWISE_LINEAR, MAT_POWER_LAW, &
-                         MAT_MOONEY_RIVLIN, MAT_RIGID, MAT_JOHNSON_COOK, EROSION_MXPRES, EROSION_MNEPS, &
+                         MAT_MOONEY_RIVLIN, MAT_RIGID, MAT_JOHNSON_COOK, MAT_PLASTIC_KINEMATIC, &
+                         EROSION_MXPRES, EROSION_MNEPS, &
                          EROSION_EFFEPS, EROSION_VOLEPS, EROSION_MNPRES, EROSION_SIGP1, &
                          EROSION_SIGVM, EROSION_MXEPS, EROSION_FAILTM
   use mefem_material_state, only: NHIST, HIST_ALPHA, HIST_DAMAGE, material_state_init, &
@@ -1000,6 +1001,26 @@ contains
       want = yield_stress*(1.0_wp + (alpha/(power%cowper_c*dt))**(1.0_wp/power%cowper_p))
       call check_close(von_mises(tau), want, 1.0e-10_wp*want, '*MAT_018 VP = 1: von Mises '// &
                        'tau = K(alpha) (1 + (alpha/(C dt))^(1/P)) = '//rtoa(want)//' MPa')
+    end block
+    ! *MAT_003 (BETA 1: isotropic, no back stress), its own return: the same surface
+    block
+      type(material_t) :: kinematic
+      kinematic = linear_steel()
+      kinematic%kind = MAT_PLASTIC_KINEMATIC
+      kinematic%beta = 1.0_wp
+      kinematic%cowper_c = 40.0_wp
+      kinematic%cowper_p = 5.0_wp
+      kinematic%vp = 1.0_wp
+      lateral = 1.0_wp
+      call uniaxial_step(kinematic, 1.01_wp, lateral, hist_old, hist_new, tau, 1.0e-9_wp, ok, &
+                         rate=100.0_wp, dt=dt)
+      alpha = hist_new(HIST_ALPHA)
+      want = (kinematic%yield_stress + plastic_modulus(kinematic)*alpha)* &
+             (1.0_wp + (alpha/(kinematic%cowper_c*dt))**(1.0_wp/kinematic%cowper_p))
+      call check(ok .and. alpha > 0.0_wp, '*MAT_003 VP = 1: the step flows')
+      call check_close(von_mises(tau), want, 1.0e-10_wp*want, '*MAT_003 VP = 1 (BETA 1): von '// &
+                       'Mises tau = (SIGY + Ep alpha)(1 + (alpha/(C dt))^(1/P)) = '// &
+                       rtoa(want)//' MPa')
     end block
     mat%vp = 0.0_wp
     lateral = 1.0_wp
