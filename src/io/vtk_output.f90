@@ -11,7 +11,8 @@
 !> Piece files use raw appended binary data (header_type UInt64: each block is preceded by its
 !> byte count) and are written with one unformatted stream write per array: points Float64 (3),
 !> connectivity and offsets Int64, cell types UInt8, ids Int32, fields Float64. Point data holds
-!> "node_id" and the given point fields, cell data "element_id", "part_id" and the given cell
+!> "node_id", "GlobalNodeIds" (the node ids again, Int64, named the point data's GlobalIds:
+!> ParaView joins the copies of a node on the pieces' cuts) and the given point fields, cell data "element_id", "part_id" and the given cell
 !> fields. The connectivity is written in the order of output_mesh_t%conn: a PENTA6 cell must
 !> therefore list its nodes in VTK wedge order (nodes 1-3 one triangle, 4-6 the opposite one,
 !> node 3+k above node k, with 1-2-3 turning clockwise when seen from the 4-5-6 side).
@@ -63,6 +64,10 @@ module mefem_vtk_output
       integer(c_int) :: status
     end function c_rename
   end interface
+
+  !> The point array ParaView and VTK take as the points' global ids (the node ids, Int64 as
+  !> vtkIdType): the copies of a node in several ranks' pieces are known as one node
+  character(len=*), parameter :: GLOBAL_NODE_IDS = 'GlobalNodeIds'
 
 contains
 
@@ -212,10 +217,11 @@ contains
     end if
 
     ! what is written, in order: point data, cell data, points, cells
-    allocate(point_arrays(1 + size(point_fields)), cell_arrays(2 + size(cell_fields)))
+    allocate(point_arrays(2 + size(point_fields)), cell_arrays(2 + size(cell_fields)))
     point_arrays(1) = info('node_id', integer_type(), 1, nnode, storage_size(1) / 8)
+    point_arrays(2) = info(GLOBAL_NODE_IDS, 'Int64', 1, nnode, 8)
     do k = 1, size(point_fields)
-      point_arrays(1 + k) = info(trim(point_fields(k)%name), 'Float64', point_fields(k)%ncomp, &
+      point_arrays(2 + k) = info(trim(point_fields(k)%name), 'Float64', point_fields(k)%ncomp, &
                                  nnode, storage_size(1.0_wp) / 8)
     end do
     cell_arrays(1) = info('element_id', integer_type(), 1, ncell, storage_size(1) / 8)
@@ -235,7 +241,7 @@ contains
            '<VTKFile type="UnstructuredGrid" version="1.0" byte_order="'//byte_order()// &
            '" header_type="UInt64">'//LF//'  <UnstructuredGrid>'//LF// &
            '    <Piece NumberOfPoints="'//itoa(nnode)//'" NumberOfCells="'//itoa(ncell)//'">'//LF
-    text = text//'      <PointData>'//LF
+    text = text//'      <PointData GlobalIds="'//GLOBAL_NODE_IDS//'">'//LF
     do k = 1, size(point_arrays)
       text = text//data_array_tag(point_arrays(k), offset)
     end do
@@ -254,8 +260,11 @@ contains
     ! point data
     if (ios == 0) write(unit, iostat=ios, iomsg=message) point_arrays(1)%nbytes
     if (ios == 0 .and. nnode > 0) write(unit, iostat=ios, iomsg=message) mesh%node_id(1:nnode)
+    if (ios == 0) write(unit, iostat=ios, iomsg=message) point_arrays(2)%nbytes
+    if (ios == 0 .and. nnode > 0) write(unit, iostat=ios, iomsg=message) &
+      int(mesh%node_id(1:nnode), i8)
     do k = 1, size(point_fields)
-      if (ios == 0) write(unit, iostat=ios, iomsg=message) point_arrays(1 + k)%nbytes
+      if (ios == 0) write(unit, iostat=ios, iomsg=message) point_arrays(2 + k)%nbytes
       if (ios == 0 .and. nnode > 0) write(unit, iostat=ios, iomsg=message) point_fields(k)%values
     end do
     ! cell data
@@ -292,7 +301,8 @@ contains
     text = '<?xml version="1.0"?>'//LF// &
            '<VTKFile type="PUnstructuredGrid" version="1.0" byte_order="'//byte_order()// &
            '" header_type="UInt64">'//LF//'  <PUnstructuredGrid GhostLevel="0">'//LF// &
-           '    <PPointData>'//LF//parallel_tag('node_id', integer_type(), 1)
+           '    <PPointData GlobalIds="'//GLOBAL_NODE_IDS//'">'//LF// &
+           parallel_tag('node_id', integer_type(), 1)//parallel_tag(GLOBAL_NODE_IDS, 'Int64', 1)
     do k = 1, size(point_fields)
       text = text//parallel_tag(trim(point_fields(k)%name), 'Float64', point_fields(k)%ncomp)
     end do
