@@ -28,6 +28,8 @@ module mefem_model
   integer, parameter, public :: ON_NODE = 1, ON_NODE_SET = 2, ON_PART = 3, ON_ALL_NODES = 4, &
                                 ON_PART_SET = 5, ON_SEGMENT_SET = 6
   ! sets
+  !> VAD of *BOUNDARY_PRESCRIBED_MOTION: what the curve gives
+  integer, parameter, public :: VAD_VELOCITY = 0, VAD_ACCELERATION = 1, VAD_DISPLACEMENT = 2
   integer, parameter, public :: SET_NODE = 1, SET_SEGMENT = 2, SET_PART = 3, SET_SOLID = 4, &
                                 SET_SHELL = 5, SET_KINDS = 5
   ! entries of *SET_NODE_GENERAL (negative: the D- options, which remove)

@@ -35,7 +35,8 @@ module mefem_rigid_bodies
   use mefem_strings, only: itoa
   use mefem_vector_math, only: cross
   use mefem_tensor_algebra, only: determinant, inverse
-  use mefem_model, only: model_t, MAT_RIGID, ELEM_SOLID, ON_PART, ON_NODE, RIGID_MERGE, &
+  use mefem_model, only: model_t, VAD_VELOCITY, VAD_ACCELERATION, VAD_DISPLACEMENT, &
+                         MAT_RIGID, ELEM_SOLID, ON_PART, ON_NODE, RIGID_MERGE, &
                          RIGID_EXTRA_NODES, RIGID_NODAL, TOPO_TRI3, TOPO_QUAD4, &
                          TOPO_TET4, TOPO_PENTA6, TOPO_HEX8
   use mefem_curves, only: curve_value
@@ -47,8 +48,6 @@ module mefem_rigid_bodies
             rigid_bodies_advance, rigid_body_point_motion, rigid_bodies_kinetic_energy, &
             rigid_body_reaction
 
-  !> VAD codes of *BOUNDARY_PRESCRIBED_MOTION_RIGID.
-  integer, parameter :: VAD_VELOCITY = 0, VAD_ACCELERATION = 1, VAD_DISPLACEMENT = 2
   !> DOF 5-7 (rotations about x, y, z) are slots 4-6 of the (v, omega) vector.
   integer, parameter :: ROTATION_DOF_SHIFT = 1
   !> CON1/CON2 code of *MAT_RIGID (CMO = 1) -> held x, y, z (translations or rotations):
