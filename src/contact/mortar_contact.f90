@@ -37,7 +37,7 @@
 !> non-uniform pressure and fails the patch test): eps = SLSFAC SFSA SFSB <K/h>, the area mean
 !> over the slave facets of the bulk modulus over the element size normal to the facet
 !> (LS-DYNA's SOFT = 0 stiffness as a pressure per unit gap), limited so that the contact
-!> spring never lowers the stable time step: eps <= MASS_LIMIT min_A(m_A/a_A) / dt^2 (a_A the
+!> spring never lowers the stable time step: eps <= mass_limit min_A(m_A/a_A) / dt^2 (a_A the
 !> slave node's tributary area). Statics (implicit) scales it by a factor, without the limit.
 !>
 !> Parallel (documented choice, doc/theory.md 10.8): contact surfaces are small next to the
@@ -77,8 +77,9 @@ module mefem_mortar_contact
   public :: mortar_contact_setup, mortar_contact_forces, mortar_contact_slave_rows
   public :: mortar_contact_set_masses, mortar_contact_erode
 
-  real(wp), parameter :: MASS_LIMIT = 0.1_wp       !< eps A dt^2 / m at most: the contact
-                                                   !< spring's period stays above 20 dt
+  real(wp), parameter :: MIN_MASS_LIMIT = 0.1_wp   !< eps a dt^2 / m at most, whatever
+                                                   !< TSSFAC (contact_mass_limit): the spring's
+                                                   !< period stays above 20 dt
   real(wp), parameter :: SLSFAC = 0.1_wp           !< *CONTROL_CONTACT SLSFAC (default)
   real(wp), parameter :: MARGIN_FACTOR = 0.5_wp    !< search margin / mean facet size (the
                                                    !< smaller of the slave and master means)
@@ -184,6 +185,8 @@ module mefem_mortar_contact
     logical :: distributed = .false.               !< mortar kernels divided among the ranks
     integer :: rank = 0, nranks = 1                !< this rank, ranks sharing the kernels
     integer :: divide_min = MIN_CANDIDATES_PER_RANK !< candidates per rank to divide
+    real(wp) :: mass_limit = MIN_MASS_LIMIT        !< penalty cap eps a_A dt^2 / m_A at most
+                                                   !< (contact_mass_limit)
     type(contact_interface_t), allocatable :: interfaces(:)
     integer :: nnode = 0                           !< contact nodes (union of all surfaces)
     integer, allocatable :: node_global(:)         !< (nnode) mesh nodes, ascending
@@ -210,6 +213,7 @@ contains
     logical, allocatable :: used(:)
     integer :: k, i, ns, f
     contact%dim = model%dimension
+    contact%mass_limit = contact_mass_limit(model%controls%tssfac)
     contact%distributed = .false.
     if (present(distribute)) contact%distributed = distribute
     if (contact%distributed) contact%distributed = comm_size() > 1
@@ -285,6 +289,17 @@ contains
     contact%pressure = 0.0_wp
     contact%gap = 0.0_wp
   end subroutine mortar_contact_setup
+
+  !> The explicit penalty's cap eps a_A dt^2 / m_A (doc/theory.md 10.5): a quarter of the
+  !> margin the step leaves, 1 - TSSFAC^2 (the cells' bound gives omega_c^2 dt^2 <= 4 TSSFAC^2,
+  !> so the contact springs may add 4 (1 - TSSFAC^2); a quarter at the slave node leaves room
+  !> for the master side and for neighbouring springs on shared master nodes), but at least
+  !> MIN_MASS_LIMIT (TSSFAC above 0.95, where the bound's own distance from the true step is
+  !> the margin).
+  pure real(wp) function contact_mass_limit(tssfac)
+    real(wp), intent(in) :: tssfac                    !< *CONTROL_TIMESTEP TSSFAC
+    contact_mass_limit = max(MIN_MASS_LIMIT, 1.0_wp - tssfac**2)
+  end function contact_mass_limit
 
   !> Candidates per rank from which an interface is divided: MIN_CANDIDATES_PER_RANK, or the
   !> value of the environment variable MEFEM_CONTACT_DIVIDE_MIN (an integer >= 0) if set.
@@ -452,7 +467,7 @@ contains
   !>     in 3D, area / edge length in 2D, reference configuration): LS-DYNA's SOFT = 0
   !>     stiffness k = SLSFAC SFS K A^2 / V as a pressure per unit gap;
   !>   mass_per_area = min over slave nodes of m_A / a_A (a_A = int N_A over the slave
-  !>     facets), for the time-step limit eps <= MASS_LIMIT mass_per_area / dt^2.
+  !>     facets), for the time-step limit eps <= mass_limit mass_per_area / dt^2.
   subroutine slave_penalty(model, c, mass, it)
     type(model_t), intent(in) :: model                !< resolved model
     type(contact_t), intent(in) :: c                  !< the contact card
@@ -547,7 +562,7 @@ contains
 
   !> New nodal masses of the contact nodes (contact%node_global order) for the penalty's
   !> time-step limit: with mass scaling the integrator's masses grow where the step needs it,
-  !> and the limit eps <= MASS_LIMIT m_A / (a_A dt^2) must use those masses with the scaled
+  !> and the limit eps <= mass_limit m_A / (a_A dt^2) must use those masses with the scaled
   !> step (the physical masses with it would make the contact soft by the added mass' ratio).
   subroutine mortar_contact_set_masses(contact, node_mass)
     type(mortar_contact_t), intent(inout) :: contact  !< contact data
@@ -701,7 +716,7 @@ contains
       end if
       it%gap(a) = dot_product(it%normal(:, a), it%gap_vector(:, a))/it%area(a)
       eps = penalty_scale*it%eps_material
-      if (dt > 0.0_wp) eps = min(eps, MASS_LIMIT*it%mass_per_area/(dt*dt))
+      if (dt > 0.0_wp) eps = min(eps, contact%mass_limit*it%mass_per_area/(dt*dt))
       if (it%single) eps = it%pass_weight(a)*eps
       penetration = max(-it%gap(a), 0.0_wp)
       if (it%keep_initial) then

@@ -29,7 +29,7 @@ module mefem_stable_time_step
 
   public :: cell_mass_shares, cell_inverse_mass_metric, cell_critical_omega_squared, &
             symmetric_max_eigenvalue, block_critical_omega_squared, cell_split_weights, &
-            inverse_mass_metric
+            inverse_mass_metric, cell_rebalance_weights
 
   !> Chebyshev coefficients of y(x) = cos(acos(r)/3) = cos(2/3 acos(t)), t = sqrt((1 + r)/2),
   !> x = 2 t - 1 in [-1, 1] (y is analytic there: no square-root singularity at r = -1 or 1),
@@ -207,6 +207,29 @@ contains
       k(a) = scale*norm2(q(1:dim))
     end do
   end subroutine cell_split_weights
+
+  !> Weights of one rebalancing pass of the mass split (doc/theory.md 7) for one cell at the
+  !> deformation gradient f: its present shares times its bound omega_c^2 with them, so that
+  !> the nodes' mass moves towards the cells that set the step (the shares alone where the
+  !> bound is not finite, det F <= 0: the material update stops the run there).
+  pure subroutine cell_rebalance_weights(dim, nn, weight, grad, share, f, lambda, mu, k)
+    integer, intent(in) :: dim                   !< 2 (plane strain) or 3
+    integer, intent(in) :: nn                    !< nodes of the cell
+    real(wp), intent(in) :: weight               !< reference area (unit thickness) or volume
+    real(wp), intent(in) :: grad(:,:)            !< (>= dim, >= nn) reference gradients
+    real(wp), intent(in) :: share(:)             !< (>= nn) the present mass shares
+    real(wp), intent(in) :: f(3, 3)              !< deformation gradient (F33 = 1 in 2D)
+    real(wp), intent(in) :: lambda, mu           !< Lame constants of the cell's material
+    real(wp), intent(out) :: k(:)                !< (>= nn) the new weights
+    real(wp) :: w0(3, 3), omega2
+    call inverse_mass_metric(dim, nn, grad, share, w0)
+    omega2 = cell_critical_omega_squared(dim, weight, w0(1:dim, 1:dim), f, lambda, mu)
+    if (omega2 < huge(1.0_wp)) then
+      k(1:nn) = share(1:nn)*omega2
+    else
+      k(1:nn) = share(1:nn)
+    end if
+  end subroutine cell_rebalance_weights
 
   !> Upper bound of omega^2 of one cell at the deformation gradient f:
   !>   J weight (max(lambda, 0) tr W + 2 mu lambda_max(W)),  W = F^-T W0 F^-1,  J = det F,
