@@ -118,10 +118,20 @@ contains
     type(model_t), intent(in) :: model                !< resolved model
     type(explicit_state_t), intent(inout) :: s        !< local state
     integer, allocatable :: grown(:)
+    logical, allocatable :: marked(:)
     real(wp) :: alpha
-    integer :: l
+    integer :: l, b
+    ! 3D: the blocks that hold a mark at all (one vector test each; most hold none)
+    allocate(marked(s%nblock))
+    do b = 1, s%nblock
+      marked(b) = any(s%block_hist(1:s%block_start(b + 1) - s%block_start(b), HIST_ALPHA, b) < &
+                      0.0_wp)
+    end do
     do l = 1, s%ncell
       if (s%cell_counted(l)) cycle
+      if (s%nblock > 0) then
+        if (.not. marked(s%cell_block(l))) cycle
+      end if
       if (.not. material_fails(model%materials(s%material(l)))) cycle
       if (.not. cell_failed(s, l)) cycle
       if (s%nblock > 0) then
@@ -850,6 +860,11 @@ contains
     subroutine erode_failed()
       real(wp) :: j_stress
       associate (mat => model%materials(s%material(s%block_cell(first))))
+        ! a block without failed cells, of a material that fails by plastic strain alone,
+        ! whose cells all stay below it (the usual case, e.g. FAIL = 1e21): nothing to do
+        if (.not. (mat%jc_fails .or. mat%add_erosion .or. any(failed(1:n)))) then
+          if (all(s%block_hist(1:n, HIST_ALPHA, b) < mat%failure_strain)) return
+        end if
         do i = 1, n
           if (failed(i)) then
             s%block_hist(i, :, b) = kept(i, :)
