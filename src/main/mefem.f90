@@ -18,7 +18,7 @@ program mefem
   use mefem_results, only: results_open, results_write_state, results_close, node_set_fields
   use mefem_progress, only: peak_memory_mib
   use mefem_linear_static, only: linear_static_run
-  use mefem_implicit_static, only: implicit_static_run
+  use mefem_implicit_static, only: implicit_static_run, implicit_writes_initial_state
   use mefem_explicit_dynamics, only: explicit_dynamics_run, explicit_writes_initial_state, &
                                      explicit_analysis
   use mefem_boundary_conditions, only: warn_loads_on_free_nodes
@@ -63,10 +63,11 @@ program mefem
     call partition_model(model, decomp, element_rank)
   end if
 
-  ! write the model as read: the mesh, its parts and node sets (state 0; the explicit
-  ! analysis writes state 0 itself, with its fields at t = 0)
+  ! write the model as read: the mesh, its parts and node sets (state 0; the explicit and
+  ! the nonlinear implicit analyses write state 0 themselves, with their fields at t = 0)
   call results_open(options%output_dir, deck_stem(options%deck), model, decomp)
-  if (.not. explicit_writes_initial_state(model)) then
+  if (.not. (explicit_writes_initial_state(model) .or. implicit_writes_initial_state(model))) &
+    then
     call node_set_fields(model, decomp, point_fields)
     allocate(cell_fields(0))
     call results_write_state(0, 0.0_wp, point_fields, cell_fields)

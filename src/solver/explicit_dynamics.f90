@@ -60,7 +60,8 @@ module mefem_explicit_dynamics
                                        initial_velocities
   use mefem_output_mesh, only: output_field_t
   use mefem_results, only: results_write_state, results_directory, node_set_fields
-  use mefem_solver_common, only: cell_result_fields, schedule_after, warn_output_every_step
+  use mefem_solver_common, only: cell_result_fields, schedule_after, warn_output_every_step, &
+                                 title_or_default
   use mefem_history_output, only: glstat_record_t, glstat_open, glstat_write, glstat_close, &
                                   glstat_total_energy, glstat_energy_ratio, nodout_open, &
                                   nodout_write, nodout_close
@@ -1161,7 +1162,7 @@ contains
         then
       call write_glstat(model, s, schedule, cycle, t, dt)
       if (s%nwall > 0) call write_rwforc(model, s, t)
-      if (s%bodies%n > 0) call write_rbdout(model, s, t)
+      if (s%bodies%n > 0) call write_rbdout(s, t)
     end if
     if (due(schedule%rcforc_interval, schedule%next_rcforc, schedule%last_rcforc, t, final)) &
       call write_rcforc(s, t)
@@ -1503,8 +1504,7 @@ contains
 
   !> Rigid-body histories (rbdout, at the glstat interval): centre displacement and velocity,
   !> reaction force and moment of every body (replicated data: rank 0 writes).
-  subroutine write_rbdout(model, s, t)
-    type(model_t), intent(in) :: model                !< resolved model
+  subroutine write_rbdout(s, t)
     type(explicit_state_t), intent(in) :: s           !< local state
     real(wp), intent(in) :: t                         !< time
     real(wp) :: values(12, s%bodies%n)
@@ -1601,14 +1601,6 @@ contains
     if (schedule%nodout_interval > 0.0_wp) call nodout_open(results_directory(), &
         model%nodes%id(nodes), title_or_default(model%controls%title))
   end subroutine open_histories
-
-  !> The deck's *TITLE, or "mefem".
-  pure function title_or_default(title) result(text)
-    character(len=*), intent(in) :: title       !< *TITLE text (may be blank)
-    character(len=:), allocatable :: text
-    text = trim(title)
-    if (len(text) == 0) text = 'mefem'
-  end function title_or_default
 
   !> Close the history files (no-op where none is open).
   subroutine close_histories()

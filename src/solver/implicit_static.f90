@@ -37,22 +37,24 @@ module mefem_implicit_static
                          ordering_name
   use mefem_progress, only: peak_memory_mib
   use mefem_output_mesh, only: output_field_t
-  use mefem_results, only: results_write_state
+  use mefem_results, only: results_write_state, node_set_fields, results_directory
   use mefem_sense_switch, only: sense_switch, sense_switch_warn_leftover, SENSE_STOP, &
                                 SENSE_STATUS, SENSE_STATE
   use mefem_solver_common, only: number_equations, cell_result_fields, schedule_after, &
-                                 warn_output_every_step
+                                 warn_output_every_step, title_or_default
   use mefem_mortar_contact, only: mortar_contact_t, mortar_contact_setup, mortar_contact_forces, &
                                   mortar_contact_slave_rows
   use mefem_curves, only: curve_value
-  use mefem_history_output, only: rcforc_open, rcforc_write, rcforc_close
-  use mefem_results, only: results_directory
+  use mefem_history_output, only: rcforc_open, rcforc_write, rcforc_close, glstat_record_t, &
+                                  glstat_open, glstat_write, glstat_close, &
+                                  glstat_total_energy, glstat_energy_ratio, rbdout_open, &
+                                  rbdout_write, rbdout_close
   use mefem_lumped_mass, only: lumped_mass
   use mefem_body_loads, only: body_acceleration, body_load_nodes, add_body_forces
   implicit none
   private
 
-  public :: implicit_static_run
+  public :: implicit_static_run, implicit_writes_initial_state
 
   !> Wall time spent in the phases of the Newton iterations (for the run summary).
   type :: timing_t
@@ -89,6 +91,30 @@ module mefem_implicit_static
   !> others), set once by implicit_static_run: the body force of a node is -m a(t).
   real(wp), allocatable :: loaded_mass(:)
 
+  !> Energies of the quasi-static run for glstat (doc/theory.md 5), summed step by step by
+  !> the trapezoidal rule over the converged states: internal energy int f_int . du (all
+  !> degrees of freedom, enriched ones included), external work int (f_int - f_contact) . du
+  !> on the deformable nodes (the loads and the reactions of SPCs and prescribed motions, in
+  !> equilibrium) plus the work of the tools' drives, int -F_tool . dx_tool, and the sliding
+  !> interface energy -int F . dx over both sides of every contact (the penalty springs'
+  !> energy and the friction's dissipation). Kinetic energy is 0 (statics).
+  type :: energy_t
+    real(wp) :: internal = 0.0_wp                  !< internal energy
+    real(wp) :: external = 0.0_wp                  !< external work
+    real(wp) :: contact = 0.0_wp                   !< sliding interface energy
+    real(wp), allocatable :: f_int(:,:)            !< (dim, all nodes) f_int, last state
+    real(wp), allocatable :: u(:,:)                !< (dim, all nodes) u, last state
+    real(wp), allocatable :: g(:,:)                !< (dim, all nodes) external forces, last
+    real(wp), allocatable :: f_contact(:,:)        !< (3, contact nodes) contact forces, last
+    real(wp), allocatable :: x_contact(:,:)        !< (3, contact nodes) their positions, last
+    real(wp) :: glstat_interval = 0.0_wp           !< *DATABASE_GLSTAT DT (0: no glstat)
+    real(wp) :: next_glstat = 0.0_wp               !< next glstat (and rbdout) time
+    logical :: rbdout = .false.                    !< tools written to rbdout
+    real(wp), allocatable :: tool_centre(:,:)      !< (3, parts) centroid of each tool's nodes
+    real(wp), allocatable :: tool_d(:,:)           !< (3, parts) tool translation, last state
+  end type energy_t
+  type(energy_t) :: energy
+
   !> What one evaluation of the cells gives.
   type :: cell_state_t
     real(wp), allocatable :: hist_new(:,:)   !< (NHIST, cells) trial history
@@ -109,7 +135,7 @@ contains
     integer, allocatable :: equation(:,:)
     logical, allocatable :: fixed(:,:), owned(:)
     real(wp), allocatable :: prescribed(:,:), force(:,:), u(:,:), u_step(:,:), hist(:,:)
-    real(wp), allocatable :: u_last(:,:)
+    real(wp), allocatable :: u_last(:,:), internal(:,:)
     real(wp) :: dt_last
     real(wp) :: t, dt, dt_min, dt_max, end_time, next_output, t0, dt_planned
     integer :: dim, n_all, n_equations, step, iterations, output_step, c, cuts, action, signum, k
@@ -133,7 +159,8 @@ contains
     do c = 1, cells%n
       call material_state_init(hist(:, c))
     end do
-    allocate(fixed(dim, n_all), prescribed(dim, n_all), force(dim, n_all), u(dim, n_all))
+    allocate(fixed(dim, n_all), prescribed(dim, n_all), force(dim, n_all), u(dim, n_all), &
+             internal(dim, n_all))
     u = 0.0_wp
     ! the fixed set is the same in every step (SPCs, TC codes, VAD=2 motions)
     fixed = .false.
@@ -153,6 +180,8 @@ contains
         'degrees of freedom)')
     call set_up_tools(model, cells)
     call set_up_body_loads(model, cells)
+    call set_up_histories(model, cells, equation)
+    call write_state(model, decomp, cells, u, hist, equation, 0.0_wp, 0)   ! state 0, t = 0
     call mumps_init(solver, MUMPS_UNSYMMETRIC, status)
     if (.not. status%ok) call fatal('implicit: '//status%message)
 
@@ -193,7 +222,7 @@ contains
       ! whole increment of a driven boundary into the cells next to it.
       if (dt_last > 0.0_wp) where (equation > 0) u = u + (dt/dt_last)*(u_step - u_last)
       call newton_step(model, cells, owned, equation, n_equations, t + dt, hist, u, &
-                       tangent, solver, trial, iterations, converged, dt, u_step)
+                       tangent, solver, trial, iterations, converged, dt, u_step, internal)
       if (converged .and. tools%interfaces%n > 0) then
         call report_contact(t + dt, model%controls%rcforc_interval > 0.0_wp)
         if (tools%friction) tools%committed = tools%interfaces
@@ -225,6 +254,12 @@ contains
       call say('step '//itoa(step)//': t = '//rtoa(t)//', dt = '//rtoa(dt)//', '// &
                itoa(iterations)//' iterations')
       call progress_update(step, t, dt, final=t >= end_time*(1.0_wp - 1.0e-12_wp))
+      call account_energy(model, cells, equation, u, t, internal)
+      if (energy%glstat_interval > 0.0_wp .and. (t >= energy%next_glstat*(1.0_wp - 1.0e-9_wp) &
+          .or. t >= end_time*(1.0_wp - 1.0e-12_wp))) then
+        call write_histories(model, step, t, dt)
+        energy%next_glstat = schedule_after(energy%next_glstat, energy%glstat_interval, t)
+      end if
       if (dt < dt_planned) dt = dt_planned
       written = .false.
       if (t >= next_output*(1.0_wp - 1.0e-9_wp) .or. t >= end_time*(1.0_wp - 1.0e-12_wp)) then
@@ -267,6 +302,8 @@ contains
     call mumps_free(solver)
     call coo_free(tangent)
     call rcforc_close()
+    call glstat_close()
+    call rbdout_close()
     call say('implicit: '//itoa(step)//' steps, '//itoa(cuts)//' cut-backs, '// &
              itoa(timing%iterations)//' Newton iterations, '//rtoa(comm_wtime() - t0)//' s')
     if (timing%iterations > 0) call say('implicit: per iteration: assembly '// &
@@ -274,6 +311,159 @@ contains
         rtoa(timing%factorisation/timing%iterations)//' s, solve '// &
         rtoa(timing%solve/timing%iterations)//' s')
   end subroutine implicit_static_run
+
+  !> The implicit analyses (this one and the linear static one) write their state 0
+  !> themselves: every array of the later states, at t = 0, and the node sets.
+  logical function implicit_writes_initial_state(model)
+    type(model_t), intent(in) :: model                 !< resolved model
+    implicit_writes_initial_state = model%controls%imflag == 1
+  end function implicit_writes_initial_state
+
+  !> glstat and rbdout of the quasi-static run (at *DATABASE_GLSTAT's interval, as the explicit
+  !> analysis writes them): the files opened, the first record at t = 0, the energies' start
+  !> (energy_t) and each tool's reference centroid (rbdout's moments are taken about it).
+  subroutine set_up_histories(model, cells, equation)
+    type(model_t), intent(in) :: model                 !< resolved model
+    type(cells_t), intent(in) :: cells                 !< cells
+    integer, intent(in) :: equation(:,:)               !< equation numbers
+    real(wp), allocatable :: zero(:,:)
+    integer, allocatable :: count(:)
+    integer :: n, p
+    energy%glstat_interval = model%controls%glstat_interval
+    allocate(zero(cells%dim, cells%n_mesh_nodes + cells%n_enriched))
+    zero = 0.0_wp
+    call account_energy(model, cells, equation, zero, 0.0_wp, zero)
+    if (energy%glstat_interval <= 0.0_wp) return
+    call glstat_open(results_directory(), title_or_default(model%controls%title))
+    allocate(energy%tool_centre(3, model%n_parts), energy%tool_d(3, model%n_parts), &
+             count(model%n_parts))
+    energy%tool_centre = 0.0_wp
+    energy%tool_d = 0.0_wp
+    count = 0
+    do n = 1, model%nodes%n
+      p = tools%rigid_part(n)
+      if (p == 0) cycle
+      energy%tool_centre(:, p) = energy%tool_centre(:, p) + model%nodes%x(:, n)
+      count(p) = count(p) + 1
+    end do
+    do p = 1, model%n_parts
+      if (count(p) > 0) energy%tool_centre(:, p) = energy%tool_centre(:, p)/count(p)
+    end do
+    energy%rbdout = any(count > 0)
+    if (energy%rbdout) call rbdout_open(results_directory(), &
+                                        title_or_default(model%controls%title))
+    call write_histories(model, 0, 0.0_wp, 0.0_wp)
+    energy%next_glstat = schedule_after(0.0_wp, energy%glstat_interval, 0.0_wp)
+  end subroutine set_up_histories
+
+  !> The energies (energy_t) from the last converged state to this one (u, t, its internal
+  !> forces f_int): the trapezoidal rule on the forces of both states. The first call (at
+  !> t = 0, u = 0, f_int = 0) only stores the start.
+  subroutine account_energy(model, cells, equation, u, t, internal)
+    type(model_t), intent(in) :: model                 !< resolved model
+    type(cells_t), intent(in) :: cells                 !< cells
+    integer, intent(in) :: equation(:,:)               !< equation numbers (0: fixed dof)
+    real(wp), intent(in) :: u(:,:)                     !< (dim, all nodes) converged u
+    real(wp), intent(in) :: t                          !< its time
+    real(wp), intent(in) :: internal(:,:)              !< (dim, all nodes) its f_int
+    real(wp), allocatable :: g(:,:), f_contact(:,:), x_contact(:,:)
+    real(wp) :: work
+    integer :: dim, n, k, p
+    dim = cells%dim
+    ! external forces on the deformable body: the loads where the dof is free, f_int minus the
+    ! contact force (the load and the reaction together) where it is fixed
+    allocate(g(dim, size(u, 2)))
+    g = 0.0_wp
+    call external_forces(model, t, g(:, 1:cells%n_mesh_nodes))
+    if (model%n_body_loads > 0) call add_body_forces(body_acceleration(model, t), &
+                                                     loaded_mass, g)
+    where (equation == 0) g = internal
+    allocate(f_contact(3, tools%interfaces%nnode), x_contact(3, tools%interfaces%nnode))
+    do k = 1, tools%interfaces%nnode
+      n = tools%interfaces%node_global(k)
+      f_contact(:, k) = 0.0_wp
+      if (allocated(tools%interfaces%force) .and. t > 0.0_wp) &
+        f_contact(:, k) = tools%interfaces%force(:, k)
+      x_contact(:, k) = model%nodes%x(:, n)
+      p = tools%rigid_part(n)
+      if (p > 0) then
+        x_contact(:, k) = x_contact(:, k) + tool_displacement(model, p, t)
+      else
+        x_contact(1:dim, k) = x_contact(1:dim, k) + u(:, n)
+        where (equation(:, n) == 0) g(:, n) = g(:, n) - f_contact(1:dim, k)
+      end if
+    end do
+    do n = 1, cells%n_mesh_nodes
+      if (tools%rigid_part(n) > 0) g(:, n) = 0.0_wp     ! a tool's drive: from x_contact
+    end do
+    if (allocated(energy%u)) then
+      energy%internal = energy%internal + 0.5_wp*sum((energy%f_int + internal)*(u - energy%u))
+      energy%external = energy%external + 0.5_wp*sum((energy%g + g)*(u - energy%u))
+      do k = 1, tools%interfaces%nnode
+        work = 0.5_wp*dot_product(energy%f_contact(:, k) + f_contact(:, k), &
+                                  x_contact(:, k) - energy%x_contact(:, k))
+        energy%contact = energy%contact - work
+        if (tools%rigid_part(tools%interfaces%node_global(k)) > 0) &
+          energy%external = energy%external - work
+      end do
+    end if
+    energy%u = u
+    energy%f_int = internal
+    energy%g = g
+    energy%f_contact = f_contact
+    energy%x_contact = x_contact
+  end subroutine account_energy
+
+  !> One glstat record of the energies and, with tools, one rbdout row per tool: its
+  !> translation, velocity (the last step's mean), the force its drive applies (minus the
+  !> contact forces on it) and that force's moment about its reference centroid, moved.
+  subroutine write_histories(model, step, t, dt)
+    type(model_t), intent(in) :: model                 !< resolved model
+    integer, intent(in) :: step                        !< step number (0: the start)
+    real(wp), intent(in) :: t                          !< time
+    real(wp), intent(in) :: dt                         !< the last step
+    type(glstat_record_t) :: rec
+    real(wp), allocatable :: values(:,:)
+    real(wp) :: d(3), arm(3), force(3)
+    integer, allocatable :: ids(:)
+    integer :: p, k, n, m
+    rec%cycle = step
+    rec%time = t
+    rec%time_step = dt
+    rec%controlled_by = merge('*CONTROL_IMPLICIT_AUTO   ', '*CONTROL_IMPLICIT_GENERAL', &
+                              model%controls%iauto /= 0)
+    rec%internal_energy = energy%internal
+    rec%external_work = energy%external
+    rec%contact_energy = energy%contact
+    rec%total_energy = glstat_total_energy(rec)
+    rec%energy_ratio = glstat_energy_ratio(rec%total_energy, 0.0_wp, rec%external_work)
+    rec%energy_ratio_uneroded = rec%energy_ratio
+    call glstat_write(rec)
+    if (.not. energy%rbdout) return
+    allocate(ids(model%n_parts), values(12, model%n_parts))
+    m = 0
+    do p = 1, model%n_parts
+      if (.not. any(tools%rigid_part == p)) cycle
+      m = m + 1
+      ids(m) = model%parts(p)%id
+      d = tool_displacement(model, p, t)
+      values(1:3, m) = d
+      values(4:6, m) = 0.0_wp
+      if (dt > 0.0_wp) values(4:6, m) = (d - energy%tool_d(:, p))/dt
+      energy%tool_d(:, p) = d
+      values(7:12, m) = 0.0_wp
+      do k = 1, tools%interfaces%nnode
+        n = tools%interfaces%node_global(k)
+        if (tools%rigid_part(n) /= p) cycle
+        force = -energy%f_contact(:, k)
+        arm = energy%x_contact(:, k) - (energy%tool_centre(:, p) + d)
+        values(7:9, m) = values(7:9, m) + force
+        values(10:12, m) = values(10:12, m) + [arm(2)*force(3) - arm(3)*force(2), &
+            arm(3)*force(1) - arm(1)*force(3), arm(1)*force(2) - arm(2)*force(1)]
+      end do
+    end do
+    call rbdout_write(t, ids(1:m), values(:, 1:m))
+  end subroutine write_histories
 
   !> The last factorisation's size and memory (MUMPS INFOG) and the peak resident memory of
   !> the run (VmHWM) in the log: what a user needs to size a larger model.
@@ -372,7 +562,7 @@ contains
 
   !> One load step by Newton-Raphson; u holds the converged displacements on success.
   subroutine newton_step(model, cells, owned, equation, n_equations, t_new, hist, u, tangent, &
-                         solver, trial, iterations, converged, dt, u_committed)
+                         solver, trial, iterations, converged, dt, u_committed, internal)
     type(model_t), intent(in) :: model                 !< resolved model
     type(cells_t), intent(in) :: cells                 !< cells
     logical, intent(in) :: owned(:)                    !< cells this rank computes
@@ -388,6 +578,8 @@ contains
     logical, intent(out) :: converged                  !< the step converged
     real(wp), intent(in) :: dt                         !< the step (strain rates)
     real(wp), intent(in) :: u_committed(:,:)           !< the converged u of the step's start
+    real(wp), intent(out) :: internal(:,:)             !< (dim, all nodes) f_int at the
+                                                       !< converged u (when converged)
     real(wp), allocatable :: residual(:), du(:), force(:,:), fixed_u(:,:), u_start(:,:)
     logical, allocatable :: fixed(:,:)
     type(status_t) :: status
@@ -398,6 +590,7 @@ contains
     dim = cells%dim
     allocate(residual(n_equations), du(n_equations), force(dim, size(u, 2)), &
              fixed_u(dim, size(u, 2)), fixed(dim, size(u, 2)))
+    internal = 0.0_wp
     ! prescribed displacements of the new time
     fixed = .false.
     fixed_u = u
@@ -462,9 +655,9 @@ contains
       if (norm_r < model%controls%abstol .or. (k > 1 .and. &
           norm_du <= model%controls%dctol*norm_step .and. &
           energy <= model%controls%ectol*energy0 .and. ratio <= model%controls%rctol)) then
-        ! one more evaluation so that history and stress belong to the final u
+        ! one more evaluation so that history, stress and f_int belong to the final u
         call evaluate_cells(model, cells, owned, equation, u, hist, force, residual, &
-                            tangent, trial, ok, t_new, u_committed, dt)
+                            tangent, trial, ok, t_new, u_committed, dt, internal)
         converged = ok
         return
       end if
@@ -523,13 +716,8 @@ contains
       end associate
     end do
     if (tools%friction) tools%committed = tools%interfaces
-    if (model%controls%rcforc_interval > 0.0_wp) then
-      if (len_trim(model%controls%title) > 0) then
-        call rcforc_open(results_directory(), trim(model%controls%title))
-      else
-        call rcforc_open(results_directory())
-      end if
-    end if
+    if (model%controls%rcforc_interval > 0.0_wp) call rcforc_open(results_directory(), &
+        title_or_default(model%controls%title))
   contains
     !> Contact nodes on a master surface.
     function is_master_node() result(mask)
@@ -688,7 +876,7 @@ contains
 
   !> Residual f_ext - f_int and tangent of all owned cells at displacements u.
   subroutine evaluate_cells(model, cells, owned, equation, u, hist, force_ext, residual, &
-                            tangent, trial, ok, t, u_old, dt)
+                            tangent, trial, ok, t, u_old, dt, internal)
     type(model_t), intent(in) :: model                 !< resolved model
     type(cells_t), intent(in) :: cells                 !< cells
     logical, intent(in) :: owned(:)                    !< cells this rank computes
@@ -703,6 +891,8 @@ contains
     real(wp), intent(in) :: t                          !< time of u (tool positions)
     real(wp), intent(in) :: u_old(:,:)                 !< displacements at the step's start
     real(wp), intent(in) :: dt                         !< the step (strain rates)
+    real(wp), intent(out), optional :: internal(:,:)   !< (dim, all nodes) internal forces
+                                                       !< f_int of all cells, summed over ranks
     real(wp) :: f(3, 3), finv(3, 3), tau(3, 3), c(3, 3, 3, 3), fc(3, CELL_MAX_NODES), det, sound
     real(wp) :: f_old(3, 3), rate, d(3, 3)
     real(wp) :: ke(3*CELL_MAX_NODES, 3*CELL_MAX_NODES), ue(3, CELL_MAX_NODES)
@@ -720,6 +910,7 @@ contains
     trial%hist_new = hist
     trial%cauchy = 0.0_wp
     residual = 0.0_wp
+    if (present(internal)) internal = 0.0_wp
     failed = .false.
     do cell = 1, cells%n
       if (.not. owned(cell)) cycle
@@ -761,6 +952,8 @@ contains
         fc(:, 1:nn) = fc(:, 1:nn) + fh(:, 1:nn)
         ke(1:nd, 1:nd) = ke(1:nd, 1:nd) + kh(1:nd, 1:nd)
       end if
+      if (present(internal)) internal(:, cells%nodes(1:nn, cell)) = &
+          internal(:, cells%nodes(1:nn, cell)) + fc(1:dim, 1:nn)
       do a = 1, nn
         do i = 1, dim
           dofs(dim*(a-1) + i) = equation(i, cells%nodes(a, cell))
@@ -782,10 +975,12 @@ contains
     end if
     call comm_sum(residual)
     call comm_sum(trial%cauchy)
+    if (present(internal)) call comm_sum(internal)
   end subroutine evaluate_cells
 
   !> Output state: displacement, Cauchy stress, pressure, von Mises and plastic strain
-  !> at nodes (cell-weighted means) and elements (means of their cells), reaction forces.
+  !> at nodes (cell-weighted means) and elements (means of their cells), reaction forces;
+  !> state 0 (t = 0, written at the start, every array of the later states) also the node sets.
   subroutine write_state(model, decomp, cells, u, hist, equation, time, step)
     type(model_t), intent(in) :: model              !< resolved model
     type(decomposition_t), intent(in) :: decomp     !< this rank's share
@@ -796,8 +991,10 @@ contains
     real(wp), intent(in) :: time                    !< analysis time
     integer, intent(in) :: step                     !< output state number
     real(wp), allocatable :: stress(:,:), internal(:,:), force_ext(:,:)
-    type(output_field_t) :: point_fields(6), cell_fields(4)
+    type(output_field_t), allocatable :: point_fields(:)
+    type(output_field_t) :: cell_fields(4)
     integer :: node, local
+    allocate(point_fields(6))
     call final_stresses(model, cells, u, hist, stress, internal)
     point_fields(1)%name = 'displacement'
     point_fields(1)%ncomp = 3
@@ -823,6 +1020,13 @@ contains
       where (equation(:, node) == 0) point_fields(6)%values(1:cells%dim, local) = &
           internal(:, node) - force_ext(:, node)
     end do
+    if (step == 0) then                       ! state 0 also carries the node sets
+      block
+        type(output_field_t), allocatable :: sets(:)
+        call node_set_fields(model, decomp, sets)
+        point_fields = [point_fields, sets]
+      end block
+    end if
     call results_write_state(step, time, point_fields, cell_fields)
   end subroutine write_state
 

@@ -22,7 +22,7 @@ module mefem_linear_static
   use mefem_mumps, only: mumps_solver_t, mumps_init, mumps_analyse, mumps_factorise, &
                          mumps_solve, mumps_free, mumps_stats, mumps_stats_t, MUMPS_SPD
   use mefem_output_mesh, only: output_field_t
-  use mefem_results, only: results_write_state
+  use mefem_results, only: results_write_state, node_set_fields
   use mefem_solver_common, only: number_equations, stress_fields
   use mefem_lumped_mass, only: lumped_mass
   use mefem_body_loads, only: body_acceleration, body_load_nodes, add_body_forces
@@ -101,6 +101,14 @@ contains
     call comm_sum(rhs)
     t_assembly = comm_wtime() - t0
 
+    ! state 0: the unloaded model with every array of the solution's state
+    block
+      real(wp), allocatable :: zero(:,:)
+      allocate(zero(dim, n_all))
+      zero = 0.0_wp
+      call write_results(model, decomp, cells, zero, 0.0_wp, 0)
+    end block
+
     ! solve
     call mumps_init(solver, MUMPS_SPD, status)
     if (status%ok) call mumps_analyse(solver, stiffness, status)
@@ -124,7 +132,7 @@ contains
         if (equation(i, n) > 0) u(i, n) = solution(equation(i, n))
       end do
     end do
-    call write_results(model, decomp, cells, u, t_end)
+    call write_results(model, decomp, cells, u, t_end, 1)
   end subroutine linear_static_run
 
   !> Linear static analysis takes *MAT_ELASTIC parts, displacement-type prescribed motions
@@ -230,18 +238,22 @@ contains
     end do
   end subroutine cell_stresses
 
-  !> Output state 1: displacements at the deck's nodes, element stress (the mean of the
-  !> element's cells), pressure and von Mises stress.
-  subroutine write_results(model, decomp, cells, u, time)
+  !> Output state (1: the solution; 0: the unloaded model, which also carries the node sets):
+  !> displacements at the deck's nodes, element stress (the mean of the element's cells),
+  !> pressure and von Mises stress.
+  subroutine write_results(model, decomp, cells, u, time, state)
     type(model_t), intent(in) :: model              !< resolved model
     type(decomposition_t), intent(in) :: decomp     !< this rank's share
     type(cells_t), intent(in) :: cells              !< cells
     real(wp), intent(in) :: u(:,:)                  !< (dim, nodes) displacements
     real(wp), intent(in) :: time                    !< analysis time of the state
+    integer, intent(in) :: state                    !< output state number
     real(wp), allocatable :: strain(:,:), stress(:,:), element_stress(:,:), element_count(:)
-    type(output_field_t) :: point_fields(4), cell_fields(3)
+    type(output_field_t), allocatable :: point_fields(:)
+    type(output_field_t) :: cell_fields(3)
     real(wp), allocatable :: nodal_stress(:,:), nodal_weight(:)
     integer :: c, slot, e, local, a, node
+    allocate(point_fields(4))
     call cell_stresses(model, cells, u, strain, stress)
     ! nodal values: the weight-averaged stress of the cells around each deck node
     allocate(nodal_stress(6, cells%n_mesh_nodes), nodal_weight(cells%n_mesh_nodes))
@@ -277,7 +289,14 @@ contains
                        nodal_weight(decomp%node_global(1:decomp%nnode_local)), point_fields(2:4))
     call stress_fields(element_stress(:, decomp%elem_global(1:decomp%nelem_local)), &
                        element_count(decomp%elem_global(1:decomp%nelem_local)), cell_fields)
-    call results_write_state(1, time, point_fields, cell_fields)
+    if (state == 0) then
+      block
+        type(output_field_t), allocatable :: sets(:)
+        call node_set_fields(model, decomp, sets)
+        point_fields = [point_fields, sets]
+      end block
+    end if
+    call results_write_state(state, time, point_fields, cell_fields)
   end subroutine write_results
 
 end module mefem_linear_static

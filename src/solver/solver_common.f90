@@ -12,7 +12,7 @@ module mefem_solver_common
   private
 
   public :: number_equations, stress_fields, cell_result_fields, schedule_after
-  public :: warn_output_every_step
+  public :: warn_output_every_step, title_or_default
 
 contains
 
@@ -128,6 +128,14 @@ contains
                                           ew > 0.0_wp), [1, decomp%nelem_local])
   end subroutine cell_result_fields
 
+
+  !> The deck's *TITLE, or "mefem" (the first line of the history files).
+  pure function title_or_default(title) result(text)
+    character(len=*), intent(in) :: title       !< *TITLE text (may be blank)
+    character(len=:), allocatable :: text
+    text = trim(title)
+    if (len(text) == 0) text = 'mefem'
+  end function title_or_default
 
   !> The first time of an output schedule (next, next + interval, ...) after t + tol, tol =
   !> 1e-9 interval, in one step: a loop of additions would take more than a run's cycles for
