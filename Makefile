@@ -36,8 +36,8 @@ LIBS     := -L$(HDF5_DIR)/lib -Wl,-rpath,$(HDF5_DIR)/lib -lhdf5_fortran -lhdf5 \
             -ldmumps -lmumps_common -lmetis -llapack -lblas
 WARN     := -std=f2008 -Wall -Wno-maybe-uninitialized -fimplicit-none
 
-# Instruction set of the release build: x86-64-v3 (AVX2 and FMA: the explicit block kernels
-# vectorise with 35 % fewer instructions than with x86-64-v2, doc/performance.md) when the CPU
+# Instruction set of the release build: x86-64-v3 (AVX2 and FMA, which the explicit block
+# kernels are written to vectorise with) when the CPU
 # that builds has it (glibc's loader lists the levels it supports), else x86-64-v2. A binary
 # built here runs on CPUs of that level or newer; `make ARCH=x86-64-v2` builds a portable one.
 ifndef ARCH

@@ -77,7 +77,7 @@ contains
   !> 3D: the blocks in ascending cell order (with the other ranks of the node taking some of
   !> them: blocks_shared_with_node), then the exchange. Computing the cells next to other
   !> ranks first so that the exchange overlaps the others was measured slower
-  !> (doc/performance.md, fifth round): the ranks meet at the time-step reduction right after
+  !> (doc/performance.md, "How the cycle is organised"): the ranks meet at the exchange
   !> anyway.
   subroutine explicit_cell_loop(model, s, halo)
     type(model_t), intent(in) :: model                !< resolved model
