@@ -21,6 +21,7 @@ module mefem_results
   private
 
   public :: results_open, results_write_state, results_close, node_set_fields, results_directory
+  public :: append_node_set_fields
 
   type(output_mesh_t), save :: piece               !< this rank's output mesh
   character(len=:), allocatable :: out_dir, stem   !< output directory and file stem
@@ -132,6 +133,16 @@ contains
   subroutine results_close()
     call h5_output_close()
   end subroutine results_close
+
+  !> State 0 of every analysis carries the node sets: node_set_fields appended to fields.
+  subroutine append_node_set_fields(model, decomp, fields)
+    type(model_t), intent(in) :: model                            !< resolved model
+    type(decomposition_t), intent(in) :: decomp                   !< this rank's share
+    type(output_field_t), allocatable, intent(inout) :: fields(:) !< the state's point fields
+    type(output_field_t), allocatable :: sets(:)
+    call node_set_fields(model, decomp, sets)
+    fields = [fields, sets]
+  end subroutine append_node_set_fields
 
   !> One point field per node set ("node_set_<id>": 1 on members, 0 elsewhere), on this
   !> rank's piece, so that sets can be checked in ParaView.

@@ -59,7 +59,7 @@ module mefem_explicit_dynamics
   use mefem_boundary_conditions, only: fixed_dofs, external_forces, target_nodes, &
                                        initial_velocities
   use mefem_output_mesh, only: output_field_t
-  use mefem_results, only: results_write_state, results_directory, node_set_fields
+  use mefem_results, only: results_write_state, results_directory, append_node_set_fields
   use mefem_solver_common, only: cell_result_fields, schedule_after, warn_output_every_step, &
                                  title_or_default
   use mefem_history_output, only: glstat_record_t, glstat_open, glstat_write, glstat_close, &
@@ -1309,13 +1309,7 @@ contains
         point_fields(8)%values(1, k) = s%contact%gap(local)
       end do
     end if
-    if (state == 0) then
-      block
-        type(output_field_t), allocatable :: sets(:)
-        call node_set_fields(model, decomp, sets)
-        point_fields = [point_fields, sets]
-      end block
-    end if
+    if (state == 0) call append_node_set_fields(model, decomp, point_fields)   ! state 0: the node sets
     call results_write_state(state, t, point_fields, cell_fields)
   end subroutine write_state
 

@@ -37,7 +37,7 @@ module mefem_implicit_static
                          ordering_name
   use mefem_progress, only: peak_memory_mib
   use mefem_output_mesh, only: output_field_t
-  use mefem_results, only: results_write_state, node_set_fields, results_directory
+  use mefem_results, only: results_write_state, append_node_set_fields, results_directory
   use mefem_sense_switch, only: sense_switch, sense_switch_warn_leftover, SENSE_STOP, &
                                 SENSE_STATUS, SENSE_STATE
   use mefem_solver_common, only: number_equations, cell_result_fields, schedule_after, &
@@ -1020,13 +1020,7 @@ contains
       where (equation(:, node) == 0) point_fields(6)%values(1:cells%dim, local) = &
           internal(:, node) - force_ext(:, node)
     end do
-    if (step == 0) then                       ! state 0 also carries the node sets
-      block
-        type(output_field_t), allocatable :: sets(:)
-        call node_set_fields(model, decomp, sets)
-        point_fields = [point_fields, sets]
-      end block
-    end if
+    if (step == 0) call append_node_set_fields(model, decomp, point_fields)   ! state 0: the node sets
     call results_write_state(step, time, point_fields, cell_fields)
   end subroutine write_state
 

@@ -22,7 +22,7 @@ module mefem_linear_static
   use mefem_mumps, only: mumps_solver_t, mumps_init, mumps_analyse, mumps_factorise, &
                          mumps_solve, mumps_free, mumps_stats, mumps_stats_t, MUMPS_SPD
   use mefem_output_mesh, only: output_field_t
-  use mefem_results, only: results_write_state, node_set_fields
+  use mefem_results, only: results_write_state, append_node_set_fields
   use mefem_solver_common, only: number_equations, stress_fields
   use mefem_lumped_mass, only: lumped_mass
   use mefem_body_loads, only: body_acceleration, body_load_nodes, add_body_forces
@@ -289,13 +289,7 @@ contains
                        nodal_weight(decomp%node_global(1:decomp%nnode_local)), point_fields(2:4))
     call stress_fields(element_stress(:, decomp%elem_global(1:decomp%nelem_local)), &
                        element_count(decomp%elem_global(1:decomp%nelem_local)), cell_fields)
-    if (state == 0) then
-      block
-        type(output_field_t), allocatable :: sets(:)
-        call node_set_fields(model, decomp, sets)
-        point_fields = [point_fields, sets]
-      end block
-    end if
+    if (state == 0) call append_node_set_fields(model, decomp, point_fields)   ! state 0: the node sets
     call results_write_state(state, time, point_fields, cell_fields)
   end subroutine write_results
 

@@ -676,29 +676,16 @@ contains
     ! the stiffness-weighted split (the explicit solver's): safe, and closer to the global
     ! eigenvalue than the equal split
     block
-      real(wp), allocatable :: weights(:,:), sums(:), share_w(:,:), w0_w(:,:,:), bound_w(:)
+      real(wp), allocatable :: weights(:,:), share_w(:,:), w0_w(:,:,:), bound_w(:)
       real(wp) :: worst_w
-      allocate(weights(CELL_MAX_NODES, cells%n), sums(nall), share_w(CELL_MAX_NODES, cells%n), &
+      allocate(weights(CELL_MAX_NODES, cells%n), share_w(CELL_MAX_NODES, cells%n), &
                w0_w(dim, dim, cells%n))
       weights = 0.0_wp
-      sums = 0.0_wp
       do c = 1, cells%n
         call cell_split_weights(dim, cells%nnodes(c), cells%weight(c), cells%grad(:, :, c), &
                                 IDENTITY, weights(:, c))
-        do j = 1, cells%nnodes(c)
-          sums(cells%nodes(j, c)) = sums(cells%nodes(j, c)) + weights(j, c)
-        end do
       end do
-      share_w = 0.0_wp
-      summed = 0.0_wp
-      do c = 1, cells%n
-        do j = 1, cells%nnodes(c)
-          share_w(j, c) = mass(cells%nodes(j, c))*weights(j, c)/sums(cells%nodes(j, c))
-          summed(cells%nodes(j, c)) = summed(cells%nodes(j, c)) + share_w(j, c)
-        end do
-        call inverse_mass_metric(dim, cells%nnodes(c), cells%grad(:, :, c), share_w(:, c), &
-                                 w0_w(:, :, c))
-      end do
+      call split_by_weights(cells, mass, weights, share_w, w0_w, summed)
       worst_w = maxval(abs(summed - mass)/mass)
       call check(worst_w <= 1.0e-14_wp, name//': weighted shares sum to lumped_mass (1e-14)', &
                  'worst '//real_text(worst_w))
@@ -723,21 +710,7 @@ contains
                                         cells%grad(:, :, c), share_w(:, c), IDENTITY, lambda, &
                                         mu, weights(:, c))
           end do
-          sums = 0.0_wp
-          do c = 1, cells%n
-            do j = 1, cells%nnodes(c)
-              sums(cells%nodes(j, c)) = sums(cells%nodes(j, c)) + weights(j, c)
-            end do
-          end do
-          summed = 0.0_wp
-          do c = 1, cells%n
-            do j = 1, cells%nnodes(c)
-              share_w(j, c) = mass(cells%nodes(j, c))*weights(j, c)/sums(cells%nodes(j, c))
-              summed(cells%nodes(j, c)) = summed(cells%nodes(j, c)) + share_w(j, c)
-            end do
-            call inverse_mass_metric(dim, cells%nnodes(c), cells%grad(:, :, c), &
-                                     share_w(:, c), w0_w(:, :, c))
-          end do
+          call split_by_weights(cells, mass, weights, share_w, w0_w, summed)
         end do
         worst_w = maxval(abs(summed - mass)/mass)
         call check(worst_w <= 1.0e-14_wp .and. all(share_w >= 0.0_wp), name// &
@@ -758,6 +731,35 @@ contains
     f = merge(F_3D, F_2D, dim == 3)
     call check_deformed(name, model, cells, cell_bounds(model, cells, w0, f), f)
   end subroutine check_mesh
+
+  !> Each node's mass shared among its cells by the weights (share = m w / sum of w at the
+  !> node), the cells' inverse-mass metrics, and the shares summed back at the nodes.
+  subroutine split_by_weights(cells, mass, weights, share, w0, summed)
+    type(cells_t), intent(in) :: cells              !< cells
+    real(wp), intent(in) :: mass(:)                 !< lumped masses of all nodes
+    real(wp), intent(in) :: weights(:,:)            !< (CELL_MAX_NODES, cells) split weights
+    real(wp), intent(out) :: share(:,:)             !< (CELL_MAX_NODES, cells) mass shares
+    real(wp), intent(out) :: w0(:,:,:)              !< (dim, dim, cells) metrics
+    real(wp), intent(out) :: summed(:)              !< shares summed at the nodes
+    real(wp) :: sums(size(mass))
+    integer :: c, j
+    sums = 0.0_wp
+    do c = 1, cells%n
+      do j = 1, cells%nnodes(c)
+        sums(cells%nodes(j, c)) = sums(cells%nodes(j, c)) + weights(j, c)
+      end do
+    end do
+    share = 0.0_wp
+    summed = 0.0_wp
+    do c = 1, cells%n
+      do j = 1, cells%nnodes(c)
+        share(j, c) = mass(cells%nodes(j, c))*weights(j, c)/sums(cells%nodes(j, c))
+        summed(cells%nodes(j, c)) = summed(cells%nodes(j, c)) + share(j, c)
+      end do
+      call inverse_mass_metric(cells%dim, cells%nnodes(c), cells%grad(:, :, c), share(:, c), &
+                               w0(:, :, c))
+    end do
+  end subroutine split_by_weights
 
   !> Smallest altitude of the model's elements.
   real(wp) function min_altitude(model)
