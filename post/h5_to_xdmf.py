@@ -8,8 +8,9 @@ The XDMF file only points into the HDF5 file (doc/hdf5_layout.md): the reference
 one mixed topology and, per state, its time and every point and cell field (ncomp 1: Scalar,
 3: Vector, 6: Tensor6 in mefem's order xx yy zz xy yz zx, 9: Tensor, else Matrix). XDMF's
 mixed topology lists each cell as its XDMF type code and its nodes (a line also its node
-count), which the HDF5 file does not hold: this script adds it once as /mesh/xdmf_topology
-(int64; the file is opened for appending, its other data untouched). The cells' node order is
+count): mefem writes it as /mesh/xdmf_topology, and its own .xdmf file beside the result
+(src/io/xdmf_output.f90); for a file written before it did, this script adds the dataset (the
+file opened for appending, its other data untouched). The cells' node order is
 VTK's, which XDMF's linear cells share.
 """
 import argparse

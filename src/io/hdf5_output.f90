@@ -29,13 +29,15 @@ module mefem_hdf5_output
                   H5T_STR_NULLPAD_F
   use mefem_kinds, only: wp, i8
   use mefem_comm, only: comm_fortran_handle, comm_info_null_handle, comm_any, comm_sum, &
-                        comm_min, comm_max, comm_bcast, comm_is_root
+                        comm_min, comm_max, comm_bcast, comm_is_root, comm_barrier
+  use mefem_file_system, only: remove_file
   use mefem_errors, only: fatal, fatal_abort
-  use mefem_output_mesh, only: output_mesh_t, output_field_t, vtk_cell_type
+  use mefem_output_mesh, only: output_mesh_t, output_field_t, vtk_cell_type, xdmf_cell_type
   implicit none
   private
 
   public :: h5_output_open, h5_output_write_mesh, h5_output_write_state, h5_output_close
+  public :: h5_output_topology_length
 
   integer, parameter :: FORMAT_VERSION = 1          !< bumped when the layout changes
   integer, parameter :: ENTITY_NODE = 1, ENTITY_CELL = 2
@@ -82,6 +84,7 @@ module mefem_hdf5_output
   type(selection_t), allocatable :: selections(:)
   integer :: nselections = 0
   integer :: nstates = 0                     !< states written to this file
+  integer(i8) :: topology_length = 0         !< entries of /mesh/xdmf_topology
 
 contains
 
@@ -233,11 +236,20 @@ contains
 
   ! ---- checks ------------------------------------------------------------------------------
 
-  !> Stop all ranks with a message naming the file if an HDF5 call failed on any rank.
+  !> Stop all ranks with a message naming the file if an HDF5 call failed on any rank. A
+  !> failure before the mesh is complete (e.g. a full disk) leaves a file that holds no state
+  !> and that HDF5 cannot open: it is removed first.
   subroutine check(hdferr, what)
     integer, intent(in) :: hdferr          !< error code of the HDF5 call (< 0: failure)
     character(len=*), intent(in) :: what   !< what was being done
-    if (comm_any(hdferr < 0)) call fatal_abort('HDF5 output '''//file_path//''': '//what)
+    logical :: removed
+    if (.not. comm_any(hdferr < 0)) return
+    removed = .false.
+    if (.not. mesh_written .and. comm_is_root()) call remove_file(file_path, removed)
+    call comm_barrier()
+    if (removed) call fatal_abort('HDF5 output '''//file_path//''': '//what// &
+                                  '; the file held no result state yet and is removed')
+    call fatal_abort('HDF5 output '''//file_path//''': '//what)
   end subroutine check
 
   !> Stop if no file is open.
@@ -531,7 +543,7 @@ contains
   subroutine write_connectivity(mesh)
     type(output_mesh_t), intent(in) :: mesh   !< this rank's piece
     integer, allocatable :: counts(:)
-    integer(i8), allocatable, target :: offsets(:), nodes(:)
+    integer(i8), allocatable, target :: offsets(:), nodes(:), mixed(:)
     integer(HSIZE_T), allocatable :: run_start(:), run_length(:)
     integer(HID_T) :: file_space, memory_space
     integer(i8) :: total
@@ -597,7 +609,45 @@ contains
                        file_space, memory_space)
     call h5sclose_f(file_space, hdferr)
     call h5sclose_f(memory_space, hdferr)
+
+    ! XDMF's mixed topology: per cell its XDMF type code, then its nodes; cell k (0-based)
+    ! starts at offsets(k) + k. The same runs as the connectivity, one entry longer per cell.
+    associate(map => maps(ENTITY_CELL))
+      do r = 1, nruns
+        first = int(offsets(map%run_start(r)) + map%run_start(r), HSIZE_T)
+        last = int(offsets(map%run_start(r) + map%run_length(r)) + map%run_start(r) + &
+                   map%run_length(r), HSIZE_T)
+        run_start(r) = first
+        run_length(r) = last - first
+      end do
+      allocate(mixed(max(j + size(map%order), 1)), source=0_i8)
+      j = 0
+      do k = 1, size(map%order)
+        c = map%order(k)
+        mixed(j+1) = int(xdmf_cell_type(mesh%topology(c)), i8)
+        mixed(j+2:j+1+mesh%cell_start(c+1)-mesh%cell_start(c)) = &
+            int(mesh%global_node(mesh%conn(mesh%cell_start(c):mesh%cell_start(c+1)-1)) - 1, i8)
+        j = j + 1 + mesh%cell_start(c+1) - mesh%cell_start(c)
+      end do
+    end associate
+    topology_length = total + int(ncell_global, i8)
+    call create_space(0, topology_length, file_space)
+    call select_runs(file_space, 0, run_start, run_length)
+    call create_space(0, int(max(j, 1), i8), memory_space)
+    hdferr = 0
+    if (j == 0) call h5sselect_none_f(memory_space, hdferr)
+    call check(hdferr, 'cannot clear a selection')
+    call write_dataset('/mesh/xdmf_topology', H5T_STD_I64LE, &
+                       h5kind_to_type(i8, H5_INTEGER_KIND), 0, topology_length, c_loc(mixed), &
+                       file_space, memory_space)
+    call h5sclose_f(file_space, hdferr)
+    call h5sclose_f(memory_space, hdferr)
   end subroutine write_connectivity
+
+  !> Entries of /mesh/xdmf_topology (the mixed topology the XDMF file points to).
+  integer(i8) function h5_output_topology_length()
+    h5_output_topology_length = topology_length
+  end function h5_output_topology_length
 
   !> Create a dataset of shape (n) or (ncomp, n) and write this rank's selection collectively.
   subroutine write_dataset(name, file_type, memory_type, ncomp, n, buffer, file_space, &

@@ -15,7 +15,7 @@ module mefem_output_mesh
                                 TOPO_PENTA6 = 4, TOPO_HEX8 = 5
   integer, parameter, public :: NODES_OF_TOPO(5) = [3, 4, 4, 6, 8]  !< corner nodes per topology
 
-  public :: vtk_cell_type
+  public :: vtk_cell_type, xdmf_cell_type
 
   !> One rank's piece of the mesh for output.
   type, public :: output_mesh_t
@@ -62,5 +62,25 @@ contains
       vtk_cell_type = 0
     end select
   end function vtk_cell_type
+
+  !> XDMF mixed-topology code of a mefem topology (XDMF 3: triangle 4, quadrilateral 5,
+  !> tetrahedron 6, wedge 8, hexahedron 9; 0 for none).
+  pure integer function xdmf_cell_type(topology)
+    integer, intent(in) :: topology   !< TOPO_* code
+    select case (topology)
+    case (TOPO_TRI3)
+      xdmf_cell_type = 4
+    case (TOPO_QUAD4)
+      xdmf_cell_type = 5
+    case (TOPO_TET4)
+      xdmf_cell_type = 6
+    case (TOPO_PENTA6)
+      xdmf_cell_type = 8
+    case (TOPO_HEX8)
+      xdmf_cell_type = 9
+    case default
+      xdmf_cell_type = 0
+    end select
+  end function xdmf_cell_type
 
 end module mefem_output_mesh

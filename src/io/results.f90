@@ -2,8 +2,9 @@
 !>
 !> results_open builds this rank's output piece from the decomposition, creates the output
 !> directory and the HDF5 file and writes the mesh; results_write_state writes one state to
-!> both formats. Files are complete after every state (the .pvd and the HDF5 file are
-!> rewritten/flushed), so a run that stops early leaves readable results.
+!> both formats and lists it in the XDMF file through which ParaView and VisIt read the HDF5
+!> file. Files are complete after every state (the .pvd and the .xdmf are rewritten, the HDF5
+!> file flushed), so a run that stops early leaves readable results.
 module mefem_results
   use mefem_kinds, only: wp
   use mefem_comm, only: comm_is_root, comm_barrier, comm_any
@@ -16,7 +17,8 @@ module mefem_results
   use mefem_decomposition, only: decomposition_t, fill_output_mesh
   use mefem_vtk_output, only: vtk_write_state
   use mefem_hdf5_output, only: h5_output_open, h5_output_write_mesh, h5_output_write_state, &
-                               h5_output_close
+                               h5_output_close, h5_output_topology_length
+  use mefem_xdmf_output, only: xdmf_open, xdmf_add_state
   implicit none
   private
 
@@ -51,6 +53,8 @@ contains
                           model%elements%id, model%elements%part_id, piece)
     call h5_output_open(dir//'/'//basename//'.h5')
     call h5_output_write_mesh(piece)
+    call xdmf_open(dir//'/'//basename//'.xdmf', basename//'.h5', piece%nnode_global, &
+                   piece%ncell_global, h5_output_topology_length())
   end subroutine results_open
 
   !> Write one state: point fields sized (ncomp, local nodes), cell fields (ncomp, local cells).
@@ -61,6 +65,7 @@ contains
     type(output_field_t), intent(in) :: cell_fields(:)   !< fields on this piece's cells
     call vtk_write_state(out_dir, stem, step, time, piece, point_fields, cell_fields)
     call h5_output_write_state(step, time, point_fields, cell_fields)
+    call xdmf_add_state(step, time, point_fields, cell_fields)
   end subroutine results_write_state
 
   !> Remove the result files an earlier run of the same stem left in dir, so that the
@@ -99,6 +104,8 @@ contains
     call remove_file(dir//'/'//basename//'.pvd', removed)
     call tally()
     call remove_file(dir//'/'//basename//'.h5', removed)
+    call tally()
+    call remove_file(dir//'/'//basename//'.xdmf', removed)
     call tally()
     do step = 1, size(HISTORIES)
       call remove_file(dir//'/'//trim(HISTORIES(step)), removed)

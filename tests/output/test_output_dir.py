@@ -140,8 +140,8 @@ def earlier_run(scratch):
         handle.write(BLOCK_DECK % 1.0e-6)               # states at 0, 1 us
     rc2, text2 = run(1, out, deck)
     second = sorted(os.listdir(out)) if rc2 == 0 else []
-    wanted = ['block.h5', 'block.pvd', 'block_000000.vtu', 'block_000001.vtu', 'glstat',
-              'mefem.log', 'notes.txt']
+    wanted = ['block.h5', 'block.pvd', 'block.xdmf', 'block_000000.vtu', 'block_000001.vtu',
+              'glstat', 'mefem.log', 'notes.txt']
     removed = [line for line in text2.splitlines() if 'files of an earlier run' in line]
     report(rc == 0 and rc2 == 0 and 'block_000003.pvtu' in first and second == wanted and
            len(removed) == 1 and 'removed %d files' % (len(first) - 1) in removed[0],
