@@ -221,6 +221,9 @@ contains
       ! prescribed ones are set by newton_step). Starting each step from u_n alone puts the
       ! whole increment of a driven boundary into the cells next to it.
       if (dt_last > 0.0_wp) where (equation > 0) u = u + (dt/dt_last)*(u_step - u_last)
+      ! the step's Newton iterations follow this line; the converged step's summary after them
+      call say('step '//itoa(step)//': from t = '//rtoa(t)//' to '//rtoa(t + dt)//', dt = '// &
+               rtoa(dt))
       call newton_step(model, cells, owned, equation, n_equations, t + dt, hist, u, &
                        tangent, solver, trial, iterations, converged, dt, u_step, internal)
       if (converged .and. tools%interfaces%n > 0) then
@@ -648,9 +651,13 @@ contains
       norm_du = norm2(du)
       norm_step = norm2(u - u_start)
       ratio = norm_r/norm_r0
-      if (model%controls%nlprint > 0 .or. k > 1) call say('  iteration '//itoa(k)// &
-          ': |R| = '//rtoa(norm_r)//' ('//rtoa(ratio)//'), |du|/|u_step| = '// &
-          rtoa(norm_du/max(norm_step, tiny(1.0_wp)))//', energy ratio '//rtoa(energy/energy0))
+      if (k == 1) then                 ! (the energy ratio is 1 by definition)
+        call say('  iteration 1: |R| = '//rtoa(norm_r)//' (1)')
+      else
+        call say('  iteration '//itoa(k)//': |R| = '//rtoa(norm_r)//' ('//rtoa(ratio)// &
+                 '), |du|/|u_step| = '//rtoa(norm_du/max(norm_step, tiny(1.0_wp)))// &
+                 ', energy ratio '//rtoa(energy/energy0))
+      end if
       if (norm_r /= norm_r) return                          ! NaN: cut the step
       if (norm_r < model%controls%abstol .or. (k > 1 .and. &
           norm_du <= model%controls%dctol*norm_step .and. &
