@@ -127,6 +127,9 @@ contains
       marked(b) = any(s%block_hist(1:s%block_start(b + 1) - s%block_start(b), HIST_ALPHA, b) < &
                       0.0_wp)
     end do
+    if (s%nblock > 0) then
+      if (.not. any(marked)) return
+    end if
     do l = 1, s%ncell
       if (s%cell_counted(l)) cycle
       if (s%nblock > 0) then
