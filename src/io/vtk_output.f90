@@ -12,8 +12,9 @@
 !> byte count) and are written with one unformatted stream write per array: points Float64 (3),
 !> connectivity and offsets Int64, cell types UInt8, ids Int32, fields Float64. Point data holds
 !> "node_id", "GlobalNodeIds" (the node ids again, Int64, named the point data's GlobalIds:
-!> ParaView joins the copies of a node on the pieces' cuts) and the given point fields, cell data "element_id", "part_id" and the given cell
-!> fields. The connectivity is written in the order of output_mesh_t%conn: a PENTA6 cell must
+!> ParaView joins the copies of a node on the pieces' cuts) and the given point fields, cell
+!> data "element_id", "part_id", "GlobalCellIds" (the cell's global position, Int64, the cell
+!> data's GlobalIds) and the given cell fields; the grid's field data "TimeValue" the time. The connectivity is written in the order of output_mesh_t%conn: a PENTA6 cell must
 !> therefore list its nodes in VTK wedge order (nodes 1-3 one triangle, 4-6 the opposite one,
 !> node 3+k above node k, with 1-2-3 turning clockwise when seen from the 4-5-6 side).
 module mefem_vtk_output
@@ -68,6 +69,10 @@ module mefem_vtk_output
   !> The point array ParaView and VTK take as the points' global ids (the node ids, Int64 as
   !> vtkIdType): the copies of a node in several ranks' pieces are known as one node
   character(len=*), parameter :: GLOBAL_NODE_IDS = 'GlobalNodeIds'
+  !> the cells' global ids: their position in the rank-independent global cell order (0-based,
+  !> as the rows of the HDF5 file's cell datasets): unique where element ids are not (solids
+  !> and shells may share ids, as in LS-DYNA)
+  character(len=*), parameter :: GLOBAL_CELL_IDS = 'GlobalCellIds'
 
 contains
 
@@ -95,7 +100,7 @@ contains
       piece_name = stem//'.vtu'
       index_name = piece_name
     end if
-    call write_piece(join_path(dir, piece_name), mesh, point_fields, cell_fields)
+    call write_piece(join_path(dir, piece_name), mesh, time, point_fields, cell_fields)
     if (nranks > 1 .and. comm_is_root()) then
       call write_parallel_index(join_path(dir, index_name), stem, nranks, point_fields, &
                                 cell_fields)
@@ -187,9 +192,10 @@ contains
   end function field_fits
 
   !> Write this rank's piece as a .vtu file with raw appended data.
-  subroutine write_piece(path, mesh, point_fields, cell_fields)
+  subroutine write_piece(path, mesh, time, point_fields, cell_fields)
     character(len=*), intent(in) :: path                     !< file to write
     type(output_mesh_t), intent(in) :: mesh                  !< this rank's piece
+    real(wp), intent(in) :: time                             !< the state's time (TimeValue)
     type(output_field_t), intent(in) :: point_fields(:)      !< fields on nodes
     type(output_field_t), intent(in) :: cell_fields(:)       !< fields on cells
     type(array_info_t), allocatable :: point_arrays(:), cell_arrays(:)
@@ -200,7 +206,9 @@ contains
     integer(i8) :: offset
     integer :: unit, ios, k, c, nnode, ncell, nconn
     character(len=256) :: message
+    character(len=32) :: time_text
 
+    write(time_text, '(es25.17e3)') time
     nnode = mesh%nnode
     ncell = mesh%ncell
     nconn = 0
@@ -217,7 +225,7 @@ contains
     end if
 
     ! what is written, in order: point data, cell data, points, cells
-    allocate(point_arrays(2 + size(point_fields)), cell_arrays(2 + size(cell_fields)))
+    allocate(point_arrays(2 + size(point_fields)), cell_arrays(3 + size(cell_fields)))
     point_arrays(1) = info('node_id', integer_type(), 1, nnode, storage_size(1) / 8)
     point_arrays(2) = info(GLOBAL_NODE_IDS, 'Int64', 1, nnode, 8)
     do k = 1, size(point_fields)
@@ -226,8 +234,9 @@ contains
     end do
     cell_arrays(1) = info('element_id', integer_type(), 1, ncell, storage_size(1) / 8)
     cell_arrays(2) = info('part_id', integer_type(), 1, ncell, storage_size(1) / 8)
+    cell_arrays(3) = info(GLOBAL_CELL_IDS, 'Int64', 1, ncell, 8)
     do k = 1, size(cell_fields)
-      cell_arrays(2 + k) = info(trim(cell_fields(k)%name), 'Float64', cell_fields(k)%ncomp, &
+      cell_arrays(3 + k) = info(trim(cell_fields(k)%name), 'Float64', cell_fields(k)%ncomp, &
                                 ncell, storage_size(1.0_wp) / 8)
     end do
     points = info('', 'Float64', 3, nnode, storage_size(1.0_wp) / 8)
@@ -240,12 +249,15 @@ contains
     text = '<?xml version="1.0"?>'//LF// &
            '<VTKFile type="UnstructuredGrid" version="1.0" byte_order="'//byte_order()// &
            '" header_type="UInt64">'//LF//'  <UnstructuredGrid>'//LF// &
+           '    <FieldData>'//LF//'      <DataArray type="Float64" Name="TimeValue" '// &
+           'NumberOfTuples="1" format="ascii">'//trim(adjustl(time_text))//'</DataArray>'//LF// &
+           '    </FieldData>'//LF// &
            '    <Piece NumberOfPoints="'//itoa(nnode)//'" NumberOfCells="'//itoa(ncell)//'">'//LF
     text = text//'      <PointData GlobalIds="'//GLOBAL_NODE_IDS//'">'//LF
     do k = 1, size(point_arrays)
       text = text//data_array_tag(point_arrays(k), offset)
     end do
-    text = text//'      </PointData>'//LF//'      <CellData>'//LF
+    text = text//'      </PointData>'//LF//'      <CellData GlobalIds="'//GLOBAL_CELL_IDS//'">'//LF
     do k = 1, size(cell_arrays)
       text = text//data_array_tag(cell_arrays(k), offset)
     end do
@@ -272,8 +284,11 @@ contains
     if (ios == 0 .and. ncell > 0) write(unit, iostat=ios, iomsg=message) mesh%cell_id(1:ncell)
     if (ios == 0) write(unit, iostat=ios, iomsg=message) cell_arrays(2)%nbytes
     if (ios == 0 .and. ncell > 0) write(unit, iostat=ios, iomsg=message) mesh%cell_part(1:ncell)
+    if (ios == 0) write(unit, iostat=ios, iomsg=message) cell_arrays(3)%nbytes
+    if (ios == 0 .and. ncell > 0) write(unit, iostat=ios, iomsg=message) &
+      int(mesh%global_cell(1:ncell) - 1, i8)
     do k = 1, size(cell_fields)
-      if (ios == 0) write(unit, iostat=ios, iomsg=message) cell_arrays(2 + k)%nbytes
+      if (ios == 0) write(unit, iostat=ios, iomsg=message) cell_arrays(3 + k)%nbytes
       if (ios == 0 .and. ncell > 0) write(unit, iostat=ios, iomsg=message) cell_fields(k)%values
     end do
     ! points and cells
@@ -306,9 +321,9 @@ contains
     do k = 1, size(point_fields)
       text = text//parallel_tag(trim(point_fields(k)%name), 'Float64', point_fields(k)%ncomp)
     end do
-    text = text//'    </PPointData>'//LF//'    <PCellData>'//LF// &
-           parallel_tag('element_id', integer_type(), 1)// &
-           parallel_tag('part_id', integer_type(), 1)
+    text = text//'    </PPointData>'//LF//'    <PCellData GlobalIds="'//GLOBAL_CELL_IDS//'">'// &
+           LF//parallel_tag('element_id', integer_type(), 1)// &
+           parallel_tag('part_id', integer_type(), 1)//parallel_tag(GLOBAL_CELL_IDS, 'Int64', 1)
     do k = 1, size(cell_fields)
       text = text//parallel_tag(trim(cell_fields(k)%name), 'Float64', cell_fields(k)%ncomp)
     end do

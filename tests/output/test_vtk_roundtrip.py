@@ -168,9 +168,25 @@ def check_state(grid, truths, step, label):
         if global_ids.GetDataTypeSize() != 8:
             ok, detail = False, f"type {global_ids.GetDataTypeAsString()}, want a 64-bit id"
     report(ok, f"{label}: point data GlobalIds GlobalNodeIds = the node ids (64-bit)", detail)
+    # the cells' global positions as the cells' global ids (Int64): every cell of the mesh once
+    cell_ids = grid.GetCellData().GetGlobalIds()
+    ok = cell_ids is not None and cell_ids.GetName() == "GlobalCellIds"
+    detail = "no GlobalIds array" if cell_ids is None else cell_ids.GetName()
+    if ok:
+        ok, detail = equal(np.sort(vtk_to_numpy(cell_ids)), np.arange(sum(ncell)))
+        if cell_ids.GetDataTypeSize() != 8:
+            ok, detail = False, f"type {cell_ids.GetDataTypeAsString()}, want a 64-bit id"
+    report(ok, f"{label}: cell data GlobalIds GlobalCellIds = the cells' global positions "
+           "0 .. ncell-1, each once (64-bit)", detail)
+    # the state's time as the grid's field data TimeValue
+    times = [time for s, time, _ in truths[0]["states"] if s == step]
+    value = grid.GetFieldData().GetArray("TimeValue")
+    report(value is not None and len(times) == 1 and value.GetValue(0) == times[0],
+           f"{label}: field data TimeValue = the state's time",
+           f"{None if value is None else value.GetValue(0)} vs {times}")
     point_names = ["node_id", "GlobalNodeIds"] + sorted(n.split(":")[1] for n in arrays[0]
                                       if n.startswith("point:") and n.endswith(f":{step}"))
-    cell_names = ["element_id", "part_id"] + sorted(
+    cell_names = ["element_id", "part_id", "GlobalCellIds"] + sorted(
         n.split(":")[1] for n in arrays[0] if n.startswith("cell:") and n.endswith(f":{step}"))
     for kind, data, names in (("point", grid.GetPointData(), point_names),
                               ("cell", grid.GetCellData(), cell_names)):
@@ -181,7 +197,7 @@ def check_state(grid, truths, step, label):
             array = data.GetArray(name)
             if array is None:
                 continue
-            if name == "GlobalNodeIds":
+            if name in ("GlobalNodeIds", "GlobalCellIds"):
                 continue                                  # (checked above)
             if name in ("node_id", "element_id", "part_id"):
                 ok, detail = equal(vtk_to_numpy(array),
