@@ -86,6 +86,16 @@ def check_file(n):
         return None
     report(True, f'np{n} files exist')
     datasets, attributes = read_truth(truth_path)
+    # the XDMF mixed topology the writer adds: each cell's XDMF code, then its nodes, built
+    # here from the truth's cell types, offsets and connectivity (post/h5_to_xdmf.py's rule)
+    mesh = ('/mesh/cell_types', '/mesh/cell_offsets', '/mesh/connectivity')
+    if all(k in datasets for k in mesh):
+        sys.path.insert(0, os.path.join(ROOT, 'post'))
+        import h5_to_xdmf
+        topology = h5_to_xdmf.mixed_topology(datasets['/mesh/cell_types'][2],
+                                             datasets['/mesh/cell_offsets'][2],
+                                             datasets['/mesh/connectivity'][2])
+        datasets['/mesh/xdmf_topology'] = ('int64', topology.shape, topology)
     contents = {}
     try:
         h5file = h5py.File(path, 'r')

@@ -122,7 +122,7 @@ for name, dt in (('punch_tiny', '     1e-12'), ('punch_regular', '     0.025')):
         rc, text = None, 'no end within 300 s'
     checks.check(rc == 0, 'implicit %s: the run ends (exit 0 within 300 s)' % name, text[-600:])
     if rc == 0:
-        steps = text.count('\nstep ') + text.startswith('step ')
+        steps = len(re.findall(r'^step \d+: t = ', text, re.M))    # the converged steps
         finals[name] = (steps,) + final_displacement(out, name)
         warned = re.search(r'%s\.k:\d+: \*DATABASE_BINARY_D3PLOT: DT = \S+ s is below the '
                            r'smallest step, DTMIN, \(\S+ s\): a result state is written '

@@ -1,8 +1,9 @@
 """post/render_result.py: a picture of a result without a display. Two short explicit runs
 written here, a block of ME-FEM tetrahedra and a plane-strain square of ME-FEM triangles, each
-held at its bottom and pulled at its top, are rendered; checked: the PNG has the size asked for; the value range drawn is that of the surface faces
-computed here from the HDF5 file independently (cell field: the cells that own a face; point
-field: the means of the faces' nodes); the colours of the smallest and the largest value
+held at its bottom and pulled at its top, are rendered; checked: the PNG has the size asked
+for; the value range drawn is that of the surface faces computed here from the HDF5 file
+independently (cell field: the cells that own a face; point field: the means of the faces'
+nodes); the colours of the smallest and the largest value
 (viridis) are among the picture's pixels; an unknown field stops with a message naming the
 fields there are.
 """
