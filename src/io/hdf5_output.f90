@@ -598,17 +598,7 @@ contains
         j = j + mesh%cell_start(c+1) - mesh%cell_start(c)
       end do
     end associate
-    call create_space(0, total, file_space)
-    call select_runs(file_space, 0, run_start, run_length)
-    call create_space(0, int(max(j, 1), i8), memory_space)
-    hdferr = 0
-    if (j == 0) call h5sselect_none_f(memory_space, hdferr)
-    call check(hdferr, 'cannot clear a selection')
-    call write_dataset('/mesh/connectivity', H5T_STD_I64LE, &
-                       h5kind_to_type(i8, H5_INTEGER_KIND), 0, total, c_loc(nodes), &
-                       file_space, memory_space)
-    call h5sclose_f(file_space, hdferr)
-    call h5sclose_f(memory_space, hdferr)
+    call write_int64_runs('/mesh/connectivity', total, run_start, run_length, nodes, j)
 
     ! XDMF's mixed topology: per cell its XDMF type code, then its nodes; cell k (0-based)
     ! starts at offsets(k) + k. The same runs as the connectivity, one entry longer per cell.
@@ -631,18 +621,32 @@ contains
       end do
     end associate
     topology_length = total + int(ncell_global, i8)
-    call create_space(0, topology_length, file_space)
+    call write_int64_runs('/mesh/xdmf_topology', topology_length, run_start, run_length, &
+                          mixed, j)
+  end subroutine write_connectivity
+
+  !> Write the int64 dataset name of n entries, of which this rank holds the runs (run_start
+  !> 0-based, run_length) packed in values(1:nvalues) (collective).
+  subroutine write_int64_runs(name, n, run_start, run_length, values, nvalues)
+    character(len=*), intent(in) :: name                    !< dataset path
+    integer(i8), intent(in) :: n                             !< entries of the dataset
+    integer(HSIZE_T), intent(in) :: run_start(:)             !< 0-based start of each run
+    integer(HSIZE_T), intent(in) :: run_length(:)            !< entries in each run
+    integer(i8), intent(in), target, contiguous :: values(:) !< this rank's entries, packed
+    integer, intent(in) :: nvalues                           !< how many (0: none)
+    integer(HID_T) :: file_space, memory_space
+    integer :: hdferr
+    call create_space(0, n, file_space)
     call select_runs(file_space, 0, run_start, run_length)
-    call create_space(0, int(max(j, 1), i8), memory_space)
+    call create_space(0, int(max(nvalues, 1), i8), memory_space)
     hdferr = 0
-    if (j == 0) call h5sselect_none_f(memory_space, hdferr)
+    if (nvalues == 0) call h5sselect_none_f(memory_space, hdferr)
     call check(hdferr, 'cannot clear a selection')
-    call write_dataset('/mesh/xdmf_topology', H5T_STD_I64LE, &
-                       h5kind_to_type(i8, H5_INTEGER_KIND), 0, topology_length, c_loc(mixed), &
-                       file_space, memory_space)
+    call write_dataset(name, H5T_STD_I64LE, h5kind_to_type(i8, H5_INTEGER_KIND), 0, n, &
+                       c_loc(values), file_space, memory_space)
     call h5sclose_f(file_space, hdferr)
     call h5sclose_f(memory_space, hdferr)
-  end subroutine write_connectivity
+  end subroutine write_int64_runs
 
   !> Entries of /mesh/xdmf_topology (the mixed topology the XDMF file points to).
   integer(i8) function h5_output_topology_length()

@@ -14,6 +14,11 @@ module mefem_output_mesh
   integer, parameter, public :: TOPO_TRI3 = 1, TOPO_QUAD4 = 2, TOPO_TET4 = 3, &
                                 TOPO_PENTA6 = 4, TOPO_HEX8 = 5
   integer, parameter, public :: NODES_OF_TOPO(5) = [3, 4, 4, 6, 8]  !< corner nodes per topology
+  !> VTK cell type per topology: triangle 5, quad 9, tetra 10, wedge 13, hexahedron 12
+  integer, parameter :: VTK_CELL_OF_TOPO(5) = [5, 9, 10, 13, 12]
+  !> XDMF 3 mixed-topology code per topology: triangle 4, quadrilateral 5, tetrahedron 6,
+  !> wedge 8, hexahedron 9
+  integer, parameter :: XDMF_CELL_OF_TOPO(5) = [4, 5, 6, 8, 9]
 
   public :: vtk_cell_type, xdmf_cell_type
 
@@ -44,43 +49,20 @@ module mefem_output_mesh
 
 contains
 
-  !> VTK cell type code of a mefem topology (VTK_TRIANGLE=5, QUAD=9, TETRA=10, WEDGE=13, HEX=12).
+  !> VTK cell type code of a mefem topology (VTK_CELL_OF_TOPO; 0 for none).
   pure integer function vtk_cell_type(topology)
     integer, intent(in) :: topology   !< TOPO_* code
-    select case (topology)
-    case (TOPO_TRI3)
-      vtk_cell_type = 5
-    case (TOPO_QUAD4)
-      vtk_cell_type = 9
-    case (TOPO_TET4)
-      vtk_cell_type = 10
-    case (TOPO_PENTA6)
-      vtk_cell_type = 13
-    case (TOPO_HEX8)
-      vtk_cell_type = 12
-    case default
-      vtk_cell_type = 0
-    end select
+    vtk_cell_type = 0
+    if (topology >= 1 .and. topology <= size(VTK_CELL_OF_TOPO)) &
+      vtk_cell_type = VTK_CELL_OF_TOPO(topology)
   end function vtk_cell_type
 
-  !> XDMF mixed-topology code of a mefem topology (XDMF 3: triangle 4, quadrilateral 5,
-  !> tetrahedron 6, wedge 8, hexahedron 9; 0 for none).
+  !> XDMF mixed-topology code of a mefem topology (XDMF_CELL_OF_TOPO; 0 for none).
   pure integer function xdmf_cell_type(topology)
     integer, intent(in) :: topology   !< TOPO_* code
-    select case (topology)
-    case (TOPO_TRI3)
-      xdmf_cell_type = 4
-    case (TOPO_QUAD4)
-      xdmf_cell_type = 5
-    case (TOPO_TET4)
-      xdmf_cell_type = 6
-    case (TOPO_PENTA6)
-      xdmf_cell_type = 8
-    case (TOPO_HEX8)
-      xdmf_cell_type = 9
-    case default
-      xdmf_cell_type = 0
-    end select
+    xdmf_cell_type = 0
+    if (topology >= 1 .and. topology <= size(XDMF_CELL_OF_TOPO)) &
+      xdmf_cell_type = XDMF_CELL_OF_TOPO(topology)
   end function xdmf_cell_type
 
 end module mefem_output_mesh
