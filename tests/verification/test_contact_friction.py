@@ -74,13 +74,13 @@ if rc == 0:
     print('    stick: |friction - pull| <= %.2e mu N, bottom slip <= %.2e mm; sliding: '
           'friction / normal %.4f .. %.4f (mu %.2f); slip starts at %.4e s (pull = mu N at '
           '%.4e s)' % (stick_err, stick_slip, ratio.min(), ratio.max(), MU, t_moved, t_slip))
-    # measured 2.1e-2 mu N (the block's inertia under the growing pull)
+    # measured 1.5e-2 mu N (the block's inertia under the growing pull)
     checks.check(stick_err < 0.03, 'stick: friction force = pull within 3 % of mu N',
                  '%.3e' % stick_err)
-    # measured 8.6e-3 mm: the elastic (penalty) compliance of the tangential traction,
-    # mu p / eps_T, with eps_T capped at 0.1 m/dt^2 per area (doc/theory.md 10.5), so it grows
-    # with the stable step (3.9e-3 mm with the shorter step of the seed paper's masses);
-    # sliding moves the block 10x that within T2/10
+    # measured 5.2e-3 mm: the elastic (penalty) compliance of the tangential traction,
+    # mu p / eps_T, with eps_T capped at (1 - TSSFAC^2) m/dt^2 per area (doc/theory.md 10.5),
+    # so it grows with the stable step (8.6e-3 mm with a fixed cap of 0.1); sliding moves the
+    # block 10x that within T2/10
     checks.check(stick_slip < 0.01, 'stick: no slip (bottom node moves < 1 % of the block)',
                  '%.3e' % stick_slip)
     # measured 0.3000 throughout the slide
@@ -89,6 +89,30 @@ if rc == 0:
     checks.check(abs(t_moved - t_slip) < 0.1 * T2, 'stick-slip transition when the pull '
                  'reaches mu N (within 10 % of the pull ramp)', '%.4e vs %.4e' % (t_moved,
                                                                                 t_slip))
+
+# ---- 1b. the penalty cap at smaller TSSFAC ------------------------------------------------------
+# The cap is max(0.1, 1 - TSSFAC^2) m/dt^2 per area: 0.75 at TSSFAC 0.5, 0.55 at 0.67 (a common
+# choice with contact), 0.19 at the default 0.9 (above). The stiffer penalty must stay stable
+# (energy ratio, measured 1.0011 and 1.0018 at most) and slide at mu N. (At TSSFAC 0.95, where
+# the cap is the floor 0.1, this block's contact breaks down near the end of the run, in this
+# build and the one before the rebalanced split: doc/theory.md 10.5.)
+for tssfac in (0.5, 0.67):
+    name = 'sliding_block_tssfac_%g' % tssfac
+    rc_t, text_t, out_t = run_case(name, blocks + [['*CONTROL_TIMESTEP', f10(0.0, tssfac)]])
+    checks.check(rc_t == 0, '%s: run succeeds' % name, text_t[-600:])
+    if rc_t != 0:
+        continue
+    g = read_glstat(os.path.join(out_t, 'glstat'))
+    energy = g['total energy / initial energy'][1:]
+    r = read_rcforc(os.path.join(out_t, 'rcforc'))[1]['slave']
+    slide = r['time'] > T1 + T2 * MU * normal_force / pull_end + 0.05 * T2
+    ratio = r['tangential'][slide] / r['normal'][slide]
+    print('    TSSFAC %g: energy ratio %.5f .. %.5f, sliding friction / normal %.4f .. %.4f' % (
+        tssfac, energy.min(), energy.max(), ratio.min(), ratio.max()))
+    checks.check(np.all(abs(energy - 1) < 0.01) and np.all(abs(ratio / MU - 1) < 0.02),
+                 '%s: stable (energy ratio within 1 %%) and sliding at mu N (2 %%)' % name,
+                 '%.5f .. %.5f; %.4f .. %.4f' % (energy.min(), energy.max(), ratio.min(),
+                                                 ratio.max()))
 
 # ---- 1a. the friction from *PART_CONTACT (the contact's FS = -1): the same bits --------------
 if rc == 0:
