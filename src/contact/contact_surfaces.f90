@@ -141,7 +141,7 @@ contains
         selected(model%sets(target)%members) = .true.
         if (kind == SURFACE_ALL_BUT_SET) selected = .not. selected
       end if
-      call parts_to_facets(model, selected, surface, status, who//' ('// &
+      call contact_parts_to_facets(model, selected, surface, status, who//' ('// &
                            target_name(model, kind, target)//')')
     case (SURFACE_NODE_SET)
       ! nodes-to-surface contacts: the exterior faces (2D: boundary edges) of all parts whose
@@ -152,7 +152,7 @@ contains
       end if
       allocate(selected(model%n_parts))
       selected = .true.
-      call parts_to_facets(model, selected, surface, status, who//' ('// &
+      call contact_parts_to_facets(model, selected, surface, status, who//' ('// &
                            target_name(model, kind, target)//')')
       if (status%ok) call keep_facets_of_nodes(model, model%sets(target)%members, surface)
     case default
@@ -435,22 +435,11 @@ contains
     on_surface = .false.
     selected = .true.
     if (model%dimension == 2) return                   ! (the hexahedra are 3D)
-    call parts_to_facets(model, selected, surface, status, 'exterior nodes')
+    call contact_parts_to_facets(model, selected, surface, status, 'exterior nodes')
     do f = 1, surface%nfacet
       on_surface(surface%facets(1:surface%nvertex(f), f)) = .true.
     end do
   end subroutine exterior_nodes
-
-  !> The exterior facets of the parts selected, oriented outward (parts_to_facets): for
-  !> other modules (segment sets).
-  subroutine contact_parts_to_facets(model, selected, surface, status, who)
-    type(model_t), intent(in) :: model                  !< the model
-    logical, intent(in) :: selected(:)                  !< (n_parts) parts of the surface
-    type(contact_surface_t), intent(inout) :: surface   !< facets filled in
-    type(status_t), intent(inout) :: status             !< failure and message
-    character(len=*), intent(in) :: who                 !< message prefix
-    call parts_to_facets(model, selected, surface, status, who)
-  end subroutine contact_parts_to_facets
 
   !> Faces of an element that bound its body: faces of a 3D solid, edges of a 2D element
   !> (none for 3D shells and 2D solids). pos holds corner positions, a cycle per face.
@@ -492,8 +481,9 @@ contains
   end subroutine element_faces
 
   !> Facets of the parts selected: exterior faces of solids (faces met once among the
-  !> elements of those parts) and shells as they are in 3D; boundary edges in 2D.
-  subroutine parts_to_facets(model, selected, surface, status, who)
+  !> elements of those parts, oriented outward) and shells as they are in 3D; boundary edges in
+  !> 2D (also used for segment sets by mefem_resolve_conditions).
+  subroutine contact_parts_to_facets(model, selected, surface, status, who)
     type(model_t), intent(in) :: model                  !< the model
     logical, intent(in) :: selected(:)                  !< (n_parts) parts of the surface
     type(contact_surface_t), intent(inout) :: surface   !< facets filled in
@@ -593,7 +583,7 @@ contains
       end do
     end do
     surface%nfacet = nout
-  end subroutine parts_to_facets
+  end subroutine contact_parts_to_facets
 
   !> Keep the facets whose vertices are all among the given nodes (a node set's members),
   !> in their order.
