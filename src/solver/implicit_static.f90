@@ -51,6 +51,8 @@ module mefem_implicit_static
                                   rbdout_write, rbdout_close
   use mefem_lumped_mass, only: lumped_mass
   use mefem_body_loads, only: body_acceleration, body_load_nodes, add_body_forces
+  use mefem_implicit_nodal_pressure, only: np_patches_t, np_values_t, np_patches_build, &
+                                           np_prepare, np_pressures, np_fbar, np_cell_terms
   implicit none
   private
 
@@ -115,6 +117,11 @@ module mefem_implicit_static
   end type energy_t
   type(energy_t) :: energy
 
+  !> Nodal-pressure tetrahedra (ELFORM 13): their patches (set up once) and one evaluation's
+  !> values (mefem_implicit_nodal_pressure; every rank evaluates all of them).
+  type(np_patches_t) :: patches
+  type(np_values_t) :: np_values
+
   !> What one evaluation of the cells gives.
   type :: cell_state_t
     real(wp), allocatable :: hist_new(:,:)   !< (NHIST, cells) trial history
@@ -146,6 +153,9 @@ contains
     if (.not. status%ok) call fatal('element set-up: '//status%message)
     call check_supported(model)
     call cells_summary(cells)
+    call np_patches_build(cells, patches)
+    if (patches%n > 0) call say('implicit: '//itoa(patches%n)//' nodal-pressure tetrahedra '// &
+        '(ELFORM 13), up to '//itoa(patches%max_patch)//' nodes in a patch')
     dim = cells%dim
     n_all = cells%n_mesh_nodes + cells%n_enriched
     allocate(owned(cells%n))
@@ -919,10 +929,19 @@ contains
     residual = 0.0_wp
     if (present(internal)) internal = 0.0_wp
     failed = .false.
+    if (patches%n > 0) call nodal_pressure_materials(model, cells, u, hist, trial%hist_new, &
+                                                     .false., failed, u_old, dt)
     do cell = 1, cells%n
       if (.not. owned(cell)) cycle
       nn = cells%nnodes(cell)
       nd = dim*nn
+      if (patches%n > 0) then
+        if (patches%index_of(cell) > 0) then         ! ELFORM 13: the means' forces, tangent
+          if (failed) cycle
+          call nodal_pressure_cell(cell, residual, tangent, internal)
+          cycle
+        end if
+      end if
       ue(1:dim, 1:nn) = u(:, cells%nodes(1:nn, cell))
       call cell_deformation_gradient(dim, nn, cells%grad(:, :, cell), ue, f)
       ! rate effects: the effective strain rate sqrt(d : d) of the step, d = sym((F - F_n)
@@ -983,7 +1002,105 @@ contains
     call comm_sum(residual)
     call comm_sum(trial%cauchy)
     if (present(internal)) call comm_sum(internal)
+
+  contains
+
+    !> ELFORM 13 cell: forces V0 tau_eff F^-T g_a, the element's tangent and the block of the
+    !> means on its patch's nodes (mefem_implicit_nodal_pressure).
+    subroutine nodal_pressure_cell(cell, residual, tangent, internal)
+      integer, intent(in) :: cell                      !< the cell
+      real(wp), intent(inout) :: residual(:)           !< free-dof residual
+      type(coo_matrix_t), intent(inout) :: tangent     !< tangent matrix
+      real(wp), intent(inout), optional :: internal(:,:) !< internal forces
+      real(wp) :: block(3*patches%max_patch, 3*patches%max_patch)
+      integer :: patch_dofs(3*patches%max_patch), e, np, first
+      e = patches%index_of(cell)
+      call np_cell_terms(cells, patches, np_values, e, tau, c, block)
+      f = np_values%f(:, :, e)
+      trial%cauchy(:, cell) = [tau(1, 1), tau(2, 2), tau(3, 3), tau(1, 2), tau(2, 3), &
+                               tau(3, 1)]/np_values%det(e)
+      call cell_internal_force(3, 4, cells%grad(:, :, cell), cells%weight(cell), f, tau, &
+                               fc(:, 1:4))
+      call cell_tangent(3, 4, cells%grad(:, :, cell), cells%weight(cell), f, tau, c, &
+                        ke(1:12, 1:12))
+      if (present(internal)) internal(:, cells%nodes(1:4, cell)) = &
+          internal(:, cells%nodes(1:4, cell)) + fc(:, 1:4)
+      do a = 1, 4
+        do i = 1, 3
+          dofs(3*(a-1) + i) = equation(i, cells%nodes(a, cell))
+          if (dofs(3*(a-1) + i) > 0) residual(dofs(3*(a-1) + i)) = &
+              residual(dofs(3*(a-1) + i)) - fc(i, a)
+        end do
+      end do
+      call coo_add_block(tangent, dofs(1:12), ke(1:12, 1:12), .false.)
+      first = patches%patch_start(e)
+      np = patches%patch_start(e + 1) - first
+      do a = 1, np
+        patch_dofs(3*(a-1) + 1:3*a) = equation(:, patches%patch_node(first + a - 1))
+      end do
+      call coo_add_block(tangent, patch_dofs(1:3*np), block(1:3*np, 1:3*np), .false.)
+    end subroutine nodal_pressure_cell
+
   end subroutine evaluate_cells
+
+  !> ELFORM 13, every cell on every rank (the means need its neighbours'): F, Jbar, the
+  !> material at Fbar from the converged history (hist_new, np_values' tau and c; committed:
+  !> the output's re-evaluation) and the mean pressures. failed: a J <= 0 or a material
+  !> failure (the first reported).
+  subroutine nodal_pressure_materials(model, cells, u, hist, hist_new, committed, failed, &
+                                      u_old, dt)
+    type(model_t), intent(in) :: model                 !< resolved model
+    type(cells_t), intent(in) :: cells                 !< cells
+    real(wp), intent(in) :: u(:,:)                     !< displacements
+    real(wp), intent(in) :: hist(:,:)                  !< converged history
+    real(wp), intent(inout) :: hist_new(:,:)           !< (ELFORM 13 columns set) new history
+    logical, intent(in) :: committed                   !< re-evaluate the committed state
+    logical, intent(inout) :: failed                   !< some cell failed
+    real(wp), intent(in), optional :: u_old(:,:)       !< displacements at the step's start
+    real(wp), intent(in), optional :: dt               !< the step (strain rates)
+    real(wp) :: ue(3, 4), f_old(3, 3), finv(3, 3), det, d(3, 3), rate, sound
+    type(status_t) :: status
+    logical :: ok
+    integer :: e, cell, bad
+    call np_prepare(cells, patches, u, np_values, ok, bad)
+    if (.not. ok) then
+      if (.not. failed .and. .not. committed) call say('  cell '//itoa(bad)//' (element '// &
+          itoa(model%elements%id(cells%elements(1, bad)))//'): det F <= 0')
+      failed = .true.
+      return
+    end if
+    do e = 1, patches%n
+      cell = patches%cell(e)
+      rate = 0.0_wp
+      if (present(dt) .and. present(u_old)) then
+        if (rate_dependent(model%materials(cells%material(cell))) .and. dt > 0.0_wp) then
+          ue = u_old(:, cells%nodes(1:4, cell))
+          call cell_deformation_gradient(3, 4, cells%grad(:, :, cell), ue, f_old)
+          call inverse_3x3(np_values%f(:, :, e), finv, det)
+          d = matmul(np_values%f(:, :, e) - f_old, finv)/dt
+          rate = sqrt(sum((0.5_wp*(d + transpose(d)))**2))
+        end if
+      end if
+      if (committed) then
+        call material_update(model%materials(cells%material(cell)), model%curves, &
+                             np_fbar(np_values, e), hist(:, cell), hist_new(:, cell), &
+                             np_values%tau(:, :, e), np_values%c(:, :, :, :, e), sound, status, &
+                             committed=.true.)
+      else
+        call material_update(model%materials(cells%material(cell)), model%curves, &
+                             np_fbar(np_values, e), hist(:, cell), hist_new(:, cell), &
+                             np_values%tau(:, :, e), np_values%c(:, :, :, :, e), sound, status, &
+                             strain_rate=rate, dt=dt)
+      end if
+      if (.not. status%ok) then
+        if (.not. failed .and. .not. committed) call say('  cell '//itoa(cell)//' (element '// &
+            itoa(model%elements%id(cells%elements(1, cell)))//'): '//status%message)
+        failed = .true.
+        return
+      end if
+    end do
+    call np_pressures(patches, np_values)
+  end subroutine nodal_pressure_materials
 
   !> Output state: displacement, Cauchy stress, pressure, von Mises and plastic strain
   !> at nodes (cell-weighted means) and elements (means of their cells), reaction forces;
@@ -1045,13 +1162,34 @@ contains
     real(wp) :: ue(3, CELL_MAX_NODES)
     real(wp) :: scratch(NHIST), fc(3, CELL_MAX_NODES), fh(3, CELL_MAX_NODES), energy
     real(wp) :: kh(3*CELL_MAX_NODES, 3*CELL_MAX_NODES)
+    real(wp), allocatable :: scratch_np(:,:), block(:,:)
     type(status_t) :: status
-    integer :: cell, nn, a
+    integer :: cell, nn, a, e
+    logical :: failed
     allocate(stress(6, cells%n), internal(cells%dim, size(u, 2)))
+    allocate(block(3*patches%max_patch, 3*patches%max_patch))
     stress = 0.0_wp
     internal = 0.0_wp
+    failed = .false.
+    if (patches%n > 0) then
+      allocate(scratch_np(NHIST, cells%n))
+      call nodal_pressure_materials(model, cells, u, hist, scratch_np, .true., failed)
+    end if
     do cell = 1, cells%n
       nn = cells%nnodes(cell)
+      if (patches%n > 0) then
+        if (patches%index_of(cell) > 0) then         ! ELFORM 13: tau_eff and its forces
+          if (failed) cycle
+          e = patches%index_of(cell)
+          call np_cell_terms(cells, patches, np_values, e, tau, c, block)
+          stress(:, cell) = [tau(1, 1), tau(2, 2), tau(3, 3), tau(1, 2), tau(2, 3), &
+                             tau(3, 1)]/np_values%det(e)
+          call cell_internal_force(3, 4, cells%grad(:, :, cell), cells%weight(cell), &
+                                   np_values%f(:, :, e), tau, fc(:, 1:4))
+          internal(:, cells%nodes(1:4, cell)) = internal(:, cells%nodes(1:4, cell)) + fc(:, 1:4)
+          cycle
+        end if
+      end if
       ue(1:cells%dim, 1:nn) = u(:, cells%nodes(1:nn, cell))
       call cell_deformation_gradient(cells%dim, nn, cells%grad(:, :, cell), ue, f)
       ! the committed history already holds F_{n+1}: re-evaluating from it is elastic (no

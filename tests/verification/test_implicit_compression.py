@@ -10,7 +10,8 @@ uniaxial and uniform for any mesh, so at every output state:
 - the equivalent plastic strain is the same in every cell (1e-5) and close to the logarithmic
   plastic strain |ln lambda_z| - sigma/E (Simo's update differs from it by up to ~(2/3) sigma/mu);
 - the same run on 2 ranks gives the same reactions (1e-8).
-Distorted meshes of ME-FEM tets (43) and standard tets (10). Newton convergence is quadratic:
+Distorted meshes of ME-FEM tets (43), standard tets (10) and nodal-pressure tets (13, whose
+tangent couples each element with its nodes' neighbours). Newton convergence is quadratic:
 in steps of 4 or more iterations the last residual ratio is below 100 x the square of the one
 before it.
 """
@@ -74,7 +75,7 @@ def reactions(h5):
 
 
 checks = Checks('implicit_compression')
-for elform in (43, 10):
+for elform in (43, 10, 13):
     name, path = deck(elform)
     rc, text = run(path, os.path.join(OUT, name))
     checks.check(rc == 0, name + ': run succeeds', text[-500:])
@@ -127,7 +128,7 @@ for elform in (43, 10):
     quadratic = all(last < 100.0 * prev ** 2 or last < 1e-12 for prev, last in ratios)
     checks.check(len(ratios) > 0 and quadratic, name + ': quadratic convergence at the end of '
                  'every Newton loop', str(ratios[:5]))
-    if elform == 43:
+    if elform in (43, 13):
         # the same deck converged to the residual floor on 1 and 2 ranks
         tname, tpath = deck(elform, tight=True)
         runs = []

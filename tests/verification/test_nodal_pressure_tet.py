@@ -1,5 +1,6 @@
-"""The nodal-pressure tetrahedron (solid ELFORM 13, doc/theory.md 2.7) in the explicit
-analysis: locking, exactness in homogeneous states, energy consistency, rank independence.
+"""The nodal-pressure tetrahedron (solid ELFORM 13, doc/theory.md 2.7) in the explicit and the
+nonlinear implicit analyses: locking, exactness in homogeneous states, energy consistency,
+rank independence.
 
 1. Indentation, quasi-static (doc/verification.md "Nodal-pressure tetrahedron"): an elastic
    block 10 x 10 x 5 mm (8 x 8 x 4 hexahedra, 6 tets each) held at its base, the central
@@ -15,9 +16,14 @@ analysis: locking, exactness in homogeneous states, energy consistency, rank ind
    strain with the energy balance of the central difference scheme.
 4. The indentation with ELFORM 13 on 1 and 3 ranks: identical histories, bit for bit (the
    nodal sums are summed in the force assembly's fixed order).
-5. An implicit deck with an ELFORM 13 part: refused at the section's line, before the analysis.
+5. The indentation in the nonlinear implicit analysis (nu = 0.499): quadratic Newton
+   convergence with the tangent of the nodal means, no locking (against ME-FEM), the strain
+   energy of the converged state equal to glstat's work of the forces, the same energy as the
+   explicit quasi-static run, and the same displacements on 1 and 3 ranks.
+6. A linear-analysis deck with an ELFORM 13 part: refused at the section's line.
 """
 import os
+import re
 import subprocess
 import sys
 
@@ -226,15 +232,96 @@ if one is not None and three is not None:
                  'histories, final displacements and cell stresses identical (bit for bit)',
                  'glstat %s, nodout %s, fields %s' % (same_g, same_n, same_f))
 
-# ---- 5. implicit: refused -------------------------------------------------------------------
-bad = os.path.join(OUT, 'implicit_e13.k')
+# ---- 5. implicit: the indentation quasi-static, with the consistent tangent ------------------
+IMPLICIT_STEPS = 10
+
+
+def implicit_indentation(elform, ranks=1, tight=False):
+    """The indentation (nu = 0.499) in the nonlinear implicit analysis, IMPLICIT_STEPS steps;
+    returns (text, mesh, final displacement, glstat) or None."""
+    # tight: converge to the residual floor (ABSTOL 1e-6 N; the reactions are ~1e3 N)
+    solution = free(12, 11, 40, 1e-14, 1e-20, 1e10, 0.9, 1e-6) if tight else f10(12)
+    blocks = [nodes_card(x), elements_card('ELEMENT_SOLID', conn),
+              part_cards(elform, elastic(poisson=0.499)),
+              node_set(1, base), node_set(2, punch),
+              ['*BOUNDARY_SPC_SET', f10(1, 0, 1, 1, 1, 1, 1, 1)],
+              ['*BOUNDARY_PRESCRIBED_MOTION_SET', f10(2, 3, 2, 1, -DEPTH)],
+              curve(1, [(0.0, 0.0), (1.0, 1.0)]),
+              ['*CONTROL_TERMINATION', f10(1.0), '*CONTROL_IMPLICIT_GENERAL',
+               f10(1, 1.0 / IMPLICIT_STEPS), '*CONTROL_IMPLICIT_SOLUTION', solution,
+               '*DATABASE_GLSTAT', f10(1.0 / IMPLICIT_STEPS), '*DATABASE_BINARY_D3PLOT', f10(1.0)]]
+    tag = 'implicit_e%d%s_np%d' % (elform, '_tight' if tight else '', ranks)
+    rc, text, out = run_case(tag, blocks, ranks)
+    checks.check(rc == 0, 'implicit indentation ELFORM %d (%d rank(s)): run succeeds'
+                 % (elform, ranks), text[-600:])
+    if rc != 0:
+        return None
+    import h5py
+    path = [os.path.join(out, f) for f in os.listdir(out) if f.endswith('.h5')][0]
+    with h5py.File(path, 'r') as h:
+        last = h['states'][sorted(h['states'].keys())[-1]]
+        u = np.array(last['point']['displacement'])
+        mesh = (np.array(h['mesh']['coordinates']),
+                np.array(h['mesh']['connectivity']).reshape(-1, 4))
+    return text, mesh, u, glstat(out)
+
+
+implicit_energy = {}
+for elform in (13, 43, 10):
+    r = implicit_indentation(elform)
+    if r is None:
+        continue
+    text, mesh, u, g = r
+    implicit_energy[elform] = g['internal energy'][-1]
+    # quadratic convergence at the end of every Newton loop (the tangent of the means)
+    ratios = []
+    for block in re.split(r'\nstep ', text):
+        res = [float(m) for m in re.findall(r'\|R\| = \S+ \((\S+)\)', block)]
+        if len(res) >= 3:
+            ratios.append((res[-2], res[-1]))
+    quadratic = all(last < 100.0 * prev ** 2 or last < 1e-12 for prev, last in ratios)
+    iterations = [int(n) for n in re.findall(r'^step \d+: t = .*, (\d+) iterations$', text, re.M)]
+    print('    implicit indentation ELFORM %d: internal energy %.5e mJ, Newton iterations per '
+          'step %s' % (elform, implicit_energy[elform], iterations))
+    checks.check(len(ratios) > 0 and quadratic, 'implicit indentation ELFORM %d: quadratic '
+                 'convergence at the end of every Newton loop' % elform, str(ratios[:5]))
+    if elform == 13:
+        # the converged state's strain energy, from its displacements, is the work of the
+        # forces summed by the trapezoidal rule over the steps (glstat)
+        stored = strain_energy(mesh, u, 0.499, 13)
+        checks.check(abs(implicit_energy[13] / stored - 1) < 1e-3, 'implicit indentation '
+                     'ELFORM 13: glstat internal energy = strain energy of the final state '
+                     '(1e-3; trapezoidal rule)', '%.2e' % (implicit_energy[13] / stored - 1))
+if len(implicit_energy) == 3:
+    r13, r10 = implicit_energy[13] / implicit_energy[43], implicit_energy[10] / implicit_energy[43]
+    print('    implicit indentation energy / ME-FEM: ELFORM 13 %.4f, 10 %.4f' % (r13, r10))
+    checks.check(abs(r13 - 1) < 0.10 and r10 > 1.5, 'implicit indentation nu 0.499: ELFORM 13 '
+                 'within 10 % of ME-FEM, the standard tet locks (> 1.5 x)', '%.4f %.4f'
+                 % (r13, r10))
+if (13, 0.499) in energy and 13 in implicit_energy:
+    # the same problem quasi-static in the explicit analysis (its kinetic energy < 1 %)
+    ratio = implicit_energy[13] / energy[13, 0.499]
+    print('    ELFORM 13 indentation energy, implicit / explicit: %.5f' % ratio)
+    checks.check(abs(ratio - 1) < 0.01, 'ELFORM 13 indentation: implicit and explicit '
+                 'quasi-static energies agree (1 %)', '%.5f' % ratio)
+# 1 and 3 ranks, converged to the residual floor: the same displacements
+one = implicit_indentation(13, 1, tight=True)
+three = implicit_indentation(13, 3, tight=True)
+if one is not None and three is not None:
+    diff = np.abs(one[2] - three[2]).max() / np.abs(one[2]).max()
+    checks.check(diff < 1e-8, 'implicit indentation ELFORM 13: 1 and 3 ranks give the same '
+                 'displacements (1e-8)', '%.2e' % diff)
+
+# ---- 6. the linear analysis: refused ----------------------------------------------------------
+bad = os.path.join(OUT, 'linear_e13.k')
 write_deck(bad, [nodes_card(xh), elements_card('ELEMENT_SOLID', ch),
                  part_cards(13, elastic()), ['*CONTROL_IMPLICIT_GENERAL', f10(1, 0.1)],
-                 ['*CONTROL_TERMINATION', f10(1.0)]], title='implicit_e13')
-rc, text = run(bad, os.path.join(OUT, 'implicit_e13'))
+                 ['*CONTROL_IMPLICIT_SOLUTION', f10(1)],
+                 ['*CONTROL_TERMINATION', f10(1.0)]], title='linear_e13')
+rc, text = run(bad, os.path.join(OUT, 'linear_e13'))
 with open(bad) as fh:
     line = [i + 1 for i, t in enumerate(fh) if t.startswith('*SECTION_SOLID')][0]
-expected = 'implicit_e13.k:%d: *SECTION_SOLID: section 1: solid ELFORM 13' % (line + 1)
-checks.check(rc != 0 and expected in text and 'explicit analysis only' in text,
-             'implicit deck with ELFORM 13: refused at the section\'s line', text[-600:])
+expected = 'linear_e13.k:%d: *SECTION_SOLID: section 1: solid ELFORM 13' % (line + 1)
+checks.check(rc != 0 and expected in text and 'linear analysis (NSOLVR = 1)' in text,
+             'linear deck with ELFORM 13: refused at the section\'s line', text[-600:])
 checks.exit()
