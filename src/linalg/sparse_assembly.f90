@@ -19,7 +19,7 @@ module mefem_sparse_assembly
   implicit none
   private
 
-  public :: coo_init, coo_add_block, coo_reset_values, coo_compress, coo_free
+  public :: coo_init, coo_add_block, coo_add_rectangle, coo_reset_values, coo_compress, coo_free
   public :: STORAGE_EMPTY, STORAGE_FULL, STORAGE_LOWER, STORAGE_MIXED
 
   !> What coo_add_block was asked to store so far on this rank.
@@ -92,36 +92,50 @@ contains
     integer, intent(in) :: dofs(:)           !< global dof number of each block row/column
     real(wp), intent(in) :: ke(:,:)          !< block, size(dofs) x size(dofs)
     logical, intent(in) :: symmetric         !< store only the lower triangle (row >= col)
-    integer :: i, j, m, r, c
+    call coo_add_rectangle(a, dofs, dofs, ke, symmetric)
+  end subroutine coo_add_block
+
+  !> Add a dense block ke on the global rows x columns; dofs <= 0 (fixed) are skipped.
+  subroutine coo_add_rectangle(a, rows, cols, ke, symmetric)
+    type(coo_matrix_t), intent(inout) :: a   !< the matrix
+    integer, intent(in) :: rows(:)           !< global dof number of each block row
+    integer, intent(in) :: cols(:)           !< global dof number of each block column
+    real(wp), intent(in) :: ke(:,:)          !< block, size(rows) x size(cols)
+    logical, intent(in) :: symmetric         !< store only the lower triangle (row >= col)
+    integer :: i, j, r, c
     logical :: changed
     character(len=160) :: text
-    m = size(dofs)
-    if (size(ke, 1) /= m .or. size(ke, 2) /= m) then
-      write(text, '(a,i0,a,i0,a,i0)') 'coo_add_block: block is ', size(ke, 1), ' x ', &
-          size(ke, 2), ' for ', m
+    if (size(ke, 1) /= size(rows) .or. size(ke, 2) /= size(cols)) then
+      write(text, '(a,i0,a,i0,a,i0,a,i0)') 'coo_add_block: block is ', size(ke, 1), ' x ', &
+          size(ke, 2), ' for ', size(rows), ' x ', size(cols)
       call fatal_local(trim(text)//' dofs')
     end if
-    do i = 1, m
-      if (dofs(i) > a%n) then
-        write(text, '(a,i0,a,i0)') 'coo_add_block: dof ', dofs(i), ' exceeds the matrix size ', a%n
+    do i = 1, size(rows) + size(cols)
+      if (i <= size(rows)) then
+        r = rows(i)
+      else
+        r = cols(i - size(rows))
+      end if
+      if (r > a%n) then
+        write(text, '(a,i0,a,i0)') 'coo_add_block: dof ', r, ' exceeds the matrix size ', a%n
         call fatal_local(text)
       end if
     end do
     call record_storage(a, symmetric)
-    call ensure_capacity(a, a%cursor + int(m, i8)*int(m, i8))
+    call ensure_capacity(a, a%cursor + int(size(rows), i8)*int(size(cols), i8))
     changed = .false.
-    do j = 1, m
-      c = dofs(j)
+    do j = 1, size(cols)
+      c = cols(j)
       if (c <= 0) cycle
-      do i = 1, m
-        r = dofs(i)
+      do i = 1, size(rows)
+        r = rows(i)
         if (r <= 0) cycle
         if (symmetric .and. r < c) cycle
         call add_entry(a, r, c, ke(i, j), changed)
       end do
     end do
     if (changed) a%pattern_id = new_pattern_id()
-  end subroutine coo_add_block
+  end subroutine coo_add_rectangle
 
   !> Zero the values and keep the positions, for a re-assembly with the same sparsity.
   !> Without coo_compress the blocks must then be added again in the identical order.

@@ -29,7 +29,8 @@ module mefem_implicit_nodal_pressure
   implicit none
   private
 
-  public :: np_patches_build, np_prepare, np_pressures, np_fbar, np_cell_terms
+  public :: np_patches_build, np_pairs_build, np_prepare, np_pressures, np_fbar, &
+            np_cell_terms, np_add_to_pairs
 
   !> The ELFORM 13 cells, the coefficients of their means and their patches' nodes.
   type, public :: np_patches_t
@@ -42,6 +43,10 @@ module mefem_implicit_nodal_pressure
     real(wp), allocatable :: coef(:)            !< c_eh
     integer, allocatable :: patch_start(:)      !< (n + 1) CSR: the nodes of e's patch
     integer, allocatable :: patch_node(:)       !< the nodes, ascending
+    ! the node pairs that the blocks of this rank's cells touch (np_pairs_build): the blocks
+    ! are summed into them (np_add_to_pairs) and the matrix gets each pair once
+    integer, allocatable :: pair_start(:)       !< (nodes + 1) CSR: the pairs of node i
+    integer, allocatable :: pair_node(:)        !< their nodes j, ascending
   end type np_patches_t
 
   !> One evaluation's values of the ELFORM 13 cells (all of them, on every rank).
@@ -181,6 +186,90 @@ contains
     end subroutine add_term
 
   end subroutine np_patches_build
+
+  !> The node pairs (i, j) of the patches of the cells this rank owns: j in row i when both are
+  !> nodes of one such patch (rows ascending, each sorted).
+  subroutine np_pairs_build(patches, owned)
+    type(np_patches_t), intent(inout) :: patches      !< the patches (pairs set)
+    logical, intent(in) :: owned(:)                   !< (cells) the cells this rank owns
+    integer, allocatable :: row_start(:), row_patch(:), fill(:), mark(:), list(:)
+    integer :: nnode, e, k, i, node, count_row, pass, total
+    nnode = 0
+    if (size(patches%patch_node) > 0) nnode = maxval(patches%patch_node)
+    ! the owned patches holding each node (CSR)
+    allocate(row_start(nnode + 1), fill(nnode), mark(nnode), list(nnode))
+    row_start = 0
+    do e = 1, patches%n
+      if (.not. owned(patches%cell(e))) cycle
+      do k = patches%patch_start(e), patches%patch_start(e + 1) - 1
+        row_start(patches%patch_node(k) + 1) = row_start(patches%patch_node(k) + 1) + 1
+      end do
+    end do
+    row_start(1) = 1
+    do node = 1, nnode
+      row_start(node + 1) = row_start(node + 1) + row_start(node)
+    end do
+    allocate(row_patch(row_start(nnode + 1) - 1))
+    fill = row_start(1:nnode)
+    do e = 1, patches%n
+      if (.not. owned(patches%cell(e))) cycle
+      do k = patches%patch_start(e), patches%patch_start(e + 1) - 1
+        row_patch(fill(patches%patch_node(k))) = e
+        fill(patches%patch_node(k)) = fill(patches%patch_node(k)) + 1
+      end do
+    end do
+    ! each row: the union of its patches' nodes; counted, then stored
+    mark = 0
+    allocate(patches%pair_start(nnode + 1))
+    patches%pair_start(1) = 1
+    total = 0
+    do pass = 1, 2
+      if (pass == 2) allocate(patches%pair_node(total))
+      do i = 1, nnode
+        count_row = 0
+        do k = row_start(i), row_start(i + 1) - 1
+          e = row_patch(k)
+          do node = patches%patch_start(e), patches%patch_start(e + 1) - 1
+            if (mark(patches%patch_node(node)) /= 0) cycle
+            mark(patches%patch_node(node)) = 1
+            count_row = count_row + 1
+            list(count_row) = patches%patch_node(node)
+          end do
+        end do
+        mark(list(1:count_row)) = 0
+        if (pass == 1) then
+          patches%pair_start(i + 1) = patches%pair_start(i) + count_row
+          total = total + count_row
+        else
+          call sort_integers(list(1:count_row))
+          patches%pair_node(patches%pair_start(i):patches%pair_start(i + 1) - 1) = &
+              list(1:count_row)
+        end if
+      end do
+    end do
+  end subroutine np_pairs_build
+
+  !> Add cell position e's block (np_cell_terms) into the pair sums pair_values(:, :, k) of
+  !> the pairs (patches%pair_node(k)): each row's pairs are merged with the sorted patch.
+  pure subroutine np_add_to_pairs(patches, e, block, pair_values)
+    type(np_patches_t), intent(in) :: patches         !< the patches, pairs built
+    integer, intent(in) :: e                          !< position among the ELFORM 13 cells
+    real(wp), intent(in) :: block(:,:)                !< its block on its patch's nodes
+    real(wp), intent(inout) :: pair_values(:,:,:)     !< (3, 3, pairs) the sums
+    integer :: first, np, a, b, k, node
+    first = patches%patch_start(e)
+    np = patches%patch_start(e + 1) - first
+    do a = 1, np
+      node = patches%patch_node(first + a - 1)
+      k = patches%pair_start(node)
+      do b = 1, np
+        do while (patches%pair_node(k) < patches%patch_node(first + b - 1))
+          k = k + 1
+        end do
+        pair_values(:, :, k) = pair_values(:, :, k) + block(3*a-2:3*a, 3*b-2:3*b)
+      end do
+    end do
+  end subroutine np_add_to_pairs
 
   !> Insertion sort of a short list of integers, ascending.
   pure subroutine sort_integers(list)

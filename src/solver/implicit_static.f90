@@ -31,7 +31,7 @@ module mefem_implicit_static
   use mefem_material_update, only: material_update, rate_dependent, material_fails
   use mefem_boundary_conditions, only: fixed_dofs, prescribed_displacements, external_forces
   use mefem_sparse_assembly, only: coo_matrix_t, coo_init, coo_add_block, coo_reset_values, &
-                                   coo_free
+                                   coo_free, coo_add_rectangle
   use mefem_mumps, only: mumps_solver_t, mumps_init, mumps_factorise, mumps_solve, &
                          mumps_free, MUMPS_UNSYMMETRIC, mumps_stats, mumps_stats_t, &
                          ordering_name
@@ -52,7 +52,8 @@ module mefem_implicit_static
   use mefem_lumped_mass, only: lumped_mass
   use mefem_body_loads, only: body_acceleration, body_load_nodes, add_body_forces
   use mefem_implicit_nodal_pressure, only: np_patches_t, np_values_t, np_patches_build, &
-                                           np_prepare, np_pressures, np_fbar, np_cell_terms
+                                           np_pairs_build, np_prepare, np_pressures, np_fbar, &
+                                           np_cell_terms, np_add_to_pairs
   implicit none
   private
 
@@ -121,6 +122,7 @@ module mefem_implicit_static
   !> values (mefem_implicit_nodal_pressure; every rank evaluates all of them).
   type(np_patches_t) :: patches
   type(np_values_t) :: np_values
+  real(wp), allocatable :: np_pair_values(:,:,:)   !< (3, 3, pairs) the patch blocks' sums
 
   !> What one evaluation of the cells gives.
   type :: cell_state_t
@@ -165,6 +167,8 @@ contains
       owned_element(decomp%elem_global(1:decomp%nelem_local)) = .true.
       owned = owned_element(cells%elements(1, 1:cells%n))
     end block
+    call np_pairs_build(patches, owned)
+    allocate(np_pair_values(3, 3, size(patches%pair_node)))
     allocate(hist(NHIST, cells%n))
     do c = 1, cells%n
       call material_state_init(hist(:, c))
@@ -931,6 +935,7 @@ contains
     failed = .false.
     if (patches%n > 0) call nodal_pressure_materials(model, cells, u, hist, trial%hist_new, &
                                                      .false., failed, u_old, dt)
+    np_pair_values = 0.0_wp
     do cell = 1, cells%n
       if (.not. owned(cell)) cycle
       nn = cells%nnodes(cell)
@@ -989,6 +994,13 @@ contains
       end do
       call coo_add_block(tangent, dofs(1:nd), ke(1:nd, 1:nd), .false.)
     end do
+    ! ELFORM 13: the patch blocks' sums, each node pair once
+    do n = 1, size(patches%pair_start) - 1
+      do a = patches%pair_start(n), patches%pair_start(n + 1) - 1
+        call coo_add_rectangle(tangent, equation(:, n), equation(:, patches%pair_node(a)), &
+                               np_pair_values(:, :, a), .false.)
+      end do
+    end do
     ok = .not. comm_any(failed)
     if (tools%interfaces%n > 0) call tool_contact(model, cells, equation, u, t, residual, tangent)
     if (comm_is_root()) then
@@ -1013,7 +1025,7 @@ contains
       type(coo_matrix_t), intent(inout) :: tangent     !< tangent matrix
       real(wp), intent(inout), optional :: internal(:,:) !< internal forces
       real(wp) :: block(3*patches%max_patch, 3*patches%max_patch)
-      integer :: patch_dofs(3*patches%max_patch), e, np, first
+      integer :: e
       e = patches%index_of(cell)
       call np_cell_terms(cells, patches, np_values, e, tau, c, block)
       f = np_values%f(:, :, e)
@@ -1033,12 +1045,7 @@ contains
         end do
       end do
       call coo_add_block(tangent, dofs(1:12), ke(1:12, 1:12), .false.)
-      first = patches%patch_start(e)
-      np = patches%patch_start(e + 1) - first
-      do a = 1, np
-        patch_dofs(3*(a-1) + 1:3*a) = equation(:, patches%patch_node(first + a - 1))
-      end do
-      call coo_add_block(tangent, patch_dofs(1:3*np), block(1:3*np, 1:3*np), .false.)
+      call np_add_to_pairs(patches, e, block, np_pair_values)
     end subroutine nodal_pressure_cell
 
   end subroutine evaluate_cells
