@@ -62,6 +62,9 @@ module mefem_contact_surfaces
     integer, allocatable :: facets(:,:)     !< (4, nfacet) global node indices, 0 = unused
     integer, allocatable :: nvertex(:)      !< (nfacet) 2 (2D edge), 3 or 4
     integer, allocatable :: element(:)      !< (nfacet) owning (adjacent) element, 0 = none
+    integer, allocatable :: neighbour(:)    !< (nfacet) a face inside the body (eroding
+                                            !< contacts): the element on its other side, whose
+                                            !< erosion exposes it; 0 = a face of the boundary
     logical, allocatable :: outward(:)      !< (nfacet) orientation known to be outward
     integer :: nnode = 0                    !< distinct surface nodes
     integer, allocatable :: nodes(:)        !< (nnode) their global indices, ascending
@@ -97,13 +100,15 @@ contains
   !> on an unknown kind or target, a set of the wrong kind, a segment that does not fit the
   !> model's dimension, solids in a 2D model, or an empty surface; label (e.g. 'contact 5
   !> SURFA') prefixes the messages.
-  subroutine contact_surface_build(model, kind, target, surface, status, label)
+  subroutine contact_surface_build(model, kind, target, surface, status, label, interior)
     type(model_t), intent(in) :: model                !< the resolved model
     integer, intent(in) :: kind                       !< SURFACE_* code
     integer, intent(in) :: target                     !< set or part index
     type(contact_surface_t), intent(out) :: surface   !< the surface
     type(status_t), intent(out) :: status             !< failure and message
     character(len=*), intent(in), optional :: label   !< what the surface is, for messages
+    logical, intent(in), optional :: interior         !< parts: with the faces inside (eroding
+                                                      !< contacts: contact_parts_to_facets)
     character(len=:), allocatable :: who
     logical, allocatable :: selected(:)
     who = 'contact surface'
@@ -142,7 +147,7 @@ contains
         if (kind == SURFACE_ALL_BUT_SET) selected = .not. selected
       end if
       call contact_parts_to_facets(model, selected, surface, status, who//' ('// &
-                           target_name(model, kind, target)//')')
+                           target_name(model, kind, target)//')', interior)
     case (SURFACE_NODE_SET)
       ! nodes-to-surface contacts: the exterior faces (2D: boundary edges) of all parts whose
       ! vertices are all in the node set
@@ -153,7 +158,7 @@ contains
       allocate(selected(model%n_parts))
       selected = .true.
       call contact_parts_to_facets(model, selected, surface, status, who//' ('// &
-                           target_name(model, kind, target)//')')
+                           target_name(model, kind, target)//')', interior)
       if (status%ok) call keep_facets_of_nodes(model, model%sets(target)%members, surface)
     case default
       call fail(status, who//': surface type '//itoa(kind)//' is not supported '// &
@@ -187,14 +192,14 @@ contains
         who = 'contact number '//itoa(k)//' (no id)'
       end if
       call contact_surface_build(model, contact%surf_a_type, contact%surf_a, slave, status, &
-                                 who//' SURFA')
+                                 who//' SURFA', contact%eroding)
       if (.not. status%ok) return
       if (contact%single_surface) then
         master = slave
         return
       end if
       call contact_surface_build(model, contact%surf_b_type, contact%surf_b, master, status, &
-                                 who//' SURFB')
+                                 who//' SURFB', contact%eroding)
     end associate
   end subroutine contact_surface_pair_build
 
@@ -211,6 +216,7 @@ contains
     integer, parameter :: TRIANGLES(3, 4) = reshape([1, 2, 3,  1, 3, 4,  1, 2, 4,  2, 3, 4], &
                                                     [3, 4])
     integer, allocatable :: facets(:,:), nvertex(:), element(:), local(:,:), pieces(:)
+    integer, allocatable :: neighbour(:)
     logical, allocatable :: outward(:)
     real(wp), allocatable :: weight(:)
     integer :: f, n, k
@@ -219,10 +225,14 @@ contains
       surface%pieces = 1
       surface%weight = 1.0_wp
     end if
+    if (.not. allocated(surface%neighbour)) then
+      allocate(surface%neighbour(surface%nfacet))
+      surface%neighbour = 0
+    end if
     if (surface%dim /= 3 .or. all(surface%nvertex /= 4)) return
     n = surface%nfacet + 3*count(surface%nvertex == 4)
     allocate(facets(MAX_VERTICES, n), nvertex(n), element(n), local(MAX_VERTICES, n), &
-             pieces(n), outward(n), weight(n))
+             pieces(n), outward(n), weight(n), neighbour(n))
     n = 0
     do f = 1, surface%nfacet
       if (surface%nvertex(f) /= 4) then
@@ -231,6 +241,7 @@ contains
         nvertex(n) = surface%nvertex(f)
         local(:, n) = surface%local(:, f)
         element(n) = surface%element(f)
+        neighbour(n) = surface%neighbour(f)
         outward(n) = surface%outward(f)
         pieces(n) = surface%pieces(f)
         weight(n) = surface%weight(f)
@@ -244,6 +255,7 @@ contains
         local(1:3, n) = surface%local(TRIANGLES(:, k), f)
         nvertex(n) = 3
         element(n) = surface%element(f)
+        neighbour(n) = surface%neighbour(f)
         outward(n) = surface%outward(f)
         pieces(n) = 2
         weight(n) = 0.5_wp
@@ -253,6 +265,7 @@ contains
     call move_alloc(facets, surface%facets)
     call move_alloc(nvertex, surface%nvertex)
     call move_alloc(element, surface%element)
+    call move_alloc(neighbour, surface%neighbour)
     call move_alloc(local, surface%local)
     call move_alloc(pieces, surface%pieces)
     call move_alloc(outward, surface%outward)
@@ -482,16 +495,20 @@ contains
 
   !> Facets of the parts selected: exterior faces of solids (faces met once among the
   !> elements of those parts, oriented outward) and shells as they are in 3D; boundary edges in
-  !> 2D (also used for segment sets by mefem_resolve_conditions).
-  subroutine contact_parts_to_facets(model, selected, surface, status, who)
+  !> 2D (also used for segment sets by mefem_resolve_conditions). interior (eroding contacts):
+  !> after them, every face between two of the solids twice, once as each element's face
+  !> (oriented out of it, neighbour the other element), for the erosion of one to expose.
+  subroutine contact_parts_to_facets(model, selected, surface, status, who, interior)
     type(model_t), intent(in) :: model                  !< the model
     logical, intent(in) :: selected(:)                  !< (n_parts) parts of the surface
     type(contact_surface_t), intent(inout) :: surface   !< facets filled in
     type(status_t), intent(inout) :: status             !< failure and message
     character(len=*), intent(in) :: who                 !< message prefix
+    logical, intent(in), optional :: interior           !< add the faces inside (eroding)
     integer, allocatable :: face_nodes(:,:), face_nv(:), face_elem(:), keys(:,:)
-    integer, allocatable :: start(:), bucket(:)
+    integer, allocatable :: start(:), bucket(:), other(:)
     logical, allocatable :: exterior(:)
+    logical :: with_interior
     integer :: e, f, g, k, n, nface, nfaces, nshell, nv(MAX_FACES)
     integer :: pos(MAX_VERTICES, MAX_FACES), matches, nout
     ! count faces of the selected solids (2D: edges) and 3D shells
@@ -529,7 +546,7 @@ contains
     end do
     ! faces bucketed by their smallest node: a face is exterior when no other face of its
     ! bucket has the same nodes
-    allocate(start(model%nodes%n + 1), bucket(nfaces), exterior(nfaces))
+    allocate(start(model%nodes%n + 1), bucket(nfaces), exterior(nfaces), other(nfaces))
     start = 0
     do f = 1, nfaces
       start(keys(1, f) + 1) = start(keys(1, f) + 1) + 1
@@ -546,16 +563,23 @@ contains
       start(n + 1) = start(n)
     end do
     start(1) = 1
+    other = 0
     do f = 1, nfaces
       matches = 0
       do k = start(keys(1, f)), start(keys(1, f) + 1) - 1
         g = bucket(k)
-        if (all(keys(:, g) == keys(:, f))) matches = matches + 1
+        if (.not. all(keys(:, g) == keys(:, f))) cycle
+        matches = matches + 1
+        if (g /= f) other(f) = g
       end do
       exterior(f) = matches == 1
+      if (matches /= 2) other(f) = 0        ! (a face of 3 elements: not a body's inside)
     end do
+    with_interior = .false.
+    if (present(interior)) with_interior = interior
+    if (.not. with_interior) other = 0
     ! facets in element order: exterior faces oriented outward, 3D shells as given
-    call allocate_facets(surface, count(exterior) + nshell)
+    call allocate_facets(surface, count(exterior) + nshell + count(other > 0))
     nout = 0
     f = 0
     do e = 1, model%elements%n
@@ -582,6 +606,17 @@ contains
         call orient_outward(model, e, surface%facets(:, nout), face_nv(f))
       end do
     end do
+    ! eroding contacts: the faces inside, each element's in element order, out of it
+    do f = 1, nfaces
+      if (other(f) == 0) cycle
+      nout = nout + 1
+      surface%facets(:, nout) = face_nodes(:, f)
+      surface%nvertex(nout) = face_nv(f)
+      surface%element(nout) = face_elem(f)
+      surface%neighbour(nout) = face_elem(other(f))
+      surface%outward(nout) = .true.
+      call orient_outward(model, face_elem(f), surface%facets(:, nout), face_nv(f))
+    end do
     surface%nfacet = nout
   end subroutine contact_parts_to_facets
 
@@ -604,6 +639,7 @@ contains
       surface%nvertex(n) = surface%nvertex(f)
       surface%element(n) = surface%element(f)
       surface%outward(n) = surface%outward(f)
+      surface%neighbour(n) = surface%neighbour(f)
     end do
     surface%nfacet = n
   end subroutine keep_facets_of_nodes
@@ -670,10 +706,12 @@ contains
   subroutine allocate_facets(surface, n)
     type(contact_surface_t), intent(inout) :: surface   !< the surface
     integer, intent(in) :: n                            !< room
-    allocate(surface%facets(4, n), surface%nvertex(n), surface%element(n), surface%outward(n))
+    allocate(surface%facets(4, n), surface%nvertex(n), surface%element(n), surface%outward(n), &
+             surface%neighbour(n))
     surface%facets = 0
     surface%nvertex = 0
     surface%element = 0
+    surface%neighbour = 0
     surface%outward = .false.
     surface%nfacet = 0
   end subroutine allocate_facets
@@ -744,7 +782,8 @@ contains
   !> binned into a uniform grid of cells of about the mean master facet size; each slave box
   !> visits the cells it overlaps. search keeps the grid; its arrays and pairs are reallocated
   !> only when they must grow.
-  subroutine contact_search_build(search, slave, master, x, margin, pairs, npairs)
+  subroutine contact_search_build(search, slave, master, x, margin, pairs, npairs, slave_out, &
+                                  master_out)
     type(contact_search_t), intent(inout) :: search   !< grid, kept between calls
     type(contact_surface_t), intent(in) :: slave      !< slave surface
     type(contact_surface_t), intent(in) :: master     !< master surface
@@ -752,6 +791,9 @@ contains
     real(wp), intent(in) :: margin                    !< box enlargement (length, >= 0)
     integer, allocatable, intent(inout) :: pairs(:,:) !< (2, capacity) candidate pairs
     integer, intent(out) :: npairs                    !< pairs found
+    logical, intent(in), optional :: slave_out(:)     !< (slave facets) left out (eroded,
+                                                      !< or inside the body)
+    logical, intent(in), optional :: master_out(:)    !< (master facets) left out
     integer :: dim, nm, s, m, c, k, nfound, i0(3), i1(3), i, j, l
     real(wp) :: slo(3), shi(3)
     logical :: hit
@@ -775,6 +817,9 @@ contains
     call build_grid(search, nm, margin)
     search%stamp(1:nm) = 0
     do s = 1, slave%nfacet
+      if (present(slave_out)) then
+        if (slave_out(s)) cycle
+      end if
       call facet_box(slave, s, x, dim, slo, shi)
       call cell_range(search, slo, shi, i0, i1, hit)
       if (.not. hit) cycle
@@ -787,6 +832,9 @@ contains
               m = search%cell_master(k)
               if (search%stamp(m) == s) cycle
               search%stamp(m) = s
+              if (present(master_out)) then
+                if (master_out(m)) cycle
+              end if
               search%n_box_tests = search%n_box_tests + 1
               if (any(slo(1:dim) > search%hi(1:dim, m)) .or. &
                   any(shi(1:dim) < search%lo(1:dim, m))) cycle

@@ -141,9 +141,14 @@ module mefem_mortar_contact
                                                    !< computed both ways, 1 against shells)
     real(wp), allocatable :: depth_limit(:)        !< (master facets) single surface: deepest
                                                    !< penetration of a partner (length)
-    logical :: eroded = .false.                    !< some facet's element has eroded
-    logical, allocatable :: slave_gone(:)          !< (slave facets) its element eroded
-    logical, allocatable :: master_gone(:)         !< (master facets) its element eroded
+    logical :: eroded = .false.                    !< some facet is out (eroded or inside)
+    logical :: eroding = .false.                   !< faces exposed by erosion join (surfaces
+                                                   !< hold the faces inside, neighbour > 0)
+    logical, allocatable :: slave_gone(:)          !< (slave facets) out: its element eroded,
+                                                   !< or a face inside whose neighbour lives
+    logical, allocatable :: master_gone(:)         !< (master facets) the same
+    real(wp), allocatable :: slave_facet_area(:)   !< (slave facets) reference area (eroding)
+    real(wp), allocatable :: slave_mass(:)         !< (ns) the masses of the penalty's cap
     ! per slave node, last call
     real(wp), allocatable :: normal(:,:)           !< (3, ns) n_A
     real(wp), allocatable :: normal_old(:,:)       !< (3, ns) n_A of the call before
@@ -235,6 +240,12 @@ contains
         ! the slave side integrates over triangles: quadrilateral faces (hexahedra,
         ! quadrilateral segments) are cut in two
         call contact_surface_triangulate(it%slave)
+        ! eroding: the faces inside are out until erosion exposes them
+        it%eroding = c%eroding
+        allocate(it%slave_gone(it%slave%nfacet), it%master_gone(it%master%nfacet))
+        it%slave_gone = it%slave%neighbour > 0
+        it%master_gone = it%master%neighbour > 0
+        it%eroded = any(it%slave_gone) .or. any(it%master_gone)
         used(it%slave%nodes) = .true.
         used(it%master%nodes) = .true.
         it%fs = c%fs
@@ -271,8 +282,9 @@ contains
         it%area_old = 0.0_wp
         allocate(it%offset(ns))
         it%offset = 0.0_wp
-        it%margin = MARGIN_FACTOR*min(mean_facet_size(it%master, model%nodes%x), &
-                                      mean_facet_size(it%slave, model%nodes%x))
+        it%margin = MARGIN_FACTOR*min(mean_facet_size(it%master, model%nodes%x, &
+                                                      it%master_gone), &
+                                      mean_facet_size(it%slave, model%nodes%x, it%slave_gone))
         it%surface_nodes = [it%slave%nodes, it%master%nodes]
         allocate(it%x_search(3, size(it%surface_nodes)))
       end associate
@@ -369,9 +381,10 @@ contains
     it%ncandidate = kept
   end subroutine drop_neighbours
 
-  !> The facets of eroded elements leave the interfaces (their candidate pairs are dropped from
-  !> the next search on, which is forced now). live(e): the cells of element e not eroded
-  !> (mesh elements; every rank alike).
+  !> The facets of eroded elements leave the interfaces, and in eroding contacts the faces
+  !> inside whose neighbour has eroded join them (the next search, forced now, sees the
+  !> change; the penalty's cap is taken again over the slave nodes that have facets).
+  !> live(e): the cells of element e not eroded (mesh elements; every rank alike).
   subroutine mortar_contact_erode(contact, live)
     type(mortar_contact_t), intent(inout) :: contact  !< contact data
     integer, intent(in) :: live(:)                    !< (mesh elements) live cells
@@ -382,10 +395,12 @@ contains
         it%master_gone = gone(it%master)
         it%eroded = any(it%slave_gone) .or. any(it%master_gone)
         if (it%eroded) it%searched = .false.
+        if (it%eroding) call active_slave_areas(it)
       end associate
     end do
   contains
-    !> Per facet: its element (a solid's; shells and faces without one never erode) eroded.
+    !> Per facet: its element (a solid's; shells and faces without one never erode) eroded,
+    !> or a face inside whose neighbour has not.
     function gone(surface)
       type(contact_surface_t), intent(in) :: surface
       logical :: gone(surface%nfacet)
@@ -393,9 +408,26 @@ contains
       do f = 1, surface%nfacet
         gone(f) = .false.
         if (surface%element(f) > 0) gone(f) = live(surface%element(f)) == 0
+        if (surface%neighbour(f) > 0) gone(f) = gone(f) .or. live(surface%neighbour(f)) > 0
       end do
     end function gone
   end subroutine mortar_contact_erode
+
+  !> Eroding contact: the slave nodes' reference areas a_A from the facets in the contact
+  !> (slave_facet_area) and the penalty's cap min m_A / a_A again.
+  pure subroutine active_slave_areas(it)
+    type(contact_interface_t), intent(inout) :: it    !< the interface
+    integer :: f, i
+    it%slave_area = 0.0_wp
+    do f = 1, it%slave%nfacet
+      if (it%slave_gone(f)) cycle
+      do i = 1, it%slave%nvertex(f)
+        it%slave_area(it%slave%local(i, f)) = it%slave_area(it%slave%local(i, f)) + &
+            it%slave%weight(f)*it%slave_facet_area(f)/real(it%slave%nvertex(f), wp)
+      end do
+    end do
+    call set_mass_per_area(it, it%slave_mass)
+  end subroutine active_slave_areas
 
   !> Drop the candidate pairs with a facet of an eroded element.
   subroutine drop_eroded(it)
@@ -481,8 +513,11 @@ contains
     node_area = 0.0_wp
     total_area = 0.0_wp
     weighted = 0.0_wp
+    allocate(it%slave_facet_area(it%slave%nfacet))
     do f = 1, it%slave%nfacet
       a = contact_facet_area_vector(it%slave, f, model%nodes%x)
+      it%slave_facet_area(f) = norm2(a)
+      if (it%slave_gone(f)) cycle                     ! (eroding: a face inside)
       do i = 1, it%slave%nvertex(f)
         node_area(it%slave%local(i, f)) = node_area(it%slave%local(i, f)) + &
             it%slave%weight(f)*norm2(a)/real(it%slave%nvertex(f), wp)
@@ -492,7 +527,7 @@ contains
     call set_mass_per_area(it, mass(it%slave%nodes))
     do f = 1, it%slave%nfacet
       e = it%slave%element(f)
-      if (e <= 0) cycle
+      if (e <= 0 .or. it%slave_gone(f)) cycle
       m = model%parts(model%elements%part(e))%material
       if (m <= 0) cycle
       ! deformable elements only: a rigid tool's modulus says nothing about the body it
@@ -518,21 +553,24 @@ contains
         'deformable side; rigid tools belong on SURFB)')
   end subroutine slave_penalty
 
-  !> Mean size of a surface's facets: length (2D) or square root of the area (3D).
-  real(wp) function mean_facet_size(surface, x)
+  !> Mean size of a surface's facets that are not out: length (2D) or square root of the
+  !> area (3D).
+  real(wp) function mean_facet_size(surface, x, out)
     type(contact_surface_t), intent(in) :: surface    !< the surface
     real(wp), intent(in) :: x(:,:)                    !< (3, mesh nodes) coordinates
+    logical, intent(in) :: out(:)                     !< (facets) facets left out
     real(wp) :: total
     integer :: f
     total = 0.0_wp
     do f = 1, surface%nfacet
+      if (out(f)) cycle
       if (surface%dim == 2) then
         total = total + norm2(contact_facet_area_vector(surface, f, x))
       else
         total = total + sqrt(norm2(contact_facet_area_vector(surface, f, x)))
       end if
     end do
-    mean_facet_size = total/real(max(1, surface%nfacet), wp)
+    mean_facet_size = total/real(max(1, count(.not. out(1:surface%nfacet))), wp)
   end function mean_facet_size
 
   !> An interface outside its BT..DT window: no forces, no pressure, and its resultants (for
@@ -553,6 +591,7 @@ contains
     type(contact_interface_t), intent(inout) :: it    !< the interface (slave_area set)
     real(wp), intent(in) :: slave_mass(:)             !< (ns) masses of the slave nodes
     integer :: i
+    it%slave_mass = slave_mass                        ! (kept: active_slave_areas)
     it%mass_per_area = huge(1.0_wp)
     do i = 1, size(slave_mass)
       if (it%slave_area(i) > 0.0_wp .and. slave_mass(i) > 0.0_wp) &
@@ -961,7 +1000,7 @@ contains
     end if
     if (moved <= 0.5_wp*it%margin) return
     call contact_search_build(it%search, it%slave, it%master, contact%x, it%margin, &
-                              it%candidates, it%ncandidate)
+                              it%candidates, it%ncandidate, it%slave_gone, it%master_gone)
     if (it%single) call drop_neighbours(it)
     if (it%eroded) call drop_eroded(it)
     it%x_search = contact%x(:, it%surface_nodes)

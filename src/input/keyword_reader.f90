@@ -99,7 +99,7 @@ module mefem_keyword_reader
     character(len=64) :: options = ''    !< options accepted, as ' OPT1 OPT2 '
   end type keyword_entry_t
 
-  integer, parameter :: N_ENTRIES = 94
+  integer, parameter :: N_ENTRIES = 97
   type(keyword_entry_t), parameter :: REGISTRY(N_ENTRIES) = [ &
     keyword_entry_t('NODE', H_NODE, ' '), &
     keyword_entry_t('ELEMENT_SOLID', H_ELEMENT_SOLID, ' '), &
@@ -178,6 +178,13 @@ module mefem_keyword_reader
                     ' OFFSET CONSTRAINED ID TITLE MPP '), &
     keyword_entry_t('CONTACT_TIED_NODES_TO_SURFACE', H_CONTACT_TIED, &
                     ' OFFSET CONSTRAINED ID TITLE MPP '), &
+    ! the eroding contacts: the same cards and card 4 (ISYM EROSOP IADJ)
+    keyword_entry_t('CONTACT_ERODING_SURFACE_TO_SURFACE', H_CONTACT_SURFACE_TO_SURFACE, &
+                    ' ID TITLE MPP '), &
+    keyword_entry_t('CONTACT_ERODING_SINGLE_SURFACE', H_CONTACT_SINGLE_SURFACE, &
+                    ' ID TITLE MPP '), &
+    keyword_entry_t('CONTACT_ERODING_NODES_TO_SURFACE', H_CONTACT_NODES_TO_SURFACE, &
+                    ' ID TITLE MPP '), &
     keyword_entry_t('CONTACT_FORCE_TRANSDUCER_PENALTY', H_CONTACT_TRANSDUCER, &
                     ' ID TITLE MPP '), &
     ! the forming contacts of DYNAFORM/eta decks: the same cards, read as the mortar contact

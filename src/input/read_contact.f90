@@ -2,7 +2,8 @@
 !> *CONTACT_AUTOMATIC_SINGLE_SURFACE (options MORTAR, ID, TITLE, MPP; the same cards, SURFB
 !> and SURFBTYP not used by the single surface), the tied contacts *CONTACT_TIED_SURFACE_TO_
 !> SURFACE and _NODES_TO_SURFACE (options OFFSET, CONSTRAINED_OFFSET; the same cards, into
-!> model%ties), *CONTACT_FORCE_TRANSDUCER_PENALTY (SURFA only, into model%transducers) and
+!> model%ties), *CONTACT_FORCE_TRANSDUCER_PENALTY (SURFA only, into model%transducers), the
+!> eroding contacts *CONTACT_ERODING_... (the same cards and card 4, ISYM EROSOP IADJ) and
 !> *RIGIDWALL_PLANAR (option ID).
 !>
 !> Contact card order (LS-DYNA manual): [_ID/_TITLE: CID HEADING] [_MPP: IGNORE BCKT LCBCKT
@@ -48,7 +49,7 @@ contains
     integer, intent(in) :: form                  !< FORM_* of the keyword
     type(contact_t) :: contact
     type(card_t) :: card, card1, card2, card3, mpp
-    logical :: single_surface, tied, transducer, nodes_a
+    logical :: single_surface, tied, transducer, nodes_a, eroding
     logical :: got, ok, bad
     integer :: k, sapr, sbpr, saboxid, sbboxid, penchk, mpp_ignore
     character(len=:), allocatable :: who
@@ -58,6 +59,7 @@ contains
     transducer = form == FORM_TRANSDUCER
     nodes_a = form == FORM_NODES_TO_SURFACE .or. form == FORM_TIED_NODES
     contact%single_surface = single_surface
+    eroding = index(rd%keyword, '*CONTACT_ERODING_') == 1
     contact%tied = tied
     contact%offset = tied .and. has_option(options, 'OFFSET')
     if (tied .or. transducer) contact%keyword = rd%keyword
@@ -144,6 +146,13 @@ contains
     call zero_means_one(contact%fsf)
     call zero_means_one(contact%vsf)
     bad = bad .or. card3%bad
+    if (eroding) then
+      call read_eroding_card(rd, card3, who, contact, bad)
+      if (bad) then
+        call skip_extra_cards(rd)
+        return
+      end if
+    end if
     ! optional cards A, B, C (D, E, F accepted and not used)
     do k = 1, N_OPTIONAL
       call next_card(rd, card, got, keep_blank=.true.)
@@ -193,6 +202,54 @@ contains
       end if
     end if
   end subroutine read_contact_surface_to_surface
+
+  !> The card that follows card 3 in the *CONTACT_ERODING_... keywords, ISYM EROSOP IADJ
+  !> (required; a blank line gives 0 0 0). EROSOP = 1: the faces that erosion exposes join the
+  !> surfaces (contact%eroding); 0: only the faces of the first boundary, as LS-DYNA keeps
+  !> (warned). IADJ: mefem's surfaces are always the boundaries of the parts named, faces
+  !> next to other parts included (IADJ = 1); IADJ = 0 is warned. ISYM /= 0 is warned (no
+  !> symmetry-plane faces are left out).
+  subroutine read_eroding_card(rd, previous, who, contact, bad)
+    type(reader_t), intent(inout) :: rd          !< reading state
+    type(card_t), intent(in) :: previous         !< card 3 (for a missing card's message)
+    character(len=*), intent(in) :: who         !< 'contact N'
+    type(contact_t), intent(inout) :: contact   !< eroding set
+    logical, intent(inout) :: bad                !< a card was wrong
+    type(card_t) :: card
+    logical :: got
+    integer :: isym, erosop, iadj
+    call next_card(rd, card, got, keep_blank=.true.)
+    if (.not. got) then
+      call card_error(previous, who//': missing card 4 of the eroding contact (ISYM EROSOP '// &
+          'IADJ; a blank line gives 0 0 0)')
+      bad = .true.
+      return
+    end if
+    call split_card(rd, card, W_10)
+    call get_int(card, 1, 'ISYM', isym)
+    call get_int(card, 2, 'EROSOP', erosop)
+    call get_int(card, 3, 'IADJ', iadj)
+    if (card%bad) then
+      bad = .true.
+      return
+    end if
+    if (erosop /= 0 .and. erosop /= 1) then
+      call card_error(card, who//': field EROSOP must be 0 or 1')
+      bad = .true.
+    end if
+    if (iadj /= 0 .and. iadj /= 1) then
+      call card_error(card, who//': field IADJ must be 0 or 1')
+      bad = .true.
+    end if
+    if (bad) return
+    contact%eroding = erosop == 1
+    if (erosop == 0) call card_warning(card, who//': EROSOP = 0: the faces that erosion '// &
+        'exposes do not join the contact (only the first boundary; EROSOP = 1 adds them)')
+    if (iadj == 0) call card_warning(card, who//': IADJ = 0 read as 1: the surfaces are '// &
+        'the boundaries of the parts named, faces next to other parts included')
+    if (isym /= 0) call card_warning(card, who//': ISYM ignored: faces on symmetry planes '// &
+        'are not left out of the surfaces')
+  end subroutine read_eroding_card
 
   !> Values of cards 1-3 that mefem cannot honour or that make no sense.
   subroutine check_contact(card1, card2, card3, contact, nodes_a, transducer, who, saboxid, &

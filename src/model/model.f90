@@ -350,6 +350,8 @@ module mefem_model
     integer :: id = 0
     character(len=80) :: title = ''
     logical :: mortar = .false.
+    logical :: eroding = .false.             !< *CONTACT_ERODING_... with EROSOP = 1: faces
+                                             !< that erosion exposes join the surfaces
     logical :: single_surface = .false.      !< *CONTACT_AUTOMATIC_SINGLE_SURFACE: SURFA
                                              !< against itself (SURFB not used)
     logical :: tied = .false.                !< *CONTACT_TIED_...: SURFA's nodes tied to
