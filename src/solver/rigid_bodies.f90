@@ -482,12 +482,16 @@ contains
     type(model_t), intent(in) :: model            !< resolved model
     type(rigid_bodies_t), intent(in) :: bodies    !< bodies built so far
     type(status_t), intent(inout) :: status       !< failure and why
-    logical :: prescribed(6, bodies%n), free(3)
-    integer :: k, b, slot, nfree, free_index(3), i
+    logical :: prescribed(6, bodies%n), free(3), along(2, bodies%n), exclusive(2, bodies%n)
+    real(wp) :: vector(3, 2, bodies%n)
+    integer :: k, b, slot, nfree, free_index(3), i, kind
     real(wp) :: block(3, 3), rhs(3)
     logical :: ok
     character(len=:), allocatable :: who
     prescribed = .false.
+    along = .false.
+    exclusive = .false.
+    vector = 0.0_wp
     do k = 1, model%n_motions
       associate (pm => model%motions(k))
         if (pm%target_kind /= ON_PART .or. pm%target <= 0) cycle
@@ -495,10 +499,27 @@ contains
         if (b == 0) cycle
         who = '*BOUNDARY_PRESCRIBED_MOTION_RIGID on part '//itoa(model%parts(pm%target)%id)//': '
         slot = motion_slot(pm%dof)
-        if (slot == 0 .or. (bodies%dim == 2 .and. (slot == 3 .or. slot == 4 .or. &
-                                                   slot == 5))) then
+        kind = vector_kind(pm%dof)
+        if (kind > 0) then                            ! along / about the vector VID
+          if (bodies%dim == 2 .and. (kind == 2 .or. abs(pm%direction(3)) > 0.0_wp)) then
+            call fail(status, who//'DOF '//itoa(pm%dof)//' is not supported in 2D (4/-4 '// &
+                'need a vector in the x-y plane; rotations: DOF 7)')
+            return
+          end if
+          if (along(kind, b) .and. (any(vector(:, kind, b) /= pm%direction) .or. &
+                                    exclusive(kind, b) .neqv. pm%dof < 0)) then
+            call fail(status, who//'two motions along different vectors (DOF '// &
+                itoa(pm%dof)//'): give one vector per body for translations and one for '// &
+                'rotations')
+            return
+          end if
+          along(kind, b) = .true.
+          exclusive(kind, b) = pm%dof < 0
+          vector(:, kind, b) = pm%direction
+        else if (slot == 0 .or. (bodies%dim == 2 .and. (slot == 3 .or. slot == 4 .or. &
+                                                        slot == 5))) then
           call fail(status, who//'DOF '//itoa(pm%dof)//' is not supported for rigid bodies '// &
-              trim(merge('(2D: 1, 2 and 7)      ', '(1-3 and 5-7)         ', bodies%dim == 2)))
+              trim(merge('(2D: 1, 2, 4 and 7)   ', '(1-8, -4, -8)         ', bodies%dim == 2)))
           return
         end if
         if (pm%vad < VAD_VELOCITY .or. pm%vad > VAD_DISPLACEMENT) then
@@ -506,12 +527,43 @@ contains
               '1 acceleration, 2 displacement)')
           return
         end if
-        prescribed(slot, b) = .true.
+        if (slot > 0) prescribed(slot, b) = .true.
       end associate
     end do
     do b = 1, bodies%n
       associate (body => bodies%body(b))
         who = body_name(bodies, b)
+        ! a vector motion and the axes held or given: DOF 4/8 need the vector across the
+        ! axes that are (it moves the body in the others); -4/-8 decide every component
+        do kind = 1, 2
+          if (.not. along(kind, b)) cycle
+          if (kind == 1) then
+            free = body%held_translation .or. prescribed(1:3, b)
+          else
+            free = body%held_rotation .or. prescribed(4:6, b)
+          end if
+          ok = .true.
+          if (exclusive(kind, b)) then
+            ok = .not. any(prescribed(3*kind-2:3*kind, b))
+            if (ok) ok = all(.not. free .or. vector(:, kind, b) == 0.0_wp)
+          else
+            ok = all(.not. free .or. vector(:, kind, b) == 0.0_wp)
+          end if
+          if (.not. ok) then
+            call fail(status, who//': the motion along its vector (DOF '// &
+                trim(merge('4/-4', '8/-8', kind == 1))//') has a component along a '// &
+                trim(merge('translation', 'rotation   ', kind == 1))//' that is held (CON1/'// &
+                'CON2) or prescribed on its own: give the vector across those axes')
+            return
+          end if
+          ! what the checks below see as given: every axis (-4, -8), or the axis of a vector
+          ! along one
+          if (exclusive(kind, b)) then
+            prescribed(3*kind-2:3*kind, b) = .true.
+          else if (count(vector(:, kind, b) /= 0.0_wp) == 1) then
+            where (vector(:, kind, b) /= 0.0_wp) prescribed(3*kind-2:3*kind, b) = .true.
+          end if
+        end do
         if (body%mass <= 0.0_wp .and. any(.not. (body%held_translation .or. &
                                                  prescribed(1:3, b)))) then
           call fail(status, who//' has no mass but a free translation (give its shells '// &
@@ -658,9 +710,9 @@ contains
     real(wp), intent(in) :: t_half, t_new         !< t^{n+1/2}, t^{n+1}
     real(wp), intent(in) :: dt_avg, dt_new        !< t^{n+1/2} - t^{n-1/2}, t^{n+1} - t^n
     real(wp), intent(in) :: force_sum(:,:), moment_sum(:,:)   !< (3, n) at t^n
-    real(wp) :: rate(6), v_old(3), omega_old(3), l_old(3), l_pred(3), i_mid(3, 3)
-    real(wp) :: r_mid(3, 3), omega_new(3), rate_old(6)
-    logical :: given(6), held_rot(3)
+    real(wp) :: rate(8), v_old(3), omega_old(3), l_old(3), l_pred(3), i_mid(3, 3)
+    real(wp) :: r_mid(3, 3), omega_new(3), rate_old(6), vectors(3, 2), full(3), n(3)
+    logical :: given(8), held_rot(3), exclusive(2)
     integer :: b, i, pass
     do b = 1, bodies%n
       associate (body => bodies%body(b))
@@ -669,8 +721,8 @@ contains
         l_old = body%angular_momentum
         rate_old = [v_old, omega_old]
         call prescribed_rates(model, bodies, b, t_new - dt_new, t_half, t_new, dt_avg, &
-                              dt_new, rate_old, rate, given)
-        ! translation
+                              dt_new, rate_old, rate, given, vectors, exclusive)
+        ! translation (along a vector n, DOF 4: the component along n replaced; -4: v = r n)
         do i = 1, 3
           if (body%held_translation(i)) then
             body%velocity(i) = 0.0_wp
@@ -680,28 +732,57 @@ contains
             body%velocity(i) = v_old(i) + dt_avg*force_sum(i, b)/body%mass
           end if
         end do
+        n = vectors(:, 1)
+        if (given(7)) then
+          if (exclusive(1)) then
+            body%velocity = rate(7)*n
+          else
+            body%velocity = body%velocity + (rate(7) - dot_product(body%velocity, n))*n
+          end if
+        end if
         body%reaction_force = 0.0_wp
         if (dt_avg > 0.0_wp) then
-          where (body%held_translation .or. given(1:3)) body%reaction_force = &
-              body%mass*(body%velocity - v_old)/dt_avg - force_sum(:, b)
+          full = body%mass*(body%velocity - v_old)/dt_avg - force_sum(:, b)
+          where (body%held_translation .or. given(1:3)) body%reaction_force = full
+          if (given(7)) then
+            if (exclusive(1)) then
+              body%reaction_force = full
+            else
+              body%reaction_force = body%reaction_force + dot_product(full, n)*n
+            end if
+          end if
         end if
         ! rotation: L predicted; omega from the mid-step inertia with held components
         l_pred = l_old + dt_avg*moment_sum(:, b)
         held_rot = body%held_rotation .or. given(4:6)
         omega_new = merge(0.0_wp, omega_old, body%held_rotation)
         where (given(4:6) .and. .not. body%held_rotation) omega_new = rate(4:6)
+        n = vectors(:, 2)
+        if (given(8) .and. exclusive(2)) then
+          held_rot = .true.
+          omega_new = rate(8)*n
+        end if
         r_mid = body%rotation
         do pass = 0, MIDPOINT_CORRECTIONS
           if (pass > 0) r_mid = matmul(rodrigues(0.5_wp*dt_new*omega_new), body%rotation)
           i_mid = spatial_inertia(body, r_mid)
-          call solve_free_rotation(i_mid, l_pred, held_rot, omega_new)
+          if (given(8) .and. .not. exclusive(2)) then
+            call solve_rotation_about(i_mid, l_pred, held_rot, n, rate(8), omega_new)
+          else
+            call solve_free_rotation(i_mid, l_pred, held_rot, omega_new)
+          end if
         end do
         body%omega = omega_new
         body%angular_momentum = matmul(i_mid, omega_new)
-        where (.not. held_rot) body%angular_momentum = l_pred   ! exactly, not to round-off
         body%reaction_moment = 0.0_wp
-        if (dt_avg > 0.0_wp) then
-          where (held_rot) body%reaction_moment = (body%angular_momentum - l_pred)/dt_avg
+        if (given(8) .and. .not. exclusive(2)) then
+          ! about a vector n (DOF 8): the reaction lies in the held axes and along n
+          if (dt_avg > 0.0_wp) body%reaction_moment = (body%angular_momentum - l_pred)/dt_avg
+        else
+          where (.not. held_rot) body%angular_momentum = l_pred   ! exactly, not to round-off
+          if (dt_avg > 0.0_wp) then
+            where (held_rot) body%reaction_moment = (body%angular_momentum - l_pred)/dt_avg
+          end if
         end if
         body%reaction_work = body%reaction_work + dt_avg*0.5_wp* &
             (dot_product(body%reaction_force, v_old + body%velocity) + &
@@ -721,34 +802,55 @@ contains
   !> motions (birth <= t_half <= death), in deck order (a later motion on the same DOF wins):
   !> VAD 0 v = curve(t_half); VAD 1 v = v^{n-1/2} + dt_avg curve(t_old); VAD 2
   !> v = (curve(t_new) - d^n)/dt_new with d^n the centre displacement (or angle) at t^n.
+  !> Slots 7 and 8 hold the rates along and about the vectors (DOF 4/-4, 8/-8; vectors(:, 1)
+  !> and (:, 2), exclusive for -4/-8: the other components are 0).
   subroutine prescribed_rates(model, bodies, b, t_old, t_half, t_new, dt_avg, dt_new, &
-                              rate_old, rate, given)
+                              rate_old, rate, given, vectors, exclusive)
     type(model_t), intent(in) :: model            !< resolved model
     type(rigid_bodies_t), intent(in) :: bodies    !< the bodies
     integer, intent(in) :: b                      !< body
     real(wp), intent(in) :: t_old, t_half, t_new, dt_avg, dt_new   !< step times
     real(wp), intent(in) :: rate_old(6)           !< (v, omega) at t^{n-1/2}
-    real(wp), intent(out) :: rate(6)              !< prescribed (v, omega) at t^{n+1/2}
-    logical, intent(out) :: given(6)              !< the slot is prescribed
-    integer :: k, slot
-    real(wp) :: done
+    real(wp), intent(out) :: rate(8)              !< prescribed (v, omega, along, about)
+    logical, intent(out) :: given(8)              !< the slot is prescribed
+    real(wp), intent(out) :: vectors(3, 2)        !< unit vectors of slots 7 and 8
+    logical, intent(out) :: exclusive(2)          !< -4, -8: only along / about the vector
+    integer :: k, slot, kind
+    real(wp) :: done, old
     rate = 0.0_wp
     given = .false.
+    vectors = 0.0_wp
+    exclusive = .false.
     do k = 1, model%n_motions
       associate (pm => model%motions(k))
         if (pm%target_kind /= ON_PART .or. pm%target <= 0) cycle
         if (bodies%body_of_part(pm%target) /= b) cycle
         if (t_half < pm%birth .or. t_half > pm%death) cycle
         slot = motion_slot(pm%dof)
+        kind = vector_kind(pm%dof)
+        if (kind > 0) then
+          slot = 6 + kind
+          vectors(:, kind) = pm%direction
+          exclusive(kind) = pm%dof < 0
+        end if
         if (slot == 0) cycle
         select case (pm%vad)
         case (VAD_VELOCITY)
           rate(slot) = pm%scale*curve_value(model%curves(pm%curve), t_half)
         case (VAD_ACCELERATION)
-          rate(slot) = rate_old(slot) + dt_avg*pm%scale*curve_value(model%curves(pm%curve), t_old)
+          if (kind > 0) then
+            old = dot_product(rate_old(3*kind-2:3*kind), pm%direction)
+          else
+            old = rate_old(slot)
+          end if
+          rate(slot) = old + dt_avg*pm%scale*curve_value(model%curves(pm%curve), t_old)
         case (VAD_DISPLACEMENT)
           if (dt_new <= 0.0_wp) cycle
-          if (slot <= 3) then
+          if (kind == 1) then
+            done = dot_product(bodies%body(b)%centre - bodies%body(b)%centre0, pm%direction)
+          else if (kind == 2) then
+            done = dot_product(bodies%body(b)%angle, pm%direction)
+          else if (slot <= 3) then
             done = bodies%body(b)%centre(slot) - bodies%body(b)%centre0(slot)
           else
             done = bodies%body(b)%angle(slot - 3)
@@ -827,6 +929,19 @@ contains
     end select
   end function motion_slot
 
+  !> A motion along a vector (DOF 4, -4): 1; about a vector (8, -8): 2; else 0.
+  pure integer function vector_kind(dof)
+    integer, intent(in) :: dof                    !< DOF code
+    select case (dof)
+    case (4, -4)
+      vector_kind = 1
+    case (8, -8)
+      vector_kind = 2
+    case default
+      vector_kind = 0
+    end select
+  end function vector_kind
+
   !> Spatial inertia R I_0 R^T of a body at rotation r.
   pure function spatial_inertia(body, r) result(inertia)
     type(rigid_body_t), intent(in) :: body        !< the body
@@ -860,7 +975,43 @@ contains
     if (ok) omega(free_index(1:nfree)) = rhs(1:nfree)
   end subroutine solve_free_rotation
 
-  !> Solve a x = b (n <= 3) by Gaussian elimination with partial pivoting; b is replaced by
+  !> omega with its held components kept and omega . n = r (a rotation about the unit vector
+  !> n, DOF 8, n across the held axes): inertia omega = l + lambda n + (moments on the held
+  !> axes), solved as the bordered system of the free components and lambda.
+  subroutine solve_rotation_about(inertia, l, held, n, r, omega)
+    real(wp), intent(in) :: inertia(3, 3), l(3)   !< spatial inertia, angular momentum
+    logical, intent(in) :: held(3)                !< components given
+    real(wp), intent(in) :: n(3), r               !< the vector and the rate about it
+    real(wp), intent(inout) :: omega(3)           !< held components in, the others out
+    integer :: free_index(3), nfree, i
+    real(wp) :: block(4, 4), rhs(4), s
+    logical :: ok
+    nfree = 0
+    do i = 1, 3
+      if (held(i)) cycle
+      nfree = nfree + 1
+      free_index(nfree) = i
+    end do
+    if (nfree == 0) return
+    ! rows: the free rows of I omega - lambda n = l; last: n . omega = r (the border scaled
+    ! by the inertia's size, s: the pivots stay comparable)
+    s = maxval([(abs(inertia(i, i)), i = 1, 3)])
+    block = 0.0_wp
+    block(1:nfree, 1:nfree) = inertia(free_index(1:nfree), free_index(1:nfree))
+    block(1:nfree, nfree + 1) = -s*n(free_index(1:nfree))
+    block(nfree + 1, 1:nfree) = s*n(free_index(1:nfree))
+    rhs(1:nfree) = l(free_index(1:nfree))
+    rhs(nfree + 1) = s*r
+    do i = 1, 3
+      if (.not. held(i)) cycle
+      rhs(1:nfree) = rhs(1:nfree) - inertia(free_index(1:nfree), i)*omega(i)
+      rhs(nfree + 1) = rhs(nfree + 1) - s*n(i)*omega(i)
+    end do
+    call small_solve(nfree + 1, block(1:nfree + 1, 1:nfree + 1), rhs(1:nfree + 1), ok)
+    if (ok) omega(free_index(1:nfree)) = rhs(1:nfree)
+  end subroutine solve_rotation_about
+
+  !> Solve a x = b (n <= 4) by Gaussian elimination with partial pivoting; b is replaced by
   !> x. ok is false when a pivot is below SINGULAR_PIVOT times the largest diagonal entry.
   pure subroutine small_solve(n, a, b, ok)
     integer, intent(in) :: n                      !< order
