@@ -151,7 +151,7 @@ module mefem_keyword_reader
     keyword_entry_t('DEFINE_COORDINATE_SYSTEM', H_DEFINE_COORDINATE_SYSTEM, ' TITLE '), &
     keyword_entry_t('DEFINE_COORDINATE_VECTOR', H_DEFINE_COORDINATE_VECTOR, ' TITLE '), &
     keyword_entry_t('DEFINE_COORDINATE_NODES', H_DEFINE_COORDINATE_NODES, ' TITLE '), &
-    keyword_entry_t('DEFINE_VECTOR', H_DEFINE_VECTOR, ' TITLE '), &
+    keyword_entry_t('DEFINE_VECTOR', H_DEFINE_VECTOR, ' NODES TITLE '), &
     keyword_entry_t('DEFINE_BOX', H_DEFINE_BOX, ' TITLE '), &
     keyword_entry_t('MAT_ADD_EROSION', H_MAT_ADD_EROSION, ' TITLE '), &
     keyword_entry_t('LOAD_NODE_POINT', H_LOAD_NODE_POINT, ' '), &

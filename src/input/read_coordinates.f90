@@ -124,8 +124,9 @@ contains
     type(vector_t) :: vector
     type(vector_t), allocatable :: grown(:)
     character(len=80) :: title
-    logical :: got
+    logical :: got, by_nodes
     integer :: k, nread
+    by_nodes = has_option(options, 'NODES')
     call read_title_card(rd, options, title)
     nread = 0
     do
@@ -135,16 +136,27 @@ contains
       call split_card(rd, card, W_10)
       vector = vector_t()
       call get_int(card, 1, 'VID', vector%id, required=.true.)
-      do k = 1, 3
-        call get_real(card, 1 + k, AXIS(k)//'T', vector%tail(k))
-        call get_real(card, 4 + k, AXIS(k)//'H', vector%head(k))
-      end do
-      call get_int(card, 8, 'CID', vector%system_id)
+      if (by_nodes) then
+        call get_int(card, 2, 'NODET', vector%tail_node, required=.true.)
+        call get_int(card, 3, 'NODEH', vector%head_node, required=.true.)
+      else
+        do k = 1, 3
+          call get_real(card, 1 + k, AXIS(k)//'T', vector%tail(k))
+          call get_real(card, 4 + k, AXIS(k)//'H', vector%head(k))
+        end do
+        call get_int(card, 8, 'CID', vector%system_id)
+      end if
       vector%src = source_t(card%file, card%line)
       if (card%bad) cycle
       if (vector%id <= 0) then
         call card_error(card, 'field VID: vector id must be positive (got '// &
                         itoa(vector%id)//')')
+        cycle
+      else if (by_nodes .and. (vector%tail_node <= 0 .or. vector%head_node <= 0 .or. &
+                               vector%tail_node == vector%head_node)) then
+        call card_error(card, 'vector '//itoa(vector%id)//': fields NODET and NODEH must be '// &
+                        'two different node ids (got '//itoa(vector%tail_node)//', '// &
+                        itoa(vector%head_node)//')')
         cycle
       else if (vector%system_id < 0) then
         call card_error(card, 'vector '//itoa(vector%id)//': field CID must not be '// &
@@ -161,7 +173,11 @@ contains
       model%vectors(model%n_vectors) = vector
       if (has_option(options, 'TITLE')) exit
     end do
-    if (nread == 0) call keyword_error(rd, 'missing card 1 (VID XT YT ZT XH YH ZH CID)')
+    if (nread == 0 .and. by_nodes) then
+      call keyword_error(rd, 'missing card 1 (VID NODET NODEH)')
+    else if (nread == 0) then
+      call keyword_error(rd, 'missing card 1 (VID XT YT ZT XH YH ZH CID)')
+    end if
   end subroutine read_define_vector
 
   !> Append a coordinate system.

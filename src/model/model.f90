@@ -334,6 +334,7 @@ module mefem_model
   type, public :: vector_t
     integer :: id = 0
     real(wp) :: tail(3) = 0.0_wp, head(3) = 0.0_wp
+    integer :: tail_node = 0, head_node = 0  !< *DEFINE_VECTOR_NODES: NODET, NODEH (ids)
     integer :: system_id = 0
     real(wp) :: direction(3) = 0.0_wp        !< (resolve) global unit vector
     type(source_t) :: src

@@ -329,7 +329,7 @@ contains
     type(model_t), intent(inout) :: model     !< the model
     type(lookup_t), intent(in) :: look        !< lookups (nodes, systems)
     real(wp) :: p(3, 3)
-    integer :: k, j, pass, n_done, n_node
+    integer :: k, j, m, pass, n_done, n_node
     logical :: ready
     character(len=:), allocatable :: where
     do pass = 1, model%n_systems
@@ -386,6 +386,23 @@ contains
     do k = 1, model%n_vectors
       associate (vector => model%vectors(k))
         where = where_is(vector%src, '*DEFINE_VECTOR')
+        if (vector%tail_node > 0) then            ! _NODES: from NODET to NODEH
+          where = where_is(vector%src, '*DEFINE_VECTOR_NODES')
+          n_node = 0
+          do j = 1, 2
+            m = id_map_find(look%nodes, merge(vector%tail_node, vector%head_node, j == 1))
+            if (m == 0) then
+              call input_error(where, 'vector '//itoa(vector%id)//': node '// &
+                  itoa(merge(vector%tail_node, vector%head_node, j == 1))//' ('// &
+                  trim(merge('NODET', 'NODEH', j == 1))//') is not defined')
+              cycle
+            end if
+            n_node = n_node + 1
+            if (j == 1) vector%tail = model%nodes%x(:, m)
+            if (j == 2) vector%head = model%nodes%x(:, m)
+          end do
+          if (n_node < 2) cycle
+        end if
         vector%direction = vector%head - vector%tail
         if (.not. norm2(vector%direction) > 0.0_wp) then
           call input_error(where, 'vector '//itoa(vector%id)//': head and tail coincide (a '// &

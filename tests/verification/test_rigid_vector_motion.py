@@ -10,7 +10,9 @@ VID; -8: no other rotation), explicit (doc/keywords.md 3.8; mm, t, s, N, MPa). A
 3. DOF 8 about z at 100 rad/s: the same displacements as DOF 7 (1e-12 of the size).
 4. -8 about (1, 0, 1)/sqrt(2) on the box, and 8 about it on a cube (whose inertia leaves no
    other rotation): every node where Rodrigues' rotation by omega T puts it (1e-9).
-5. DOF 4 across an axis held by CON1: an error naming the conflict.
+5. *DEFINE_VECTOR_NODES (from node to node) gives the bits of the same *DEFINE_VECTOR; an
+   undefined node is an error at its card.
+6. DOF 4 across an axis held by CON1: an error naming the conflict.
 """
 import os
 import sys
@@ -106,6 +108,19 @@ for name, dof, size in (('dof-8_box', -8, (1.0, 2.0, 3.0)), ('dof8_cube', 8, (2.
     checks.check(err < 1e-9, 'DOF %d about a tilted vector: every node where Rodrigues\' '
                  'rotation puts it (%s)' % (dof, name), '%.1e' % err)
 
+# *DEFINE_VECTOR_NODES: from node 1 (the corner -0.5, -1, -1.5) to the node at (0.5, 1, -1.5)
+# of the box's grid, (1, 2, 0): the bits of *DEFINE_VECTOR (1, 2, 0)
+xg, _ = box_hexes(1.0, 2.0, 3.0, 1, 2, 3)
+head = int(np.nonzero((xg[:, 0] == 1.0) & (xg[:, 1] == 2.0) & (xg[:, 2] == 0.0))[0][0]) + 1
+by_nodes = [['*DEFINE_VECTOR_NODES', f10(8, 1, head)]]
+_, un = run_box('vector_nodes', [f10(1, 4, 0, 1, V, 8)], extra=by_nodes)
+_, uv = run_box('vector_12', [f10(1, 4, 0, 1, V, 7)], vector=(1.0, 2.0, 0.0))
+checks.check(np.array_equal(un, uv) and np.abs(un).max() > 0.0, '*DEFINE_VECTOR_NODES: DOF 4 '
+             'along it gives the bits of the same *DEFINE_VECTOR')
+text = run_box('vector_nodes_bad', [f10(1, 4, 0, 1, V, 8)],
+               extra=[['*DEFINE_VECTOR_NODES', f10(8, 1, 999)]], expect_ok=False)
+checks.check(isinstance(text, str) and 'node 999 (NODEH) is not defined' in text,
+             '*DEFINE_VECTOR_NODES with an undefined node: an error at its card', str(text)[-300:])
 text = run_box('dof4_held_x', [f10(1, 4, 0, 1, V, 7)], constraints=f10(1.0, 1, 0),
                expect_ok=False)
 checks.check(isinstance(text, str) and 'has a component along a translation that is held' in
