@@ -5,7 +5,7 @@
 !> vector (VID) use them. Card layouts as in the LS-DYNA keyword manual (doc/keywords.md 3.8).
 module mefem_read_coordinates
   use mefem_kinds, only: wp
-  use mefem_strings, only: itoa
+  use mefem_strings, only: itoa, to_upper
   use mefem_cards, only: reader_t, card_t, next_card, split_card, get_int, get_real, get_text, &
                          card_error, keyword_error
   use mefem_card_helpers, only: has_option, read_title_card
@@ -25,10 +25,10 @@ contains
   !> local x axis, a point in the local x-y plane, given in system CIDL);
   !> *DEFINE_COORDINATE_VECTOR: CID XX YX ZX XV YV ZV NID (the x axis, a vector in the x-y
   !> plane; NID: the system turns with that node, which for solid nodes never turns);
-  !> *DEFINE_COORDINATE_NODES: CID N1 N2 N3 FLAG DIR (N1 the origin, N2 on the x axis, N3 in
-  !> the x-y plane, at their reference positions; FLAG 1, a system that moves with the nodes,
-  !> and DIR Y or Z are not supported). Each card (pair, _SYSTEM) defines a system; with _TITLE,
-  !> one system after its title.
+  !> *DEFINE_COORDINATE_NODES: CID N1 N2 N3 FLAG DIR (N1 the origin, N2 on the axis DIR, X by
+  !> default, N3 in the plane of that axis and the next (x-y, y-z, z-x), at their reference
+  !> positions; FLAG 1, a system that moves with the nodes, is not supported). Each card
+  !> (pair, _SYSTEM) defines a system; with _TITLE, one system after its title.
   subroutine read_define_coordinate(rd, kind, options, model)
     type(reader_t), intent(inout) :: rd          !< reading state
     integer, intent(in) :: kind                  !< SYSTEM_BY_POINTS, _VECTORS or _NODES
@@ -93,12 +93,14 @@ contains
                 itoa(flag)//' (a system that moves with its nodes) is not supported: 0, the '// &
                 'system of the nodes'' reference positions, is')
             bad = .true.
-          else if (len_trim(direction) > 0 .and. trim(adjustl(direction)) /= 'X' .and. &
-                   trim(adjustl(direction)) /= 'x') then
-            call card_error(card, 'coordinate system '//itoa(system%id)//': DIR = '// &
-                trim(adjustl(direction))//' is not supported: X (N1 to N2 the x axis, the '// &
-                'default) is')
-            bad = .true.
+          else if (len_trim(direction) > 0) then
+            system%first_axis = index('XYZ', to_upper(trim(adjustl(direction))))
+            if (len_trim(adjustl(direction)) /= 1 .or. system%first_axis == 0) then
+              call card_error(card, 'coordinate system '//itoa(system%id)//': DIR = '// &
+                  trim(adjustl(direction))//' is not an axis: X (the default), Y or Z, the '// &
+                  'axis from N1 to N2')
+              bad = .true.
+            end if
           end if
         end if
       end select

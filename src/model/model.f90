@@ -320,7 +320,9 @@ module mefem_model
     integer :: kind = 0                      !< SYSTEM_BY_POINTS, _BY_VECTORS, _BY_NODES
     real(wp) :: points(3, 3) = 0.0_wp        !< by points: origin, on x, in x-y; by vectors:
                                              !< x axis, in x-y, (unused)
-    integer :: node_ids(3) = 0               !< by nodes: origin, on x, in x-y
+    integer :: node_ids(3) = 0               !< by nodes: origin, on x, in x-y (DIR: on the
+                                             !< first axis, in its plane with the next)
+    integer :: first_axis = 1                !< by nodes, DIR: 1 X, 2 Y, 3 Z, the axis of N1 N2
     integer :: reference_id = 0              !< CIDL (by points): the system of the points
     real(wp) :: origin(3) = 0.0_wp           !< (resolve) global origin
     real(wp) :: axes(3, 3) = 0.0_wp          !< (resolve) global unit axes (columns x, y, z)

@@ -442,9 +442,11 @@ contains
       return
     end if
     z = z/norm2(z)
-    system%axes(:, 1) = x
-    system%axes(:, 3) = z
-    system%axes(:, 2) = cross(z, x)
+    ! the first axis along, the next in the plane, the third their cross product: x y z, or
+    ! for DIR Y and Z (by nodes) y z x and z x y
+    system%axes(:, system%first_axis) = x
+    system%axes(:, modulo(system%first_axis + 1, 3) + 1) = z
+    system%axes(:, modulo(system%first_axis, 3) + 1) = cross(z, x)
   end subroutine set_axes
 
   !> Cross product.

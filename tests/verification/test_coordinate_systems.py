@@ -5,7 +5,8 @@ against the closed forms:
 1. *BOUNDARY_SPC_SET CID (a _NODES system turned by atan(4/3) about z, e1 = (0.6, 0.8, 0);
    local y and z fixed), the block started at (V, 0, 0): it slides along e1 at 0.6 V (the
    velocity's other components removed at t = 0): u = 0.6 V T e1 at every node (1e-12 of |u|);
-   on 2 ranks the same bits;
+   on 2 ranks the same bits; the same system given with DIR Y (N1 to N2 the local y axis) and
+   DIR Z: the same motion (1e-12);
 2. *INITIAL_VELOCITY and *INITIAL_VELOCITY_GENERATION with ICID (a _VECTOR system): the velocity
    components given in the local system: u = V T e1 (1e-12);
 3. *BOUNDARY_PRESCRIBED_MOTION_SET DOF 4 along *DEFINE_VECTOR e = (1, 2, 2)/3 (VAD 0, W): with
@@ -85,6 +86,16 @@ u1 = run_and_compare('cs_spc', deck(xs, conn, spc), want, 1e-12, n_nodes=len(x))
 u2 = run_and_compare('cs_spc_2ranks', deck(xs, conn, spc), want, 1e-12, ranks=2, n_nodes=len(x))
 if u1 is not None and u2 is not None:
     checks.check(np.array_equal(u1, u2), 'cs_spc: 1 and 2 ranks give the same bits')
+
+# the same system by nodes with DIR Y (N1 to N2 the local y axis, e2; N3 in the y-z plane,
+# along z) and DIR Z (N1 to N2 the local z axis; N3 in the z-x plane, along e1)
+E2 = np.array([-E1[1], E1[0], 0.0])
+for label, second, third in (('Y', E2, [0.0, 0.0, 1.0]), ('Z', [0.0, 0.0, 1.0], E1)):
+    xd = np.vstack([x, [[5.0, 5.0, 0.0], [5.0, 5.0, 0.0] + np.asarray(second),
+                        [5.0, 5.0, 0.0] + np.asarray(third)]])
+    cards = ['*DEFINE_COORDINATE_NODES', '%10d%10d%10d%10d%10d%10s' % (
+        7, corner + 1, corner + 2, corner + 3, 0, label)] + spc[2:]
+    run_and_compare('cs_spc_dir' + label, deck(xd, conn, cards), want, 1e-12, n_nodes=len(x))
 
 # 2. initial velocities in a local system (_VECTOR: x axis e1, (0, 0, 1) in its x-z... the
 # second vector lies in the x-y plane)
