@@ -7,7 +7,9 @@ Meshes written through Debian's python3-meshio (the formats users bring) and by 
 2. Abaqus .inp by hand: two C3D8 hexahedra in two ELSETs (one given upside down) and an NSET;
 3. Nastran bulk data: wedges (CPENTA) from a block of prisms, half of them upside down: all
    positive as LS-DYNA pentahedra (mefem --check rejects a negative volume);
-4. a 2D Gmsh mesh of triangles and quadrilaterals (a rigid part: plane strain takes
+4. Gmsh 2.2 meshes of the kinds Gmsh makes: a cylinder of tetrahedra and a mixed mesh of
+   hexahedra beside tetrahedra (two physical volumes, two parts of two element kinds);
+5. a 2D Gmsh mesh of triangles and quadrilaterals (a rigid part: plane strain takes
    quadrilaterals as rigid tools only) with a physical curve: *ELEMENT_SHELL and a segment set
    of edges.
 Each include, wrapped in a deck (part, section, material, termination), passes `mefem --check`
@@ -43,14 +45,18 @@ def convert(mesh_path, extra=()):
     return p.returncode, p.stdout + p.stderr, out
 
 
-def deck_around(include, parts, shells=False, end_time=0.0, elform=10, rigid=(), sheets={}):
-    """A deck that includes the mesh and gives each part a section (solids: ELFORM `elform`)
-    and a material (the parts in `rigid`: *MAT_RIGID of the same density); `sheets` {part:
-    thickness}: rigid shell parts of a 3D mesh."""
+def deck_around(include, parts, shells=False, end_time=0.0, elform=10, rigid=(), sheets={},
+                elforms={}):
+    """A deck that includes the mesh and gives each part a section (solids: ELFORM `elform`,
+    or elforms[part]) and a material (the parts in `rigid`: *MAT_RIGID of the same density);
+    `sheets` {part: thickness}: rigid shell parts of a 3D mesh."""
     name = os.path.splitext(include)[0] + '_deck.k'
     lines = ['*KEYWORD', '*INCLUDE', os.path.basename(include)]
     for p in parts:
-        lines += ['*PART', 'part %d' % p, '%10d%10d%10d' % (p, 1, 2 if p in rigid else 1)]
+        lines += ['*PART', 'part %d' % p, '%10d%10d%10d' % (p, 10 + p if p in elforms else 1,
+                                                          2 if p in rigid else 1)]
+        if p in elforms:
+            lines += ['*SECTION_SOLID', '%10d%10d' % (10 + p, elforms[p])]
     for p, t in sheets.items():
         lines += ['*PART', 'sheet %d' % p, '%10d%10d%10d' % (p, 100 + p, 2),
                   '*SECTION_SHELL', '%10d%10d' % (100 + p, 2), '%10.3f' % t]
@@ -316,8 +322,70 @@ def first_model_guide():
                          top_u[:3], abs(bottom_u).max()))
 
 
+def tet_volumes(x, tets):
+    d = np.stack([x[tets[:, k]] - x[tets[:, 0]] for k in (1, 2, 3)], axis=2)
+    return np.linalg.det(d) / 6.0
+
+
+def gmsh_cylinder_and_mixed():
+    """Gmsh 2.2 meshes (meshio; its 4.1 writer drops the physical groups) of the kinds Gmsh
+    makes: a cylinder of tetrahedra (a box of 6 x
+    6 x 4 cubes of 6 tets mapped onto the disk of radius 5, height 8) and a mixed mesh, a block
+    of hexahedra (physical volume 1) beside a block of tetrahedra (physical volume 2) sharing
+    the nodes of their common face."""
+    x, tets = box_tets(2.0, 2.0, 8.0, 6, 6, 4)
+    tets = np.array(tets)
+    u, v = x[:, 0] - 1.0, x[:, 1] - 1.0             # the square [-1, 1]^2 onto the unit disk
+    x = np.column_stack([5.0 * u * np.sqrt(1 - v * v / 2), 5.0 * v * np.sqrt(1 - u * u / 2),
+                         x[:, 2]])
+    volume = abs(tet_volumes(x, tets)).sum()
+    path = os.path.join(OUT, 'cylinder_gmsh22.msh')
+    meshio.write(path, meshio.Mesh(x, [('tetra', tets)],
+                                   cell_data={'gmsh:physical': [np.full(len(tets), 3)],
+                                              'gmsh:geometrical': [np.full(len(tets), 1)]},
+                                   field_data={'cylinder': np.array([3, 3])}),
+                 file_format='gmsh22', binary=False)
+    rc, text, include = convert(path)
+    checks.check(rc == 0, 'Gmsh cylinder: converted', text[-400:])
+    if rc == 0:
+        print('    cylinder: %d tets, volume %.6f mm^3 (pi r^2 h = %.6f)' % (
+            len(tets), volume, np.pi * 25.0 * 8.0))
+        check_deck(deck_around(include, [3]), 'Gmsh cylinder', len(x), len(tets),
+                   {3: RHO * volume})
+    xh, hexes = box_hexes(2.0, 2.0, 2.0, 2, 2, 2)
+    xt, tets = box_tets(2.0, 2.0, 2.0, 2, 2, 2)
+    xt = xt + [2.0, 0.0, 0.0]
+    merged = {tuple(np.round(p, 9)): k for k, p in enumerate(xh)}
+    index = []
+    extra = []
+    for p in xt:
+        key = tuple(np.round(p, 9))
+        if key not in merged:
+            merged[key] = len(xh) + len(extra)
+            extra.append(p)
+        index.append(merged[key])
+    x = np.vstack([xh, extra])
+    tets = np.array(index)[np.array(tets)]
+    hexes = np.array(hexes)
+    path = os.path.join(OUT, 'mixed_gmsh22.msh')
+    meshio.write(path, meshio.Mesh(x, [('hexahedron', hexes), ('tetra', tets)],
+                                   cell_data={'gmsh:physical': [np.full(len(hexes), 1),
+                                                                np.full(len(tets), 2)],
+                                              'gmsh:geometrical': [np.full(len(hexes), 1),
+                                                                   np.full(len(tets), 2)]},
+                                   field_data={'hexes': np.array([1, 3]),
+                                               'tets': np.array([2, 3])}),
+                 file_format='gmsh22', binary=False)
+    rc, text, include = convert(path)
+    checks.check(rc == 0, 'Gmsh mixed hexahedra and tetrahedra: converted', text[-400:])
+    if rc == 0:
+        check_deck(deck_around(include, [1, 2], elforms={1: 1, 2: 10}), 'Gmsh mixed', len(x),
+                   len(hexes) + len(tets), {1: RHO * 8.0, 2: RHO * 8.0})
+
+
 if meshio is not None:
     first_model_guide()
+    gmsh_cylinder_and_mixed()
     gmsh_block()
     abaqus_hexes()
     nastran_wedges()
