@@ -11,13 +11,11 @@ import sys
 ROOT = os.environ.get('MEFEM_ROOT', os.path.join(os.path.dirname(__file__), '..', '..'))
 OUT = os.path.join(ROOT, 'tests', 'out', 'decks')
 os.makedirs(OUT, exist_ok=True)
-failed = 0
+sys.path.insert(0, os.path.join(ROOT, 'tests', 'verification'))
+from deck_writer import Checks  # noqa: E402
 
-
-def check(cond, what, detail=''):
-    global failed
-    print('%s: error cap: %s%s' % ('PASS' if cond else 'FAIL', what, '' if cond else ': ' + detail))
-    failed += 0 if cond else 1
+checks = Checks('error cap')
+check = checks.check
 
 
 lines = ['*KEYWORD', '*NODE'] + ['%8d%16.1f%16.1f%16.1f' % (i, i, 0.0, 0.0) for i in range(1, 11)]
@@ -41,4 +39,4 @@ check(sum(int(n) for n, _ in counts) == 740 and
       {k for _, k in counts} <= {'*ELEMENT_SOLID', '*BOUNDARY_SPC_NODE'} and len(counts) > 0,
       'the unprinted errors by keyword add up to 740: %s' % ', '.join('%s at %s' % c for c in counts),
       text[-400:])
-sys.exit(1 if failed else 0)
+checks.exit()

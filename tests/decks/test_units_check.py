@@ -17,13 +17,11 @@ import sys
 ROOT = os.environ.get('MEFEM_ROOT', os.path.join(os.path.dirname(__file__), '..', '..'))
 OUT = os.path.join(ROOT, 'tests', 'out', 'decks')
 os.makedirs(OUT, exist_ok=True)
-failed = 0
+sys.path.insert(0, os.path.join(ROOT, 'tests', 'verification'))
+from deck_writer import Checks  # noqa: E402
 
-
-def check(cond, what, detail=''):
-    global failed
-    print('%s: units check: %s%s' % ('PASS' if cond else 'FAIL', what, '' if cond else ': ' + detail))
-    failed += 0 if cond else 1
+checks = Checks('units check')
+check = checks.check
 
 
 def check_deck(text_of_deck, name):
@@ -73,4 +71,4 @@ rc, text = check_deck(tet_deck(10.0, ['*MAT_MOONEY-RIVLIN_RUBBER',
                       'units_rubber')
 check(rc == 0 and 'units: the materials fit mm, t, s, MPa' in text, 'rubber in mm, t, s, MPa',
       text[-300:])
-sys.exit(1 if failed else 0)
+checks.exit()

@@ -21,13 +21,11 @@ OUT = os.path.join(ROOT, 'tests', 'out', 'xdmf')
 DECK = os.path.join(ROOT, 'tests', 'decks', 'good', 'core_shared_element_ids.k')
 sys.path.insert(0, os.path.join(ROOT, 'post'))
 import h5_to_xdmf  # noqa: E402
-failed = 0
+sys.path.insert(0, os.path.join(ROOT, 'tests', 'verification'))
+from deck_writer import Checks  # noqa: E402
 
-
-def check(cond, what, detail=''):
-    global failed
-    print('%s: h5_to_xdmf: %s%s' % ('PASS' if cond else 'FAIL', what, '' if cond else ': ' + detail))
-    failed += 0 if cond else 1
+checks = Checks('h5_to_xdmf')
+check = checks.check
 
 
 env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT='1', OMPI_ALLOW_RUN_AS_ROOT_CONFIRM='1')
@@ -42,8 +40,8 @@ conv = subprocess.run([sys.executable, os.path.join(ROOT, 'post', 'h5_to_xdmf.py
                        '-o', converted], capture_output=True, text=True)
 check(conv.returncode == 0 and os.path.isfile(converted), 'the converter writes %s'
       % os.path.basename(converted), conv.stdout + conv.stderr)
-if failed:
-    sys.exit(1)
+if checks.failed:
+    checks.exit()
 
 with h5py.File(h5path, 'r') as f:
     coordinates = f['mesh/coordinates'][()]
@@ -122,4 +120,4 @@ if run.returncode == 0:
     check(steps == nstates and np.array_equal(np.asarray(point_data['displacement']), last),
           '3 ranks: the XDMF file lists the %d states, the last one\'s displacement read '
           'through it' % nstates, '%d states' % steps)
-sys.exit(1 if failed else 0)
+checks.exit()

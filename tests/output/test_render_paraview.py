@@ -22,17 +22,11 @@ SCRIPT = os.path.join(ROOT, 'post', 'render_paraview.py')
 sys.path.insert(0, os.path.join(ROOT, 'post'))
 sys.path.insert(0, os.path.join(ROOT, 'tests', 'verification'))
 import render_paraview  # noqa: E402
-from deck_writer import f10, free, nodes_card, elements_card, write_deck, MPIRUN  # noqa: E402
+from deck_writer import Checks, f10, free, nodes_card, elements_card, write_deck, MPIRUN  # noqa: E402
 from explicit_cases import node_set, curve, box_tets  # noqa: E402
 
-failed = 0
-
-
-def check(cond, what, detail=''):
-    global failed
-    print('%s: render_paraview: %s%s' % ('PASS' if cond else 'FAIL', what,
-                                         '' if cond else ': ' + detail))
-    failed += 0 if cond else 1
+checks = Checks('render_paraview')
+check = checks.check
 
 
 def pulled_block(path):
@@ -121,4 +115,4 @@ for ranks in (1, 2):
         colours = len(np.unique((255 * pixels[:, :, :3]).astype(int).reshape(-1, 3), axis=0))
         check(pixels.shape[:2] == (480, 640) and colours > 20, '%s: 640 x 480 pixels, not '
               'blank (%d colours)' % (stem, colours), str(pixels.shape))
-sys.exit(1 if failed else 0)
+checks.exit()

@@ -27,14 +27,11 @@ SCRIPT = os.path.join(ROOT, 'post', 'render_result.py')
 sys.path.insert(0, os.path.join(ROOT, 'post'))
 import render_result  # noqa: E402
 
-failed = 0
+sys.path.insert(0, os.path.join(ROOT, 'tests', 'verification'))
+from deck_writer import Checks  # noqa: E402
 
-
-def check(cond, what, detail=''):
-    global failed
-    print('%s: render_result: %s%s' % ('PASS' if cond else 'FAIL', what,
-                                       '' if cond else ': ' + detail))
-    failed += 0 if cond else 1
+checks = Checks('render_result')
+check = checks.check
 
 
 def surface_here(mesh):
@@ -137,4 +134,4 @@ for deck in decks:
                          capture_output=True, text=True)
     check(bad.returncode != 0 and 'no_such_field' in bad.stderr and 'von_mises' in bad.stderr,
           'an unknown field stops with a message naming the fields there are', bad.stderr)
-sys.exit(1 if failed else 0)
+checks.exit()
