@@ -11,6 +11,7 @@ module mefem_read_controls
   use mefem_errors, only: warn
   use mefem_deck_source, only: location
   use mefem_model, only: model_t, source_t
+  use mefem_card_layouts, only: read_layout_card, real_field, int_field, card_fields_t
   implicit none
   private
 
@@ -222,19 +223,20 @@ contains
     type(reader_t), intent(inout) :: rd      !< reading state
     type(model_t), intent(inout) :: model    !< model receiving the controls
     type(card_t) :: card
+    type(card_fields_t) :: f
     logical :: got
     call next_card(rd, card, got, keep_blank=.true.)
     if (.not. got) then
       call keyword_error(rd, 'missing card 1 (ENDTIM ENDCYC DTMIN ENDENG ENDMAS)')
       return
     end if
-    call split_card(rd, card, W_10)
+    call read_layout_card(rd, card, 'CONTROL_TERMINATION', 1, f)
     associate (c => model%controls)
-      call get_real(card, 1, 'ENDTIM', c%end_time)
-      call get_int(card, 2, 'ENDCYC', c%end_cycle)
-      call get_real(card, 3, 'DTMIN', c%dt_min_fraction)
-      call get_real(card, 4, 'ENDENG', c%end_energy)
-      call get_real(card, 5, 'ENDMAS', c%end_mass, default=1.0e8_wp)
+      c%end_time = real_field(f, 'ENDTIM')
+      c%end_cycle = int_field(f, 'ENDCYC')
+      c%dt_min_fraction = real_field(f, 'DTMIN')
+      c%end_energy = real_field(f, 'ENDENG')
+      c%end_mass = real_field(f, 'ENDMAS')
       if (c%end_time < 0.0_wp) call card_error(card, 'field ENDTIM must not be negative')
       if (c%end_cycle < 0) call card_error(card, 'field ENDCYC must not be negative')
       if (c%end_time == 0.0_wp .and. c%end_cycle == 0) call card_error(card, &
@@ -254,18 +256,13 @@ contains
   subroutine read_control_solution(rd)
     type(reader_t), intent(inout) :: rd      !< reading state
     type(card_t) :: card
+    type(card_fields_t) :: f
     logical :: got
-    integer :: soln, nlq, isnan, lcint, lcacc, ncdcf, nocop
+    integer :: soln
     call next_card(rd, card, got, keep_blank=.true.)
     if (got) then
-      call split_card(rd, card, W_10)
-      call get_int(card, 1, 'SOLN', soln)
-      call get_int(card, 2, 'NLQ', nlq)
-      call get_int(card, 3, 'ISNAN', isnan)
-      call get_int(card, 4, 'LCINT', lcint)
-      call get_int(card, 5, 'LCACC', lcacc)
-      call get_int(card, 6, 'NCDCF', ncdcf)
-      call get_int(card, 7, 'NOCOP', nocop)
+      call read_layout_card(rd, card, 'CONTROL_SOLUTION', 1, f)
+      soln = int_field(f, 'SOLN')
       if (.not. card%bad .and. soln /= 0) call card_error(card, 'field SOLN = '//itoa(soln)// &
           ': mefem computes structural analyses only (SOLN 0); thermal (1) and coupled '// &
           'thermal-structural (2) analyses are not supported')
@@ -279,12 +276,13 @@ contains
     type(reader_t), intent(inout) :: rd      !< reading state
     type(model_t), intent(inout) :: model    !< model receiving the controls
     type(card_t) :: card
+    type(card_fields_t) :: f
     logical :: got
     call next_card(rd, card, got, keep_blank=.true.)
     if (got) then
-      call split_card(rd, card, W_10)
-      call get_int(card, 1, 'IHQ', model%controls%ihq)
-      call get_real(card, 2, 'QH', model%controls%qh)
+      call read_layout_card(rd, card, 'CONTROL_HOURGLASS', 1, f)
+      model%controls%ihq = int_field(f, 'IHQ')
+      model%controls%qh = real_field(f, 'QH')
       model%controls%hourglass_src = source_t(card%file, card%line)
       if (.not. card%bad) then
         if (model%controls%ihq < 0 .or. model%controls%ihq > 10) call card_error(card, &
@@ -302,25 +300,23 @@ contains
     type(reader_t), intent(inout) :: rd      !< reading state
     type(model_t), intent(inout) :: model    !< model receiving the controls
     type(card_t) :: card
+    type(card_fields_t) :: f
     logical :: got
-    integer :: erode
     call next_card(rd, card, got, keep_blank=.true.)
     if (.not. got) then
       call keyword_error(rd, 'missing card 1 (DTINIT TSSFAC ISDO TSLIMT DT2MS LCTM ERODE MS1ST)')
       return
     end if
-    call split_card(rd, card, W_10)
+    call read_layout_card(rd, card, 'CONTROL_TIMESTEP', 1, f)
     associate (c => model%controls)
-      call get_real(card, 1, 'DTINIT', c%dt_init)
-      call get_real(card, 2, 'TSSFAC', c%tssfac, default=0.9_wp)
-      call get_int(card, 3, 'ISDO', c%isdo)
-      call get_real(card, 4, 'TSLIMT', c%tslimt)
-      call get_real(card, 5, 'DT2MS', c%dt2ms)
-      call get_int(card, 6, 'LCTM', c%lctm)
-      call get_int(card, 7, 'ERODE', erode)
-      call get_int(card, 8, 'MS1ST', c%ms1st)
+      c%dt_init = real_field(f, 'DTINIT')
+      c%tssfac = real_field(f, 'TSSFAC')
+      c%isdo = int_field(f, 'ISDO')
+      c%tslimt = real_field(f, 'TSLIMT')
+      c%dt2ms = real_field(f, 'DT2MS')
+      c%lctm = int_field(f, 'LCTM')
+      c%ms1st = int_field(f, 'MS1ST')
       c%lctm_src = source_t(card%file, card%line)
-      if (c%tssfac == 0.0_wp) c%tssfac = 0.9_wp
       if (.not. card%bad) then
         if (c%dt_init < 0.0_wp) call card_error(card, 'field DTINIT must not be negative '// &
             '(got '//rtoa(c%dt_init)//')')
@@ -366,22 +362,20 @@ contains
     type(reader_t), intent(inout) :: rd      !< reading state
     type(model_t), intent(inout) :: model    !< model receiving the controls
     type(card_t) :: card
+    type(card_fields_t) :: f
     logical :: got
     call next_card(rd, card, got, keep_blank=.true.)
     if (.not. got) then
       call keyword_error(rd, 'missing card 1 (IMFLAG DT0 IMFORM NSBS IGS CNSTN FORM ZERO_V)')
       return
     end if
-    call split_card(rd, card, W_10)
+    call read_layout_card(rd, card, 'CONTROL_IMPLICIT_GENERAL', 1, f)
     associate (c => model%controls)
-      call get_int(card, 1, 'IMFLAG', c%imflag)
-      call get_real(card, 2, 'DT0', c%dt0)
-      call get_int(card, 3, 'IMFORM', c%imform, default=2)
-      call get_int(card, 4, 'NSBS', c%nsbs, default=1)
-      call get_int(card, 5, 'IGS', c%igs, default=2)
-      if (c%imform == 0) c%imform = 2
-      if (c%nsbs == 0) c%nsbs = 1
-      if (c%igs == 0) c%igs = 2
+      c%imflag = int_field(f, 'IMFLAG')
+      c%dt0 = real_field(f, 'DT0')
+      c%imform = int_field(f, 'IMFORM')
+      c%nsbs = int_field(f, 'NSBS')
+      c%igs = int_field(f, 'IGS')
       if (.not. card%bad) then
         if (c%imflag /= 0 .and. c%imflag /= 1) then
           call card_error(card, 'field IMFLAG = '//itoa(c%imflag)//' is not supported '// &
@@ -404,6 +398,7 @@ contains
     type(reader_t), intent(inout) :: rd      !< reading state
     type(model_t), intent(inout) :: model    !< model receiving the controls
     type(card_t) :: card, card2
+    type(card_fields_t) :: f
     logical :: got
     call next_card(rd, card, got, keep_blank=.true.)
     if (.not. got) then
@@ -411,24 +406,16 @@ contains
           'ABSTOL)')
       return
     end if
-    call split_card(rd, card, W_10)
+    call read_layout_card(rd, card, 'CONTROL_IMPLICIT_SOLUTION', 1, f)
     associate (c => model%controls)
-      call get_int(card, 1, 'NSOLVR', c%nsolvr, default=12)
-      call get_int(card, 2, 'ILIMIT', c%ilimit, default=11)
-      call get_int(card, 3, 'MAXREF', c%maxref, default=15)
-      call get_real(card, 4, 'DCTOL', c%dctol, default=0.001_wp)
-      call get_real(card, 5, 'ECTOL', c%ectol, default=0.01_wp)
-      call get_real(card, 6, 'RCTOL', c%rctol, default=1.0e10_wp)
-      call get_real(card, 7, 'LSTOL', c%lstol, default=0.9_wp)
-      call get_real(card, 8, 'ABSTOL', c%abstol, default=1.0e-10_wp)
-      if (c%nsolvr == 0) c%nsolvr = 12
-      if (c%ilimit == 0) c%ilimit = 11
-      if (c%maxref == 0) c%maxref = 15
-      if (c%dctol == 0.0_wp) c%dctol = 0.001_wp
-      if (c%ectol == 0.0_wp) c%ectol = 0.01_wp
-      if (c%rctol == 0.0_wp) c%rctol = 1.0e10_wp
-      if (c%lstol == 0.0_wp) c%lstol = 0.9_wp
-      if (c%abstol == 0.0_wp) c%abstol = 1.0e-10_wp
+      c%nsolvr = int_field(f, 'NSOLVR')
+      c%ilimit = int_field(f, 'ILIMIT')
+      c%maxref = int_field(f, 'MAXREF')
+      c%dctol = real_field(f, 'DCTOL')
+      c%ectol = real_field(f, 'ECTOL')
+      c%rctol = real_field(f, 'RCTOL')
+      c%lstol = real_field(f, 'LSTOL')
+      c%abstol = real_field(f, 'ABSTOL')
       if (.not. card%bad) then
         if (.not. any(c%nsolvr == [1, 2, 12])) call card_error(card, 'field NSOLVR = '// &
             itoa(c%nsolvr)//' is not supported (1 linear, 2 or 12 nonlinear with BFGS '// &
@@ -442,16 +429,12 @@ contains
       end if
       call next_card(rd, card2, got, keep_blank=.true.)
       if (got) then
-        call split_card(rd, card2, W_10)
-        call get_int(card2, 1, 'DNORM', c%dnorm, default=2)
-        call get_int(card2, 2, 'DIVERG', c%diverg, default=1)
-        call get_int(card2, 3, 'ISTIF', c%istif, default=1)
-        call get_int(card2, 4, 'NLPRINT', c%nlprint)
-        call get_int(card2, 5, 'NLNORM', c%nlnorm, default=2)
-        if (c%dnorm == 0) c%dnorm = 2
-        if (c%diverg == 0) c%diverg = 1
-        if (c%istif == 0) c%istif = 1
-        if (c%nlnorm == 0) c%nlnorm = 2
+        call read_layout_card(rd, card2, 'CONTROL_IMPLICIT_SOLUTION', 2, f)
+        c%dnorm = int_field(f, 'DNORM')
+        c%diverg = int_field(f, 'DIVERG')
+        c%istif = int_field(f, 'ISTIF')
+        c%nlprint = int_field(f, 'NLPRINT')
+        c%nlnorm = int_field(f, 'NLNORM')
         if (.not. card2%bad) then
           if (c%dnorm /= 1 .and. c%dnorm /= 2) call card_error(card2, 'field DNORM must '// &
               'be 1 or 2 (got '//itoa(c%dnorm)//')')
@@ -470,26 +453,23 @@ contains
     type(reader_t), intent(inout) :: rd      !< reading state
     type(model_t), intent(inout) :: model    !< model receiving the controls
     type(card_t) :: card
+    type(card_fields_t) :: f
     logical :: got
-    integer :: kcycle
     call next_card(rd, card, got, keep_blank=.true.)
     if (.not. got) then
       call keyword_error(rd, 'missing card 1 (IAUTO ITEOPT ITEWIN DTMIN DTMAX DTEXP KFAIL '// &
           'KCYCLE)')
       return
     end if
-    call split_card(rd, card, W_10)
+    call read_layout_card(rd, card, 'CONTROL_IMPLICIT_AUTO', 1, f)
     associate (c => model%controls)
-      call get_int(card, 1, 'IAUTO', c%iauto)
-      call get_int(card, 2, 'ITEOPT', c%iteopt, default=11)
-      call get_int(card, 3, 'ITEWIN', c%itewin, default=5)
-      call get_real(card, 4, 'DTMIN', c%auto_dtmin)
-      call get_real(card, 5, 'DTMAX', c%auto_dtmax)
-      call get_real(card, 6, 'DTEXP', c%dtexp)
-      call get_int(card, 7, 'KFAIL', c%kfail)
-      call get_int(card, 8, 'KCYCLE', kcycle)
-      if (c%iteopt == 0) c%iteopt = 11
-      if (c%itewin == 0) c%itewin = 5
+      c%iauto = int_field(f, 'IAUTO')
+      c%iteopt = int_field(f, 'ITEOPT')
+      c%itewin = int_field(f, 'ITEWIN')
+      c%auto_dtmin = real_field(f, 'DTMIN')
+      c%auto_dtmax = real_field(f, 'DTMAX')
+      c%dtexp = real_field(f, 'DTEXP')
+      c%kfail = int_field(f, 'KFAIL')
       if (.not. card%bad) then
         if (c%iauto < 0 .or. c%iauto > 2) call card_error(card, 'field IAUTO = '// &
             itoa(c%iauto)//' is not supported (0 fixed step, 1 or 2 automatic)')
@@ -512,21 +492,21 @@ contains
     type(reader_t), intent(inout) :: rd      !< reading state
     type(model_t), intent(inout) :: model    !< model receiving the controls
     type(card_t) :: card
+    type(card_fields_t) :: f
     logical :: got
-    integer :: lcdt, beam, psetid
+    integer :: lcdt, psetid
     call next_card(rd, card, got, keep_blank=.true.)
     if (.not. got) then
       call keyword_error(rd, 'missing card 1 (DT LCDT BEAM NPLTC PSETID)')
       return
     end if
-    call split_card(rd, card, W_10)
+    call read_layout_card(rd, card, 'DATABASE_BINARY_D3PLOT', 1, f)
     associate (c => model%controls)
-      call get_real(card, 1, 'DT', c%plot_interval)
+      c%plot_interval = real_field(f, 'DT')
       c%plot_src = source_t(card%file, card%line)
-      call get_int(card, 2, 'LCDT', lcdt)
-      call get_int(card, 3, 'BEAM', beam)
-      call get_int(card, 4, 'NPLTC', c%plot_count)
-      call get_int(card, 5, 'PSETID', psetid)
+      lcdt = int_field(f, 'LCDT')
+      c%plot_count = int_field(f, 'NPLTC')
+      psetid = int_field(f, 'PSETID')
       if (.not. card%bad) then
         if (c%plot_interval < 0.0_wp .or. c%plot_count < 0) then
           call card_error(card, 'fields DT and NPLTC must not be negative')
@@ -549,6 +529,7 @@ contains
     integer, intent(in) :: which             !< DATABASE_GLSTAT, _RCFORC or _NODOUT
     type(model_t), intent(inout) :: model    !< model receiving the controls
     type(card_t) :: card
+    type(card_fields_t) :: f
     logical :: got
     real(wp) :: dt
     call next_card(rd, card, got, keep_blank=.true.)
@@ -556,8 +537,8 @@ contains
       call keyword_error(rd, 'missing card 1 (DT BINARY LCUR IOOPT)')
       return
     end if
-    call split_card(rd, card, W_10)
-    call get_real(card, 1, 'DT', dt, required=.true.)
+    call read_layout_card(rd, card, 'DATABASE_GLSTAT', 1, f)      ! (the three share it)
+    dt = real_field(f, 'DT')
     if (.not. card%bad) then
       if (dt < 0.0_wp) then
         call card_error(card, 'field DT must not be negative (got '//rtoa(dt)//')')

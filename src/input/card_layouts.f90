@@ -1,0 +1,172 @@
+!> Card layouts as data: the fields of a keyword's cards (name, columns of the standard fixed
+!> format, type, default, required) in one table, LAYOUTS, as the LS-DYNA manual tabulates them.
+!> A keyword reader asks read_layout_card for a card and takes the values by name (real_field,
+!> int_field); what a value means and which values are wrong stays in the reader (the semantic
+!> checks). doc/keywords.md gives the same fields in its tables, and
+!> tests/decks/test_card_layouts.py checks the two against each other. Columns are those of
+!> the standard format; the long (LONG=/I10) and free (comma) formats follow from the fields'
+!> order (mefem_cards' split_card).
+!>
+!> Keywords read through the table: *CONTROL_TERMINATION, *CONTROL_SOLUTION,
+!> *CONTROL_HOURGLASS, *CONTROL_TIMESTEP (card 1), *CONTROL_IMPLICIT_GENERAL,
+!> *CONTROL_IMPLICIT_SOLUTION (cards 1, 2), *CONTROL_IMPLICIT_AUTO, *DATABASE_BINARY_D3PLOT
+!> and *DATABASE_GLSTAT (whose card *DATABASE_RCFORC and *DATABASE_NODOUT share).
+module mefem_card_layouts
+  use mefem_kinds, only: wp
+  use mefem_cards, only: reader_t, card_t, split_card, get_int, get_real, MAX_FIELDS
+  use mefem_errors, only: fatal_local
+  implicit none
+  private
+
+  public :: read_layout_card, real_field, int_field
+
+  !> One field of a card: keyword (without the '*'), card number, name, columns of the
+  !> standard format, type ('I' integer, 'F' real), the value of a blank field, required, and
+  !> whether a 0 means the default too.
+  type, public :: field_layout_t
+    character(len=32) :: keyword = ''
+    integer :: card = 1
+    character(len=8) :: name = ''
+    integer :: first_column = 1
+    integer :: last_column = 10
+    character(len=1) :: kind = 'F'
+    real(wp) :: default = 0.0_wp
+    logical :: required = .false.
+    logical :: zero_is_default = .false.   !< LS-DYNA's "0 = default": a 0 takes the default
+  end type field_layout_t
+
+  !> The values of one card read through its layout, by field name.
+  type, public :: card_fields_t
+    integer :: n = 0                                   !< fields
+    character(len=8) :: name(MAX_FIELDS) = ''          !< their names
+    real(wp) :: value(MAX_FIELDS) = 0.0_wp             !< their values (integers exactly)
+  end type card_fields_t
+
+  integer, parameter :: N_LAYOUT_FIELDS = 54
+
+  !> The table (doc/keywords.md has the same fields; tests/decks/test_card_layouts.py):
+  !> keyword, card, field, first and last column, type, default, required, 0 = default.
+  type(field_layout_t), parameter, public :: LAYOUTS(N_LAYOUT_FIELDS) = [ &
+    field_layout_t('CONTROL_TERMINATION', 1, 'ENDTIM', 1, 10, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('CONTROL_TERMINATION', 1, 'ENDCYC', 11, 20, 'I', 0.0_wp, .false., .false.), &
+    field_layout_t('CONTROL_TERMINATION', 1, 'DTMIN', 21, 30, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('CONTROL_TERMINATION', 1, 'ENDENG', 31, 40, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('CONTROL_TERMINATION', 1, 'ENDMAS', 41, 50, 'F', 1.0e8_wp, .false., .false.), &
+    field_layout_t('CONTROL_SOLUTION', 1, 'SOLN', 1, 10, 'I', 0.0_wp, .false., .false.), &
+    field_layout_t('CONTROL_SOLUTION', 1, 'NLQ', 11, 20, 'I', 0.0_wp, .false., .false.), &
+    field_layout_t('CONTROL_SOLUTION', 1, 'ISNAN', 21, 30, 'I', 0.0_wp, .false., .false.), &
+    field_layout_t('CONTROL_SOLUTION', 1, 'LCINT', 31, 40, 'I', 0.0_wp, .false., .false.), &
+    field_layout_t('CONTROL_SOLUTION', 1, 'LCACC', 41, 50, 'I', 0.0_wp, .false., .false.), &
+    field_layout_t('CONTROL_SOLUTION', 1, 'NCDCF', 51, 60, 'I', 0.0_wp, .false., .false.), &
+    field_layout_t('CONTROL_SOLUTION', 1, 'NOCOP', 61, 70, 'I', 0.0_wp, .false., .false.), &
+    field_layout_t('CONTROL_HOURGLASS', 1, 'IHQ', 1, 10, 'I', 0.0_wp, .false., .false.), &
+    field_layout_t('CONTROL_HOURGLASS', 1, 'QH', 11, 20, 'F', 0.1_wp, .false., .true.), &
+    field_layout_t('CONTROL_TIMESTEP', 1, 'DTINIT', 1, 10, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('CONTROL_TIMESTEP', 1, 'TSSFAC', 11, 20, 'F', 0.9_wp, .false., .true.), &
+    field_layout_t('CONTROL_TIMESTEP', 1, 'ISDO', 21, 30, 'I', 0.0_wp, .false., .false.), &
+    field_layout_t('CONTROL_TIMESTEP', 1, 'TSLIMT', 31, 40, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('CONTROL_TIMESTEP', 1, 'DT2MS', 41, 50, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('CONTROL_TIMESTEP', 1, 'LCTM', 51, 60, 'I', 0.0_wp, .false., .false.), &
+    field_layout_t('CONTROL_TIMESTEP', 1, 'ERODE', 61, 70, 'I', 0.0_wp, .false., .false.), &
+    field_layout_t('CONTROL_TIMESTEP', 1, 'MS1ST', 71, 80, 'I', 0.0_wp, .false., .false.), &
+    field_layout_t('CONTROL_IMPLICIT_GENERAL', 1, 'IMFLAG', 1, 10, 'I', 0.0_wp, .false., .false.), &
+    field_layout_t('CONTROL_IMPLICIT_GENERAL', 1, 'DT0', 11, 20, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('CONTROL_IMPLICIT_GENERAL', 1, 'IMFORM', 21, 30, 'I', 2.0_wp, .false., .true.), &
+    field_layout_t('CONTROL_IMPLICIT_GENERAL', 1, 'NSBS', 31, 40, 'I', 1.0_wp, .false., .true.), &
+    field_layout_t('CONTROL_IMPLICIT_GENERAL', 1, 'IGS', 41, 50, 'I', 2.0_wp, .false., .true.), &
+    field_layout_t('CONTROL_IMPLICIT_SOLUTION', 1, 'NSOLVR', 1, 10, 'I', 12.0_wp, .false., .true.), &
+    field_layout_t('CONTROL_IMPLICIT_SOLUTION', 1, 'ILIMIT', 11, 20, 'I', 11.0_wp, .false., .true.), &
+    field_layout_t('CONTROL_IMPLICIT_SOLUTION', 1, 'MAXREF', 21, 30, 'I', 15.0_wp, .false., .true.), &
+    field_layout_t('CONTROL_IMPLICIT_SOLUTION', 1, 'DCTOL', 31, 40, 'F', 0.001_wp, .false., .true.), &
+    field_layout_t('CONTROL_IMPLICIT_SOLUTION', 1, 'ECTOL', 41, 50, 'F', 0.01_wp, .false., .true.), &
+    field_layout_t('CONTROL_IMPLICIT_SOLUTION', 1, 'RCTOL', 51, 60, 'F', 1.0e10_wp, .false., .true.), &
+    field_layout_t('CONTROL_IMPLICIT_SOLUTION', 1, 'LSTOL', 61, 70, 'F', 0.9_wp, .false., .true.), &
+    field_layout_t('CONTROL_IMPLICIT_SOLUTION', 1, 'ABSTOL', 71, 80, 'F', 1.0e-10_wp, .false., .true.), &
+    field_layout_t('CONTROL_IMPLICIT_SOLUTION', 2, 'DNORM', 1, 10, 'I', 2.0_wp, .false., .true.), &
+    field_layout_t('CONTROL_IMPLICIT_SOLUTION', 2, 'DIVERG', 11, 20, 'I', 1.0_wp, .false., .true.), &
+    field_layout_t('CONTROL_IMPLICIT_SOLUTION', 2, 'ISTIF', 21, 30, 'I', 1.0_wp, .false., .true.), &
+    field_layout_t('CONTROL_IMPLICIT_SOLUTION', 2, 'NLPRINT', 31, 40, 'I', 0.0_wp, .false., .false.), &
+    field_layout_t('CONTROL_IMPLICIT_SOLUTION', 2, 'NLNORM', 41, 50, 'I', 2.0_wp, .false., .true.), &
+    field_layout_t('CONTROL_IMPLICIT_AUTO', 1, 'IAUTO', 1, 10, 'I', 0.0_wp, .false., .false.), &
+    field_layout_t('CONTROL_IMPLICIT_AUTO', 1, 'ITEOPT', 11, 20, 'I', 11.0_wp, .false., .true.), &
+    field_layout_t('CONTROL_IMPLICIT_AUTO', 1, 'ITEWIN', 21, 30, 'I', 5.0_wp, .false., .true.), &
+    field_layout_t('CONTROL_IMPLICIT_AUTO', 1, 'DTMIN', 31, 40, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('CONTROL_IMPLICIT_AUTO', 1, 'DTMAX', 41, 50, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('CONTROL_IMPLICIT_AUTO', 1, 'DTEXP', 51, 60, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('CONTROL_IMPLICIT_AUTO', 1, 'KFAIL', 61, 70, 'I', 0.0_wp, .false., .false.), &
+    field_layout_t('CONTROL_IMPLICIT_AUTO', 1, 'KCYCLE', 71, 80, 'I', 0.0_wp, .false., .false.), &
+    field_layout_t('DATABASE_BINARY_D3PLOT', 1, 'DT', 1, 10, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('DATABASE_BINARY_D3PLOT', 1, 'LCDT', 11, 20, 'I', 0.0_wp, .false., .false.), &
+    field_layout_t('DATABASE_BINARY_D3PLOT', 1, 'BEAM', 21, 30, 'I', 0.0_wp, .false., .false.), &
+    field_layout_t('DATABASE_BINARY_D3PLOT', 1, 'NPLTC', 31, 40, 'I', 0.0_wp, .false., .false.), &
+    field_layout_t('DATABASE_BINARY_D3PLOT', 1, 'PSETID', 41, 50, 'I', 0.0_wp, .false., .false.), &
+    field_layout_t('DATABASE_GLSTAT', 1, 'DT', 1, 10, 'F', 0.0_wp, .true., .false.)]
+
+contains
+
+  !> Split card as card card_number of keyword's layout and read its fields (blank: the
+  !> default; a blank required field, a bad number: the card's error, as get_int/get_real
+  !> report them).
+  subroutine read_layout_card(rd, card, keyword, card_number, fields)
+    type(reader_t), intent(in) :: rd                   !< reading state (format)
+    type(card_t), intent(inout) :: card                !< the card
+    character(len=*), intent(in) :: keyword            !< keyword of the table, without '*'
+    integer, intent(in) :: card_number                 !< its card
+    type(card_fields_t), intent(out) :: fields         !< the values by name
+    integer :: rows(MAX_FIELDS), widths(MAX_FIELDS), k, n, value, column
+    type(field_layout_t) :: f
+    n = 0
+    column = 1
+    do k = 1, N_LAYOUT_FIELDS
+      if (LAYOUTS(k)%keyword /= keyword .or. LAYOUTS(k)%card /= card_number) cycle
+      if (LAYOUTS(k)%first_column /= column .or. n == MAX_FIELDS) call fatal_local( &
+          'card_layouts: '//keyword//': the fields of a card must follow each other')
+      n = n + 1
+      rows(n) = k
+      widths(n) = LAYOUTS(k)%last_column - LAYOUTS(k)%first_column + 1
+      column = LAYOUTS(k)%last_column + 1
+    end do
+    if (n == 0) call fatal_local('card_layouts: no layout for '//keyword)
+    call split_card(rd, card, widths(1:n))
+    fields%n = n
+    do k = 1, n
+      f = LAYOUTS(rows(k))
+      fields%name(k) = f%name
+      if (f%kind == 'I') then
+        call get_int(card, k, trim(f%name), value, default=nint(f%default), &
+                     required=f%required)
+        fields%value(k) = real(value, wp)
+      else
+        call get_real(card, k, trim(f%name), fields%value(k), default=f%default, &
+                      required=f%required)
+      end if
+      if (f%zero_is_default .and. fields%value(k) == 0.0_wp) fields%value(k) = f%default
+    end do
+  end subroutine read_layout_card
+
+  !> The value of field name (a real field).
+  real(wp) function real_field(fields, name)
+    type(card_fields_t), intent(in) :: fields          !< read_layout_card's values
+    character(len=*), intent(in) :: name               !< field name
+    real_field = fields%value(position(fields, name))
+  end function real_field
+
+  !> The value of field name (an integer field).
+  integer function int_field(fields, name)
+    type(card_fields_t), intent(in) :: fields          !< read_layout_card's values
+    character(len=*), intent(in) :: name               !< field name
+    int_field = nint(fields%value(position(fields, name)))
+  end function int_field
+
+  !> Position of field name among the card's fields (a name not in the layout is a
+  !> programming error: stop).
+  integer function position(fields, name)
+    type(card_fields_t), intent(in) :: fields          !< the card's values
+    character(len=*), intent(in) :: name               !< field name
+    do position = 1, fields%n
+      if (fields%name(position) == name) return
+    end do
+    call fatal_local('card_layouts: field '//name//' is not in the card''s layout')
+  end function position
+
+end module mefem_card_layouts
