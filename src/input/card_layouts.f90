@@ -10,7 +10,8 @@
 !> Keywords read through the table: *CONTROL_TERMINATION, *CONTROL_SOLUTION,
 !> *CONTROL_HOURGLASS, *CONTROL_TIMESTEP (card 1), *CONTROL_IMPLICIT_GENERAL,
 !> *CONTROL_IMPLICIT_SOLUTION (cards 1, 2), *CONTROL_IMPLICIT_AUTO, *DATABASE_BINARY_D3PLOT
-!> and *DATABASE_GLSTAT (whose card *DATABASE_RCFORC and *DATABASE_NODOUT share).
+!> and *DATABASE_GLSTAT (whose card *DATABASE_RCFORC and *DATABASE_NODOUT share); the
+!> materials *MAT_ELASTIC and *MAT_PIECEWISE_LINEAR_PLASTICITY (cards 1-4).
 module mefem_card_layouts
   use mefem_kinds, only: wp
   use mefem_cards, only: reader_t, card_t, split_card, get_int, get_real, MAX_FIELDS
@@ -42,7 +43,7 @@ module mefem_card_layouts
     real(wp) :: value(MAX_FIELDS) = 0.0_wp             !< their values (integers exactly)
   end type card_fields_t
 
-  integer, parameter :: N_LAYOUT_FIELDS = 54
+  integer, parameter :: N_LAYOUT_FIELDS = 86
 
   !> The table (doc/keywords.md has the same fields; tests/decks/test_card_layouts.py):
   !> keyword, card, field, first and last column, type, default, required, 0 = default.
@@ -100,7 +101,39 @@ module mefem_card_layouts
     field_layout_t('DATABASE_BINARY_D3PLOT', 1, 'BEAM', 21, 30, 'I', 0.0_wp, .false., .false.), &
     field_layout_t('DATABASE_BINARY_D3PLOT', 1, 'NPLTC', 31, 40, 'I', 0.0_wp, .false., .false.), &
     field_layout_t('DATABASE_BINARY_D3PLOT', 1, 'PSETID', 41, 50, 'I', 0.0_wp, .false., .false.), &
-    field_layout_t('DATABASE_GLSTAT', 1, 'DT', 1, 10, 'F', 0.0_wp, .true., .false.)]
+    field_layout_t('DATABASE_GLSTAT', 1, 'DT', 1, 10, 'F', 0.0_wp, .true., .false.), &
+    field_layout_t('MAT_ELASTIC', 1, 'MID', 1, 10, 'I', 0.0_wp, .true., .false.), &
+    field_layout_t('MAT_ELASTIC', 1, 'RO', 11, 20, 'F', 0.0_wp, .true., .false.), &
+    field_layout_t('MAT_ELASTIC', 1, 'E', 21, 30, 'F', 0.0_wp, .true., .false.), &
+    field_layout_t('MAT_ELASTIC', 1, 'PR', 31, 40, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('MAT_PIECEWISE_LINEAR_PLASTICITY', 1, 'MID', 1, 10, 'I', 0.0_wp, .true., .false.), &
+    field_layout_t('MAT_PIECEWISE_LINEAR_PLASTICITY', 1, 'RO', 11, 20, 'F', 0.0_wp, .true., .false.), &
+    field_layout_t('MAT_PIECEWISE_LINEAR_PLASTICITY', 1, 'E', 21, 30, 'F', 0.0_wp, .true., .false.), &
+    field_layout_t('MAT_PIECEWISE_LINEAR_PLASTICITY', 1, 'PR', 31, 40, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('MAT_PIECEWISE_LINEAR_PLASTICITY', 1, 'SIGY', 41, 50, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('MAT_PIECEWISE_LINEAR_PLASTICITY', 1, 'ETAN', 51, 60, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('MAT_PIECEWISE_LINEAR_PLASTICITY', 1, 'FAIL', 61, 70, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('MAT_PIECEWISE_LINEAR_PLASTICITY', 2, 'C', 1, 10, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('MAT_PIECEWISE_LINEAR_PLASTICITY', 2, 'P', 11, 20, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('MAT_PIECEWISE_LINEAR_PLASTICITY', 2, 'LCSS', 21, 30, 'I', 0.0_wp, .false., .false.), &
+    field_layout_t('MAT_PIECEWISE_LINEAR_PLASTICITY', 2, 'LCSR', 31, 40, 'I', 0.0_wp, .false., .false.), &
+    field_layout_t('MAT_PIECEWISE_LINEAR_PLASTICITY', 2, 'VP', 41, 50, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('MAT_PIECEWISE_LINEAR_PLASTICITY', 3, 'EPS1', 1, 10, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('MAT_PIECEWISE_LINEAR_PLASTICITY', 3, 'EPS2', 11, 20, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('MAT_PIECEWISE_LINEAR_PLASTICITY', 3, 'EPS3', 21, 30, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('MAT_PIECEWISE_LINEAR_PLASTICITY', 3, 'EPS4', 31, 40, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('MAT_PIECEWISE_LINEAR_PLASTICITY', 3, 'EPS5', 41, 50, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('MAT_PIECEWISE_LINEAR_PLASTICITY', 3, 'EPS6', 51, 60, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('MAT_PIECEWISE_LINEAR_PLASTICITY', 3, 'EPS7', 61, 70, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('MAT_PIECEWISE_LINEAR_PLASTICITY', 3, 'EPS8', 71, 80, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('MAT_PIECEWISE_LINEAR_PLASTICITY', 4, 'ES1', 1, 10, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('MAT_PIECEWISE_LINEAR_PLASTICITY', 4, 'ES2', 11, 20, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('MAT_PIECEWISE_LINEAR_PLASTICITY', 4, 'ES3', 21, 30, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('MAT_PIECEWISE_LINEAR_PLASTICITY', 4, 'ES4', 31, 40, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('MAT_PIECEWISE_LINEAR_PLASTICITY', 4, 'ES5', 41, 50, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('MAT_PIECEWISE_LINEAR_PLASTICITY', 4, 'ES6', 51, 60, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('MAT_PIECEWISE_LINEAR_PLASTICITY', 4, 'ES7', 61, 70, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('MAT_PIECEWISE_LINEAR_PLASTICITY', 4, 'ES8', 71, 80, 'F', 0.0_wp, .false., .false.)]
 
 contains
 

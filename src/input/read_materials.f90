@@ -13,6 +13,7 @@ module mefem_read_materials
   use mefem_cards, only: reader_t, card_t, next_card, split_card, get_int, get_real, &
                          card_error, card_warning, keyword_error
   use mefem_card_helpers, only: read_title_card, reject_extra_cards, quoted_real
+  use mefem_card_layouts, only: read_layout_card, real_field, int_field, card_fields_t
   use mefem_model, only: model_t, material_t, source_t, MAT_ELASTIC, MAT_PIECEWISE_LINEAR, &
                          MAT_PLASTIC_KINEMATIC, MAT_JOHNSON_COOK, MAT_SIMPLIFIED_JOHNSON_COOK, &
                          MAT_POWER_LAW, MAT_RIGID, MAT_MOONEY_RIVLIN, add_erosion_t, &
@@ -70,14 +71,14 @@ contains
     type(model_t), intent(inout) :: model        !< model appended to
     type(material_t) :: mat
     type(card_t) :: card
+    type(card_fields_t) :: f
     logical :: got
     mat%kind = MAT_ELASTIC
     call read_title_card(rd, options, mat%title)
-    call first_card(rd, card, got, 'MID RO E PR DA DB K')
+    call first_layout_card(rd, card, got, 'MAT_ELASTIC', 'MID RO E PR DA DB K', f, mat)
     if (.not. got) return
-    call read_mid_ro(card, mat)
-    call get_real(card, 3, 'E', mat%young, required=.true.)
-    call get_real(card, 4, 'PR', mat%poisson)
+    mat%young = real_field(f, 'E')
+    mat%poisson = real_field(f, 'PR')
     if (.not. card%bad) call check_elastic(card, mat, .true.)
     if (.not. card%bad) call add_material(model, mat)
     call reject_extra_cards(rd, 'material '//itoa(mat%id))
@@ -89,20 +90,21 @@ contains
     type(reader_t), intent(inout) :: rd          !< reading state
     character(len=*), intent(in) :: options      !< keyword options
     type(model_t), intent(inout) :: model        !< model appended to
+    character(len=*), parameter :: KEY = 'MAT_PIECEWISE_LINEAR_PLASTICITY'
     type(material_t) :: mat
     type(card_t) :: card, card2, card3, card4
+    type(card_fields_t) :: f
     logical :: got, bad
     integer :: i
     mat%kind = MAT_PIECEWISE_LINEAR
     call read_title_card(rd, options, mat%title)
-    call first_card(rd, card, got, 'MID RO E PR SIGY ETAN FAIL TDEL')
+    call first_layout_card(rd, card, got, KEY, 'MID RO E PR SIGY ETAN FAIL TDEL', f, mat)
     if (.not. got) return
-    call read_mid_ro(card, mat)
-    call get_real(card, 3, 'E', mat%young, required=.true.)
-    call get_real(card, 4, 'PR', mat%poisson)
-    call get_real(card, 5, 'SIGY', mat%yield_stress)
-    call get_real(card, 6, 'ETAN', mat%tangent_modulus)
-    call get_real(card, 7, 'FAIL', mat%failure_strain)
+    mat%young = real_field(f, 'E')
+    mat%poisson = real_field(f, 'PR')
+    mat%yield_stress = real_field(f, 'SIGY')
+    mat%tangent_modulus = real_field(f, 'ETAN')
+    mat%failure_strain = real_field(f, 'FAIL')
     bad = card%bad
     if (.not. bad) call check_elastic(card, mat, .true.)
     bad = bad .or. card%bad
@@ -112,24 +114,24 @@ contains
       call card_error(card, 'material '//itoa(mat%id)//': missing card 2 (C P LCSS LCSR VP)')
       return
     end if
-    call split_card(rd, card2, W_10)
-    call get_real(card2, 1, 'C', mat%cowper_c)
-    call get_real(card2, 2, 'P', mat%cowper_p)
-    call get_int(card2, 3, 'LCSS', mat%lcss)
-    call get_int(card2, 4, 'LCSR', mat%lcsr)
-    call get_real(card2, 5, 'VP', mat%vp)
+    call read_layout_card(rd, card2, KEY, 2, f)
+    mat%cowper_c = real_field(f, 'C')
+    mat%cowper_p = real_field(f, 'P')
+    mat%lcss = int_field(f, 'LCSS')
+    mat%lcsr = int_field(f, 'LCSR')
+    mat%vp = real_field(f, 'VP')
     ! cards 3 and 4: EPS1-8 and ES1-8 (LS-DYNA wants them, blank or not; missing = blank)
     call next_card(rd, card3, got, keep_blank=.true.)
     if (got) then
-      call split_card(rd, card3, W_10)
+      call read_layout_card(rd, card3, KEY, 3, f)
       do i = 1, 8
-        call get_real(card3, i, 'EPS'//itoa(i), mat%eps(i))
+        mat%eps(i) = real_field(f, 'EPS'//itoa(i))
       end do
       call next_card(rd, card4, got, keep_blank=.true.)
       if (got) then
-        call split_card(rd, card4, W_10)
+        call read_layout_card(rd, card4, KEY, 4, f)
         do i = 1, 8
-          call get_real(card4, i, 'ES'//itoa(i), mat%es(i))
+          mat%es(i) = real_field(f, 'ES'//itoa(i))
         end do
         bad = bad .or. card4%bad
       end if
@@ -774,6 +776,29 @@ contains
     last_mid = 0
   end function last_material_id
 
+  !> Card 1 of a material keyword whose layout is a table (mefem_card_layouts): read, its MID
+  !> and RO taken and checked (check_mid_ro); got is false when the card is missing (reported
+  !> with layout, the field names).
+  subroutine first_layout_card(rd, card, got, keyword, layout, fields, mat)
+    type(reader_t), intent(inout) :: rd          !< reading state
+    type(card_t), intent(inout) :: card          !< the card
+    logical, intent(out) :: got                  !< the card exists
+    character(len=*), intent(in) :: keyword      !< keyword of the table (no '*')
+    character(len=*), intent(in) :: layout       !< field names, for the message
+    type(card_fields_t), intent(out) :: fields   !< its values
+    type(material_t), intent(inout) :: mat       !< MID, RO and the source set
+    call next_card(rd, card, got)
+    if (.not. got) then
+      call keyword_error(rd, 'missing card 1 ('//layout//')')
+      return
+    end if
+    call read_layout_card(rd, card, keyword, 1, fields)
+    mat%id = int_field(fields, 'MID')
+    last_mid = mat%id
+    mat%density = real_field(fields, 'RO')
+    call check_mid_ro(card, mat)
+  end subroutine first_layout_card
+
   !> MID (field 1, positive) and RO (field 2, positive) of a material card; sets the source.
   subroutine read_mid_ro(card, mat)
     type(card_t), intent(inout) :: card          !< card 1 of the material
@@ -781,6 +806,13 @@ contains
     call get_int(card, 1, 'MID', mat%id, required=.true.)
     last_mid = mat%id
     call get_real(card, 2, 'RO', mat%density, required=.true.)
+    call check_mid_ro(card, mat)
+  end subroutine read_mid_ro
+
+  !> The source of a material and the checks of its MID and RO (positive).
+  subroutine check_mid_ro(card, mat)
+    type(card_t), intent(inout) :: card          !< card 1 of the material
+    type(material_t), intent(inout) :: mat       !< the material
     mat%src = source_t(card%file, card%line)
     if (card%bad) return
     if (mat%id <= 0) then
@@ -791,7 +823,7 @@ contains
           quoted_real(mat%density))
       card%bad = .true.
     end if
-  end subroutine read_mid_ro
+  end subroutine check_mid_ro
 
   !> E > 0 (when it is an input) and -1 < PR < 0.5.
   subroutine check_elastic(card, mat, e_given)

@@ -75,6 +75,10 @@ for keyword in sorted({r[0] for r in rows}):
         for card, cells in table:
             card = card if card is not None else index + 1
             names = [n.strip() for n in cells[0].split(',')]
+            series = re.match(r'([A-Z]+)(\d+) \.\.\. \1(\d+)$', cells[0])   # EPS1 ... EPS8
+            if series:
+                names = ['%s%d' % (series.group(1), i)
+                         for i in range(int(series.group(2)), int(series.group(3)) + 1)]
             columns = re.match(r'(\d+)-(\d+)', cells[1]) if len(cells) > 1 else None
             if 'not read' in cells[-1] or not columns:
                 unread.append((card, cells[0]))
