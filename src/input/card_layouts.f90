@@ -11,7 +11,8 @@
 !> *CONTROL_HOURGLASS, *CONTROL_TIMESTEP (card 1), *CONTROL_IMPLICIT_GENERAL,
 !> *CONTROL_IMPLICIT_SOLUTION (cards 1, 2), *CONTROL_IMPLICIT_AUTO, *DATABASE_BINARY_D3PLOT
 !> and *DATABASE_GLSTAT (whose card *DATABASE_RCFORC and *DATABASE_NODOUT share); the
-!> materials *MAT_ELASTIC and *MAT_PIECEWISE_LINEAR_PLASTICITY (cards 1-4).
+!> materials *MAT_ELASTIC, *MAT_PIECEWISE_LINEAR_PLASTICITY (cards 1-4),
+!> *MAT_POWER_LAW_PLASTICITY and *MAT_PLASTIC_KINEMATIC (cards 1-2).
 module mefem_card_layouts
   use mefem_kinds, only: wp
   use mefem_cards, only: reader_t, card_t, split_card, get_int, get_real, MAX_FIELDS
@@ -43,7 +44,7 @@ module mefem_card_layouts
     real(wp) :: value(MAX_FIELDS) = 0.0_wp             !< their values (integers exactly)
   end type card_fields_t
 
-  integer, parameter :: N_LAYOUT_FIELDS = 86
+  integer, parameter :: N_LAYOUT_FIELDS = 108
 
   !> The table (doc/keywords.md has the same fields; tests/decks/test_card_layouts.py):
   !> keyword, card, field, first and last column, type, default, required, 0 = default.
@@ -133,7 +134,29 @@ module mefem_card_layouts
     field_layout_t('MAT_PIECEWISE_LINEAR_PLASTICITY', 4, 'ES5', 41, 50, 'F', 0.0_wp, .false., .false.), &
     field_layout_t('MAT_PIECEWISE_LINEAR_PLASTICITY', 4, 'ES6', 51, 60, 'F', 0.0_wp, .false., .false.), &
     field_layout_t('MAT_PIECEWISE_LINEAR_PLASTICITY', 4, 'ES7', 61, 70, 'F', 0.0_wp, .false., .false.), &
-    field_layout_t('MAT_PIECEWISE_LINEAR_PLASTICITY', 4, 'ES8', 71, 80, 'F', 0.0_wp, .false., .false.)]
+    field_layout_t('MAT_PIECEWISE_LINEAR_PLASTICITY', 4, 'ES8', 71, 80, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('MAT_POWER_LAW_PLASTICITY', 1, 'MID', 1, 10, 'I', 0.0_wp, .true., .false.), &
+    field_layout_t('MAT_POWER_LAW_PLASTICITY', 1, 'RO', 11, 20, 'F', 0.0_wp, .true., .false.), &
+    field_layout_t('MAT_POWER_LAW_PLASTICITY', 1, 'E', 21, 30, 'F', 0.0_wp, .true., .false.), &
+    field_layout_t('MAT_POWER_LAW_PLASTICITY', 1, 'PR', 31, 40, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('MAT_POWER_LAW_PLASTICITY', 1, 'K', 41, 50, 'F', 0.0_wp, .true., .false.), &
+    field_layout_t('MAT_POWER_LAW_PLASTICITY', 1, 'N', 51, 60, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('MAT_POWER_LAW_PLASTICITY', 1, 'SRC', 61, 70, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('MAT_POWER_LAW_PLASTICITY', 1, 'SRP', 71, 80, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('MAT_POWER_LAW_PLASTICITY', 2, 'SIGY', 1, 10, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('MAT_POWER_LAW_PLASTICITY', 2, 'VP', 11, 20, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('MAT_POWER_LAW_PLASTICITY', 2, 'EPSF', 21, 30, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('MAT_PLASTIC_KINEMATIC', 1, 'MID', 1, 10, 'I', 0.0_wp, .true., .false.), &
+    field_layout_t('MAT_PLASTIC_KINEMATIC', 1, 'RO', 11, 20, 'F', 0.0_wp, .true., .false.), &
+    field_layout_t('MAT_PLASTIC_KINEMATIC', 1, 'E', 21, 30, 'F', 0.0_wp, .true., .false.), &
+    field_layout_t('MAT_PLASTIC_KINEMATIC', 1, 'PR', 31, 40, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('MAT_PLASTIC_KINEMATIC', 1, 'SIGY', 41, 50, 'F', 0.0_wp, .true., .false.), &
+    field_layout_t('MAT_PLASTIC_KINEMATIC', 1, 'ETAN', 51, 60, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('MAT_PLASTIC_KINEMATIC', 1, 'BETA', 61, 70, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('MAT_PLASTIC_KINEMATIC', 2, 'SRC', 1, 10, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('MAT_PLASTIC_KINEMATIC', 2, 'SRP', 11, 20, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('MAT_PLASTIC_KINEMATIC', 2, 'FS', 21, 30, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('MAT_PLASTIC_KINEMATIC', 2, 'VP', 31, 40, 'F', 0.0_wp, .false., .false.)]
 
 contains
 

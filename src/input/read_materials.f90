@@ -211,31 +211,32 @@ contains
     type(reader_t), intent(inout) :: rd          !< reading state
     character(len=*), intent(in) :: options      !< keyword options
     type(model_t), intent(inout) :: model        !< model appended to
+    character(len=*), parameter :: KEY = 'MAT_POWER_LAW_PLASTICITY'
     type(material_t) :: mat
     type(card_t) :: card, card2
+    type(card_fields_t) :: f
     logical :: got, bad
     character(len=:), allocatable :: who
     mat%kind = MAT_POWER_LAW
     call read_title_card(rd, options, mat%title)
-    call first_card(rd, card, got, 'MID RO E PR K N SRC SRP')
+    call first_layout_card(rd, card, got, KEY, 'MID RO E PR K N SRC SRP', f, mat)
     if (.not. got) return
-    call read_mid_ro(card, mat)
-    call get_real(card, 3, 'E', mat%young, required=.true.)
-    call get_real(card, 4, 'PR', mat%poisson)
-    call get_real(card, 5, 'K', mat%k_strength, required=.true.)
-    call get_real(card, 6, 'N', mat%n_exponent)
-    call get_real(card, 7, 'SRC', mat%cowper_c)
-    call get_real(card, 8, 'SRP', mat%cowper_p)
+    mat%young = real_field(f, 'E')
+    mat%poisson = real_field(f, 'PR')
+    mat%k_strength = real_field(f, 'K')
+    mat%n_exponent = real_field(f, 'N')
+    mat%cowper_c = real_field(f, 'SRC')
+    mat%cowper_p = real_field(f, 'SRP')
     bad = card%bad
     if (.not. bad) call check_elastic(card, mat, .true.)
     bad = bad .or. card%bad
     who = 'material '//itoa(mat%id)//': '
     call next_card(rd, card2, got, keep_blank=.true.)
     if (got) then
-      call split_card(rd, card2, W_10)
-      call get_real(card2, 1, 'SIGY', mat%yield_stress)
-      call get_real(card2, 2, 'VP', mat%vp)
-      call get_real(card2, 3, 'EPSF', mat%failure_strain)
+      call read_layout_card(rd, card2, KEY, 2, f)
+      mat%yield_stress = real_field(f, 'SIGY')
+      mat%vp = real_field(f, 'VP')
+      mat%failure_strain = real_field(f, 'EPSF')
       bad = bad .or. card2%bad
     else
       card2 = card
@@ -269,20 +270,21 @@ contains
     type(reader_t), intent(inout) :: rd          !< reading state
     character(len=*), intent(in) :: options      !< keyword options
     type(model_t), intent(inout) :: model        !< model appended to
+    character(len=*), parameter :: KEY = 'MAT_PLASTIC_KINEMATIC'
     type(material_t) :: mat
     type(card_t) :: card, card2
+    type(card_fields_t) :: f
     logical :: got, bad
     character(len=:), allocatable :: who
     mat%kind = MAT_PLASTIC_KINEMATIC
     call read_title_card(rd, options, mat%title)
-    call first_card(rd, card, got, 'MID RO E PR SIGY ETAN BETA')
+    call first_layout_card(rd, card, got, KEY, 'MID RO E PR SIGY ETAN BETA', f, mat)
     if (.not. got) return
-    call read_mid_ro(card, mat)
-    call get_real(card, 3, 'E', mat%young, required=.true.)
-    call get_real(card, 4, 'PR', mat%poisson)
-    call get_real(card, 5, 'SIGY', mat%yield_stress, required=.true.)
-    call get_real(card, 6, 'ETAN', mat%tangent_modulus)
-    call get_real(card, 7, 'BETA', mat%beta)
+    mat%young = real_field(f, 'E')
+    mat%poisson = real_field(f, 'PR')
+    mat%yield_stress = real_field(f, 'SIGY')
+    mat%tangent_modulus = real_field(f, 'ETAN')
+    mat%beta = real_field(f, 'BETA')
     bad = card%bad
     if (.not. bad) call check_elastic(card, mat, .true.)
     bad = bad .or. card%bad
@@ -290,11 +292,11 @@ contains
     ! card 2: SRC SRP FS VP (optional: blank or missing = 0)
     call next_card(rd, card2, got, keep_blank=.true.)
     if (got) then
-      call split_card(rd, card2, W_10)
-      call get_real(card2, 1, 'SRC', mat%cowper_c)
-      call get_real(card2, 2, 'SRP', mat%cowper_p)
-      call get_real(card2, 3, 'FS', mat%failure_strain)
-      call get_real(card2, 4, 'VP', mat%vp)
+      call read_layout_card(rd, card2, KEY, 2, f)
+      mat%cowper_c = real_field(f, 'SRC')
+      mat%cowper_p = real_field(f, 'SRP')
+      mat%failure_strain = real_field(f, 'FS')
+      mat%vp = real_field(f, 'VP')
       bad = bad .or. card2%bad
     else
       card2 = card

@@ -87,7 +87,7 @@ for keyword in sorted({r[0] for r in rows}):
             width = (last - first + 1) // len(names)
             for k, name in enumerate(names):
                 documented[card, name] = (first + k * width, first + (k + 1) * width - 1,
-                                          cells[2], cells[3])
+                                          cells[2], cells[3], cells[0])
     table_rows = [r for r in rows if r[0] == keyword]
     mismatches = []
     for _, card, name, first, last, kind, default, required, zero in table_rows:
@@ -99,7 +99,7 @@ for keyword in sorted({r[0] for r in rows}):
         if (doc[0], doc[1]) != (first, last):
             mismatches.append('%s: columns %d-%d, manual %d-%d' % (name, first, last, doc[0],
                                                                     doc[1]))
-        if doc[2] != kind:
+        if doc[2] != kind and not (doc[2] == '' and ',' in doc[4]):   # (a group, mixed types)
             mismatches.append('%s: type %s, manual %s' % (name, kind, doc[2]))
         if doc_required != required or (not required and (value is None or
                                                           abs(value - default) >
