@@ -12,7 +12,8 @@
 !> *CONTROL_IMPLICIT_SOLUTION (cards 1, 2), *CONTROL_IMPLICIT_AUTO, *DATABASE_BINARY_D3PLOT
 !> and *DATABASE_GLSTAT (whose card *DATABASE_RCFORC and *DATABASE_NODOUT share); the
 !> materials *MAT_ELASTIC, *MAT_PIECEWISE_LINEAR_PLASTICITY (cards 1-4),
-!> *MAT_POWER_LAW_PLASTICITY and *MAT_PLASTIC_KINEMATIC (cards 1-2).
+!> *MAT_POWER_LAW_PLASTICITY and *MAT_PLASTIC_KINEMATIC (cards 1-2), *MAT_JOHNSON_COOK
+!> (cards 1-4).
 module mefem_card_layouts
   use mefem_kinds, only: wp
   use mefem_cards, only: reader_t, card_t, split_card, get_int, get_real, MAX_FIELDS
@@ -20,7 +21,7 @@ module mefem_card_layouts
   implicit none
   private
 
-  public :: read_layout_card, real_field, int_field
+  public :: read_layout_card, real_field, int_field, layout_default
 
   !> One field of a card: keyword (without the '*'), card number, name, columns of the
   !> standard format, type ('I' integer, 'F' real), the value of a blank field, required, and
@@ -44,7 +45,7 @@ module mefem_card_layouts
     real(wp) :: value(MAX_FIELDS) = 0.0_wp             !< their values (integers exactly)
   end type card_fields_t
 
-  integer, parameter :: N_LAYOUT_FIELDS = 108
+  integer, parameter :: N_LAYOUT_FIELDS = 137
 
   !> The table (doc/keywords.md has the same fields; tests/decks/test_card_layouts.py):
   !> keyword, card, field, first and last column, type, default, required, 0 = default.
@@ -156,7 +157,36 @@ module mefem_card_layouts
     field_layout_t('MAT_PLASTIC_KINEMATIC', 2, 'SRC', 1, 10, 'F', 0.0_wp, .false., .false.), &
     field_layout_t('MAT_PLASTIC_KINEMATIC', 2, 'SRP', 11, 20, 'F', 0.0_wp, .false., .false.), &
     field_layout_t('MAT_PLASTIC_KINEMATIC', 2, 'FS', 21, 30, 'F', 0.0_wp, .false., .false.), &
-    field_layout_t('MAT_PLASTIC_KINEMATIC', 2, 'VP', 31, 40, 'F', 0.0_wp, .false., .false.)]
+    field_layout_t('MAT_PLASTIC_KINEMATIC', 2, 'VP', 31, 40, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('MAT_JOHNSON_COOK', 1, 'MID', 1, 10, 'I', 0.0_wp, .true., .false.), &
+    field_layout_t('MAT_JOHNSON_COOK', 1, 'RO', 11, 20, 'F', 0.0_wp, .true., .false.), &
+    field_layout_t('MAT_JOHNSON_COOK', 1, 'G', 21, 30, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('MAT_JOHNSON_COOK', 1, 'E', 31, 40, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('MAT_JOHNSON_COOK', 1, 'PR', 41, 50, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('MAT_JOHNSON_COOK', 1, 'DTF', 51, 60, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('MAT_JOHNSON_COOK', 1, 'VP', 61, 70, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('MAT_JOHNSON_COOK', 1, 'RATEOP', 71, 80, 'I', 0.0_wp, .false., .false.), &
+    field_layout_t('MAT_JOHNSON_COOK', 2, 'A', 1, 10, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('MAT_JOHNSON_COOK', 2, 'B', 11, 20, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('MAT_JOHNSON_COOK', 2, 'N', 21, 30, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('MAT_JOHNSON_COOK', 2, 'C', 31, 40, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('MAT_JOHNSON_COOK', 2, 'M', 41, 50, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('MAT_JOHNSON_COOK', 2, 'TM', 51, 60, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('MAT_JOHNSON_COOK', 2, 'TR', 61, 70, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('MAT_JOHNSON_COOK', 2, 'EPSO', 71, 80, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('MAT_JOHNSON_COOK', 3, 'CP', 1, 10, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('MAT_JOHNSON_COOK', 3, 'PC', 11, 20, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('MAT_JOHNSON_COOK', 3, 'SPALL', 21, 30, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('MAT_JOHNSON_COOK', 3, 'IT', 31, 40, 'I', 0.0_wp, .false., .false.), &
+    field_layout_t('MAT_JOHNSON_COOK', 3, 'D1', 41, 50, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('MAT_JOHNSON_COOK', 3, 'D2', 51, 60, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('MAT_JOHNSON_COOK', 3, 'D3', 61, 70, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('MAT_JOHNSON_COOK', 3, 'D4', 71, 80, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('MAT_JOHNSON_COOK', 4, 'D5', 1, 10, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('MAT_JOHNSON_COOK', 4, 'C2', 11, 20, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('MAT_JOHNSON_COOK', 4, 'EROD', 21, 30, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('MAT_JOHNSON_COOK', 4, 'EFMIN', 31, 40, 'F', 1.0e-6_wp, .false., .false.), &
+    field_layout_t('MAT_JOHNSON_COOK', 4, 'NUMINT', 41, 50, 'I', 0.0_wp, .false., .false.)]
 
 contains
 
@@ -199,6 +229,23 @@ contains
       if (f%zero_is_default .and. fields%value(k) == 0.0_wp) fields%value(k) = f%default
     end do
   end subroutine read_layout_card
+
+  !> The default of field name of card card_number of keyword (what a blank field gives; for
+  !> a card that is missing altogether).
+  real(wp) function layout_default(keyword, card_number, name)
+    character(len=*), intent(in) :: keyword            !< keyword of the table, without '*'
+    integer, intent(in) :: card_number                 !< its card
+    character(len=*), intent(in) :: name               !< field name
+    integer :: k
+    do k = 1, N_LAYOUT_FIELDS
+      if (LAYOUTS(k)%keyword == keyword .and. LAYOUTS(k)%card == card_number .and. &
+          LAYOUTS(k)%name == name) then
+        layout_default = LAYOUTS(k)%default
+        return
+      end if
+    end do
+    call fatal_local('card_layouts: field '//name//' is not in the layout of '//keyword)
+  end function layout_default
 
   !> The value of field name (a real field).
   real(wp) function real_field(fields, name)

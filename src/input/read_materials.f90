@@ -13,7 +13,8 @@ module mefem_read_materials
   use mefem_cards, only: reader_t, card_t, next_card, split_card, get_int, get_real, &
                          card_error, card_warning, keyword_error
   use mefem_card_helpers, only: read_title_card, reject_extra_cards, quoted_real
-  use mefem_card_layouts, only: read_layout_card, real_field, int_field, card_fields_t
+  use mefem_card_layouts, only: read_layout_card, real_field, int_field, card_fields_t, &
+                                layout_default
   use mefem_model, only: model_t, material_t, source_t, MAT_ELASTIC, MAT_PIECEWISE_LINEAR, &
                          MAT_PLASTIC_KINEMATIC, MAT_JOHNSON_COOK, MAT_SIMPLIFIED_JOHNSON_COOK, &
                          MAT_POWER_LAW, MAT_RIGID, MAT_MOONEY_RIVLIN, add_erosion_t, &
@@ -29,8 +30,6 @@ module mefem_read_materials
             read_mat_mooney_rivlin, read_mat_rigid, material_keyword, read_mat_add_erosion
 
   integer, parameter :: W_10(8) = 10   !< standard 8 x 10 card
-  !> EFMIN of *MAT_JOHNSON_COOK when blank: LS-DYNA's least failure strain
-  real(wp), parameter :: JC_EFMIN_DEFAULT = 1.0e-6_wp
 
   !> MID of the material card read last (0: none yet): the keyword reader names a rejected
   !> material by it
@@ -411,23 +410,24 @@ contains
     type(reader_t), intent(inout) :: rd          !< reading state
     character(len=*), intent(in) :: options      !< keyword options
     type(model_t), intent(inout) :: model        !< model appended to
+    character(len=*), parameter :: KEY = 'MAT_JOHNSON_COOK'
     type(material_t) :: mat
     type(card_t) :: card, card2, card3, card4
+    type(card_fields_t) :: f
     logical :: got, bad, got4
-    real(wp) :: shear, dtf, pc, spall, damage(5), c2, erod, efmin
-    integer :: rateop, it, numint
+    real(wp) :: shear, dtf, pc, spall, damage(5), erod, efmin
+    integer :: rateop, k
     character(len=:), allocatable :: who
     mat%kind = MAT_JOHNSON_COOK
     call read_title_card(rd, options, mat%title)
-    call first_card(rd, card, got, 'MID RO G E PR DTF VP RATEOP')
+    call first_layout_card(rd, card, got, KEY, 'MID RO G E PR DTF VP RATEOP', f, mat)
     if (.not. got) return
-    call read_mid_ro(card, mat)
-    call get_real(card, 3, 'G', shear)
-    call get_real(card, 4, 'E', mat%young)
-    call get_real(card, 5, 'PR', mat%poisson)
-    call get_real(card, 6, 'DTF', dtf)
-    call get_real(card, 7, 'VP', mat%vp)
-    call get_int(card, 8, 'RATEOP', rateop)
+    shear = real_field(f, 'G')
+    mat%young = real_field(f, 'E')
+    mat%poisson = real_field(f, 'PR')
+    dtf = real_field(f, 'DTF')
+    mat%vp = real_field(f, 'VP')
+    rateop = int_field(f, 'RATEOP')
     bad = card%bad
     who = 'material '//itoa(mat%id)//': '
     call next_card(rd, card2, got, keep_blank=.true.)
@@ -435,42 +435,38 @@ contains
       call card_error(card, who//'missing card 2 (A B N C M TM TR EPSO)')
       return
     end if
-    call split_card(rd, card2, W_10)
-    call get_real(card2, 1, 'A', mat%jc_a)
-    call get_real(card2, 2, 'B', mat%jc_b)
-    call get_real(card2, 3, 'N', mat%n_exponent)
-    call get_real(card2, 4, 'C', mat%jc_c)
-    call get_real(card2, 5, 'M', mat%jc_m)
-    call get_real(card2, 6, 'TM', mat%melt_temperature)
-    call get_real(card2, 7, 'TR', mat%room_temperature)
-    call get_real(card2, 8, 'EPSO', mat%reference_rate)
+    call read_layout_card(rd, card2, KEY, 2, f)
+    mat%jc_a = real_field(f, 'A')
+    mat%jc_b = real_field(f, 'B')
+    mat%n_exponent = real_field(f, 'N')
+    mat%jc_c = real_field(f, 'C')
+    mat%jc_m = real_field(f, 'M')
+    mat%melt_temperature = real_field(f, 'TM')
+    mat%room_temperature = real_field(f, 'TR')
+    mat%reference_rate = real_field(f, 'EPSO')
     bad = bad .or. card2%bad
     call next_card(rd, card3, got, keep_blank=.true.)
     if (.not. got) then
       call card_error(card2, who//'missing card 3 (CP PC SPALL IT D1 D2 D3 D4)')
       return
     end if
-    call split_card(rd, card3, W_10)
-    call get_real(card3, 1, 'CP', mat%heat_capacity)
-    call get_real(card3, 2, 'PC', pc)
-    call get_real(card3, 3, 'SPALL', spall)
-    call get_int(card3, 4, 'IT', it)
-    call get_real(card3, 5, 'D1', damage(1))
-    call get_real(card3, 6, 'D2', damage(2))
-    call get_real(card3, 7, 'D3', damage(3))
-    call get_real(card3, 8, 'D4', damage(4))
+    call read_layout_card(rd, card3, KEY, 3, f)
+    mat%heat_capacity = real_field(f, 'CP')
+    pc = real_field(f, 'PC')
+    spall = real_field(f, 'SPALL')
+    do k = 1, 4
+      damage(k) = real_field(f, 'D'//itoa(k))
+    end do
     bad = bad .or. card3%bad
     damage(5) = 0.0_wp
     erod = 0.0_wp
-    efmin = JC_EFMIN_DEFAULT
+    efmin = layout_default(KEY, 4, 'EFMIN')
     call next_card(rd, card4, got4, keep_blank=.true.)          ! optional
     if (got4) then
-      call split_card(rd, card4, W_10)
-      call get_real(card4, 1, 'D5', damage(5))
-      call get_real(card4, 2, 'C2/P/XNP', c2)
-      call get_real(card4, 3, 'EROD', erod)
-      call get_real(card4, 4, 'EFMIN', efmin, default=JC_EFMIN_DEFAULT)
-      call get_int(card4, 5, 'NUMINT', numint)
+      call read_layout_card(rd, card4, KEY, 4, f)
+      damage(5) = real_field(f, 'D5')
+      erod = real_field(f, 'EROD')
+      efmin = real_field(f, 'EFMIN')
       bad = bad .or. card4%bad
     end if
     call reject_extra_cards(rd, 'material '//itoa(mat%id))
