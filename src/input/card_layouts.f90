@@ -13,7 +13,7 @@
 !> and *DATABASE_GLSTAT (whose card *DATABASE_RCFORC and *DATABASE_NODOUT share); the
 !> materials *MAT_ELASTIC, *MAT_PIECEWISE_LINEAR_PLASTICITY (cards 1-4),
 !> *MAT_POWER_LAW_PLASTICITY and *MAT_PLASTIC_KINEMATIC (cards 1-2), *MAT_JOHNSON_COOK
-!> (cards 1-4).
+!> (cards 1-4), *MAT_MOONEY-RIVLIN_RUBBER and *MAT_RIGID (cards 1-2).
 module mefem_card_layouts
   use mefem_kinds, only: wp
   use mefem_cards, only: reader_t, card_t, split_card, get_int, get_real, MAX_FIELDS
@@ -45,7 +45,7 @@ module mefem_card_layouts
     real(wp) :: value(MAX_FIELDS) = 0.0_wp             !< their values (integers exactly)
   end type card_fields_t
 
-  integer, parameter :: N_LAYOUT_FIELDS = 137
+  integer, parameter :: N_LAYOUT_FIELDS = 153
 
   !> The table (doc/keywords.md has the same fields; tests/decks/test_card_layouts.py):
   !> keyword, card, field, first and last column, type, default, required, 0 = default.
@@ -186,7 +186,23 @@ module mefem_card_layouts
     field_layout_t('MAT_JOHNSON_COOK', 4, 'C2', 11, 20, 'F', 0.0_wp, .false., .false.), &
     field_layout_t('MAT_JOHNSON_COOK', 4, 'EROD', 21, 30, 'F', 0.0_wp, .false., .false.), &
     field_layout_t('MAT_JOHNSON_COOK', 4, 'EFMIN', 31, 40, 'F', 1.0e-6_wp, .false., .false.), &
-    field_layout_t('MAT_JOHNSON_COOK', 4, 'NUMINT', 41, 50, 'I', 0.0_wp, .false., .false.)]
+    field_layout_t('MAT_JOHNSON_COOK', 4, 'NUMINT', 41, 50, 'I', 0.0_wp, .false., .false.), &
+    field_layout_t('MAT_MOONEY-RIVLIN_RUBBER', 1, 'MID', 1, 10, 'I', 0.0_wp, .true., .false.), &
+    field_layout_t('MAT_MOONEY-RIVLIN_RUBBER', 1, 'RO', 11, 20, 'F', 0.0_wp, .true., .false.), &
+    field_layout_t('MAT_MOONEY-RIVLIN_RUBBER', 1, 'PR', 21, 30, 'F', 0.0_wp, .true., .false.), &
+    field_layout_t('MAT_MOONEY-RIVLIN_RUBBER', 1, 'A', 31, 40, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('MAT_MOONEY-RIVLIN_RUBBER', 1, 'B', 41, 50, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('MAT_MOONEY-RIVLIN_RUBBER', 1, 'REF', 51, 60, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('MAT_MOONEY-RIVLIN_RUBBER', 2, 'LCID', 31, 40, 'I', 0.0_wp, .false., .false.), &
+    field_layout_t('MAT_RIGID', 1, 'MID', 1, 10, 'I', 0.0_wp, .true., .false.), &
+    field_layout_t('MAT_RIGID', 1, 'RO', 11, 20, 'F', 0.0_wp, .true., .false.), &
+    field_layout_t('MAT_RIGID', 1, 'E', 21, 30, 'F', 0.0_wp, .true., .false.), &
+    field_layout_t('MAT_RIGID', 1, 'PR', 31, 40, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('MAT_RIGID', 1, 'N', 41, 50, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('MAT_RIGID', 1, 'COUPLE', 51, 60, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('MAT_RIGID', 2, 'CMO', 1, 10, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('MAT_RIGID', 2, 'CON1', 11, 20, 'I', 0.0_wp, .false., .false.), &
+    field_layout_t('MAT_RIGID', 2, 'CON2', 21, 30, 'I', 0.0_wp, .false., .false.)]
 
 contains
 
@@ -199,31 +215,41 @@ contains
     character(len=*), intent(in) :: keyword            !< keyword of the table, without '*'
     integer, intent(in) :: card_number                 !< its card
     type(card_fields_t), intent(out) :: fields         !< the values by name
-    integer :: rows(MAX_FIELDS), widths(MAX_FIELDS), k, n, value, column
+    integer :: rows(MAX_FIELDS), slot(MAX_FIELDS), widths(MAX_FIELDS), k, n, nslot, value
+    integer :: column
     type(field_layout_t) :: f
+    ! the card's fields in column order; columns between them that are not read become
+    ! fields of their own, skipped (as fields not read at the end simply are)
     n = 0
+    nslot = 0
     column = 1
     do k = 1, N_LAYOUT_FIELDS
       if (LAYOUTS(k)%keyword /= keyword .or. LAYOUTS(k)%card /= card_number) cycle
-      if (LAYOUTS(k)%first_column /= column .or. n == MAX_FIELDS) call fatal_local( &
-          'card_layouts: '//keyword//': the fields of a card must follow each other')
+      if (LAYOUTS(k)%first_column < column .or. nslot + 2 > MAX_FIELDS) call fatal_local( &
+          'card_layouts: '//keyword//': the fields of a card must be in column order')
+      if (LAYOUTS(k)%first_column > column) then
+        nslot = nslot + 1
+        widths(nslot) = LAYOUTS(k)%first_column - column
+      end if
       n = n + 1
+      nslot = nslot + 1
       rows(n) = k
-      widths(n) = LAYOUTS(k)%last_column - LAYOUTS(k)%first_column + 1
+      slot(n) = nslot
+      widths(nslot) = LAYOUTS(k)%last_column - LAYOUTS(k)%first_column + 1
       column = LAYOUTS(k)%last_column + 1
     end do
     if (n == 0) call fatal_local('card_layouts: no layout for '//keyword)
-    call split_card(rd, card, widths(1:n))
+    call split_card(rd, card, widths(1:nslot))
     fields%n = n
     do k = 1, n
       f = LAYOUTS(rows(k))
       fields%name(k) = f%name
       if (f%kind == 'I') then
-        call get_int(card, k, trim(f%name), value, default=nint(f%default), &
+        call get_int(card, slot(k), trim(f%name), value, default=nint(f%default), &
                      required=f%required)
         fields%value(k) = real(value, wp)
       else
-        call get_real(card, k, trim(f%name), fields%value(k), default=f%default, &
+        call get_real(card, slot(k), trim(f%name), fields%value(k), default=f%default, &
                       required=f%required)
       end if
       if (f%zero_is_default .and. fields%value(k) == 0.0_wp) fields%value(k) = f%default

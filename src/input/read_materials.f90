@@ -642,28 +642,29 @@ contains
     type(reader_t), intent(inout) :: rd          !< reading state
     character(len=*), intent(in) :: options      !< keyword options
     type(model_t), intent(inout) :: model        !< model appended to
+    character(len=*), parameter :: KEY = 'MAT_MOONEY-RIVLIN_RUBBER'
     type(material_t) :: mat
     type(card_t) :: card, card2
+    type(card_fields_t) :: f
     logical :: got, bad
     real(wp) :: ref
     integer :: lcid
     character(len=:), allocatable :: who
     mat%kind = MAT_MOONEY_RIVLIN
     call read_title_card(rd, options, mat%title)
-    call first_card(rd, card, got, 'MID RO PR A B REF')
+    call first_layout_card(rd, card, got, KEY, 'MID RO PR A B REF', f, mat)
     if (.not. got) return
-    call read_mid_ro(card, mat)
-    call get_real(card, 3, 'PR', mat%poisson, required=.true.)
-    call get_real(card, 4, 'A', mat%mr_a)
-    call get_real(card, 5, 'B', mat%mr_b)
-    call get_real(card, 6, 'REF', ref)
+    mat%poisson = real_field(f, 'PR')
+    mat%mr_a = real_field(f, 'A')
+    mat%mr_b = real_field(f, 'B')
+    ref = real_field(f, 'REF')
     bad = card%bad
     who = 'material '//itoa(mat%id)//': '
     lcid = 0
     call next_card(rd, card2, got, keep_blank=.true.)
     if (got) then
-      call split_card(rd, card2, W_10)
-      call get_int(card2, 4, 'LCID', lcid)
+      call read_layout_card(rd, card2, KEY, 2, f)
+      lcid = int_field(f, 'LCID')
       bad = bad .or. card2%bad
       if (.not. bad .and. lcid /= 0) then
         call card_error(card2, who//'field LCID: fitting A and B to test data (LCID = '// &
@@ -698,21 +699,21 @@ contains
     type(reader_t), intent(inout) :: rd          !< reading state
     character(len=*), intent(in) :: options      !< keyword options
     type(model_t), intent(inout) :: model        !< model appended to
+    character(len=*), parameter :: KEY = 'MAT_RIGID'
     type(material_t) :: mat
     type(card_t) :: card, card2, card3
+    type(card_fields_t) :: f
     logical :: got, bad
-    real(wp) :: coupling_n, couple
+    real(wp) :: coupling_n
     real(wp) :: cmo
     character(len=:), allocatable :: who
     mat%kind = MAT_RIGID
     call read_title_card(rd, options, mat%title)
-    call first_card(rd, card, got, 'MID RO E PR N COUPLE M ALIAS')
+    call first_layout_card(rd, card, got, KEY, 'MID RO E PR N COUPLE M ALIAS', f, mat)
     if (.not. got) return
-    call read_mid_ro(card, mat)
-    call get_real(card, 3, 'E', mat%young, required=.true.)
-    call get_real(card, 4, 'PR', mat%poisson)
-    call get_real(card, 5, 'N', coupling_n)
-    call get_real(card, 6, 'COUPLE', couple)
+    mat%young = real_field(f, 'E')
+    mat%poisson = real_field(f, 'PR')
+    coupling_n = real_field(f, 'N')
     bad = card%bad
     if (.not. bad) call check_elastic(card, mat, .true.)
     bad = bad .or. card%bad
@@ -724,10 +725,10 @@ contains
     end if
     call next_card(rd, card2, got, keep_blank=.true.)
     if (got) then
-      call split_card(rd, card2, W_10)
-      call get_real(card2, 1, 'CMO', cmo)
-      call get_int(card2, 2, 'CON1', mat%con1)
-      call get_int(card2, 3, 'CON2', mat%con2)
+      call read_layout_card(rd, card2, KEY, 2, f)
+      cmo = real_field(f, 'CMO')
+      mat%con1 = int_field(f, 'CON1')
+      mat%con2 = int_field(f, 'CON2')
       bad = bad .or. card2%bad
       if (.not. card2%bad) then
         mat%cmo = nint(cmo)
