@@ -13,7 +13,8 @@
 !> and *DATABASE_GLSTAT (whose card *DATABASE_RCFORC and *DATABASE_NODOUT share); the
 !> materials *MAT_ELASTIC, *MAT_PIECEWISE_LINEAR_PLASTICITY (cards 1-4),
 !> *MAT_POWER_LAW_PLASTICITY and *MAT_PLASTIC_KINEMATIC (cards 1-2), *MAT_JOHNSON_COOK
-!> (cards 1-4), *MAT_MOONEY-RIVLIN_RUBBER and *MAT_RIGID (cards 1-2).
+!> (cards 1-4), *MAT_MOONEY-RIVLIN_RUBBER and *MAT_RIGID (cards 1-2); *SECTION_SOLID,
+!> *SECTION_SHELL and *HOURGLASS.
 module mefem_card_layouts
   use mefem_kinds, only: wp
   use mefem_cards, only: reader_t, card_t, split_card, get_int, get_real, MAX_FIELDS
@@ -45,7 +46,7 @@ module mefem_card_layouts
     real(wp) :: value(MAX_FIELDS) = 0.0_wp             !< their values (integers exactly)
   end type card_fields_t
 
-  integer, parameter :: N_LAYOUT_FIELDS = 153
+  integer, parameter :: N_LAYOUT_FIELDS = 173
 
   !> The table (doc/keywords.md has the same fields; tests/decks/test_card_layouts.py):
   !> keyword, card, field, first and last column, type, default, required, 0 = default.
@@ -202,7 +203,27 @@ module mefem_card_layouts
     field_layout_t('MAT_RIGID', 1, 'COUPLE', 51, 60, 'F', 0.0_wp, .false., .false.), &
     field_layout_t('MAT_RIGID', 2, 'CMO', 1, 10, 'F', 0.0_wp, .false., .false.), &
     field_layout_t('MAT_RIGID', 2, 'CON1', 11, 20, 'I', 0.0_wp, .false., .false.), &
-    field_layout_t('MAT_RIGID', 2, 'CON2', 21, 30, 'I', 0.0_wp, .false., .false.)]
+    field_layout_t('MAT_RIGID', 2, 'CON2', 21, 30, 'I', 0.0_wp, .false., .false.), &
+    field_layout_t('HOURGLASS', 1, 'HGID', 1, 10, 'I', 0.0_wp, .true., .false.), &
+    field_layout_t('HOURGLASS', 1, 'IHQ', 11, 20, 'I', 0.0_wp, .false., .false.), &
+    field_layout_t('HOURGLASS', 1, 'QM', 21, 30, 'F', 0.1_wp, .false., .true.), &
+    field_layout_t('HOURGLASS', 1, 'IBQ', 31, 40, 'I', 0.0_wp, .false., .false.), &
+    field_layout_t('HOURGLASS', 1, 'Q1', 41, 50, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('HOURGLASS', 1, 'Q2', 51, 60, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('HOURGLASS', 1, 'QB', 61, 70, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('HOURGLASS', 1, 'QW', 71, 80, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('SECTION_SOLID', 1, 'SECID', 1, 10, 'I', 0.0_wp, .true., .false.), &
+    field_layout_t('SECTION_SOLID', 1, 'ELFORM', 11, 20, 'I', 1.0_wp, .false., .false.), &
+    field_layout_t('SECTION_SOLID', 1, 'AET', 21, 30, 'I', 0.0_wp, .false., .false.), &
+    field_layout_t('SECTION_SHELL', 1, 'SECID', 1, 10, 'I', 0.0_wp, .true., .false.), &
+    field_layout_t('SECTION_SHELL', 1, 'ELFORM', 11, 20, 'I', 2.0_wp, .false., .false.), &
+    field_layout_t('SECTION_SHELL', 1, 'SHRF', 21, 30, 'F', 1.0_wp, .false., .false.), &
+    field_layout_t('SECTION_SHELL', 1, 'NIP', 31, 40, 'I', 2.0_wp, .false., .false.), &
+    field_layout_t('SECTION_SHELL', 1, 'ICOMP', 61, 70, 'I', 0.0_wp, .false., .false.), &
+    field_layout_t('SECTION_SHELL', 2, 'T1', 1, 10, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('SECTION_SHELL', 2, 'T2', 11, 20, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('SECTION_SHELL', 2, 'T3', 21, 30, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('SECTION_SHELL', 2, 'T4', 31, 40, 'F', 0.0_wp, .false., .false.)]
 
 contains
 

@@ -6,6 +6,7 @@ module mefem_read_mesh
   use mefem_strings, only: itoa, rtoa
   use mefem_cards, only: LONG_WIDTH, reader_t, card_t, next_card, split_card, get_int, get_real, &
                          card_error, keyword_error
+  use mefem_card_layouts, only: read_layout_card, real_field, int_field, card_fields_t
   use mefem_model, only: model_t, nodes_t, elements_t, part_t, section_t, source_t, &
                          hourglass_t, added_mass_t, ELEM_SOLID, ELEM_SHELL, SECTION_SOLID, &
                          SECTION_SHELL, ON_NODE, ON_NODE_SET, ON_PART, ON_PART_SET
@@ -458,18 +459,19 @@ contains
     character(len=*), intent(in) :: options      !< keyword options
     type(model_t), intent(inout) :: model        !< model appended to
     type(card_t) :: card
+    type(card_fields_t) :: f
     type(section_t) :: section
     logical :: got
     call skip_title(rd, options)
     do
       call next_card(rd, card, got)
       if (.not. got) exit
-      call split_card(rd, card, W_10)
+      call read_layout_card(rd, card, 'SECTION_SOLID', 1, f)
       section = section_t()
       section%kind = SECTION_SOLID
-      call get_int(card, 1, 'SECID', section%id, required=.true.)
-      call get_int(card, 2, 'ELFORM', section%elform, default=1)
-      call get_int(card, 3, 'AET', section%aet)
+      section%id = int_field(f, 'SECID')
+      section%elform = int_field(f, 'ELFORM')
+      section%aet = int_field(f, 'AET')
       section%src = source_t(card%file, card%line)
       if (.not. card%bad) call add_section(model, section)
     end do
@@ -484,25 +486,19 @@ contains
     character(len=*), intent(in) :: options      !< keyword options
     type(model_t), intent(inout) :: model        !< model appended to
     type(card_t) :: card
+    type(card_fields_t) :: f
     type(hourglass_t) :: hourglass
     type(hourglass_t), allocatable :: grown(:)
     logical :: got
-    integer :: ibq
-    real(wp) :: unused
     call skip_title(rd, options)
     do
       call next_card(rd, card, got)
       if (.not. got) exit
-      call split_card(rd, card, W_10)
+      call read_layout_card(rd, card, 'HOURGLASS', 1, f)
       hourglass = hourglass_t()
-      call get_int(card, 1, 'HGID', hourglass%id, required=.true.)
-      call get_int(card, 2, 'IHQ', hourglass%ihq)
-      call get_real(card, 3, 'QM', hourglass%qm)
-      call get_int(card, 4, 'IBQ', ibq)
-      call get_real(card, 5, 'Q1', unused)
-      call get_real(card, 6, 'Q2', unused)
-      call get_real(card, 7, 'QB', unused)
-      call get_real(card, 8, 'QW', unused)
+      hourglass%id = int_field(f, 'HGID')
+      hourglass%ihq = int_field(f, 'IHQ')
+      hourglass%qm = real_field(f, 'QM')
       hourglass%src = source_t(card%file, card%line)
       if (card%bad) cycle
       if (hourglass%ihq < 0 .or. hourglass%ihq > 10) then
@@ -530,6 +526,7 @@ contains
     character(len=*), intent(in) :: options      !< keyword options
     type(model_t), intent(inout) :: model        !< model appended to
     type(card_t) :: card, card2
+    type(card_fields_t) :: f
     type(section_t) :: section
     logical :: got
     integer :: icomp, i
@@ -537,14 +534,14 @@ contains
     do
       call next_card(rd, card, got)
       if (.not. got) exit
-      call split_card(rd, card, W_10)
+      call read_layout_card(rd, card, 'SECTION_SHELL', 1, f)
       section = section_t()
       section%kind = SECTION_SHELL
-      call get_int(card, 1, 'SECID', section%id, required=.true.)
-      call get_int(card, 2, 'ELFORM', section%elform, default=2)
-      call get_real(card, 3, 'SHRF', section%shear_factor, default=1.0_wp)
-      call get_int(card, 4, 'NIP', section%nip, default=2)
-      call get_int(card, 7, 'ICOMP', icomp)
+      section%id = int_field(f, 'SECID')
+      section%elform = int_field(f, 'ELFORM')
+      section%shear_factor = real_field(f, 'SHRF')
+      section%nip = int_field(f, 'NIP')
+      icomp = int_field(f, 'ICOMP')
       section%src = source_t(card%file, card%line)
       call next_card(rd, card2, got, keep_blank=.true.)
       if (.not. got) then
@@ -552,9 +549,9 @@ contains
             ': missing card 2 (T1 T2 T3 T4 NLOC)')
         exit
       end if
-      call split_card(rd, card2, W_10)
+      call read_layout_card(rd, card2, 'SECTION_SHELL', 2, f)
       do i = 1, 4
-        call get_real(card2, i, 'T'//achar(iachar('0') + i), section%thickness(i))
+        section%thickness(i) = real_field(f, 'T'//achar(iachar('0') + i))
       end do
       where (section%thickness(2:4) == 0.0_wp) section%thickness(2:4) = section%thickness(1)
       if (icomp /= 0) then

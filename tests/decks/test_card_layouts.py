@@ -99,6 +99,9 @@ for keyword in sorted({r[0] for r in rows}):
             mismatches.append('card %d %s: not in the manual\'s tables' % (card, name))
             continue
         value, doc_required, doc_zero = parse_default(doc[3])
+        dependent = re.match(r'([A-Z][A-Z0-9]*)\b', doc[3])       # 'T1 (0 = default)': the
+        if dependent and any(dependent.group(1) == r[2] for r in rows if r[0] == keyword):
+            value, doc_zero = default, zero                       # reader applies it
         if (doc[0], doc[1]) != (first, last):
             mismatches.append('%s: columns %d-%d, manual %d-%d' % (name, first, last, doc[0],
                                                                     doc[1]))
