@@ -14,7 +14,9 @@
 !> materials *MAT_ELASTIC, *MAT_PIECEWISE_LINEAR_PLASTICITY (cards 1-4),
 !> *MAT_POWER_LAW_PLASTICITY and *MAT_PLASTIC_KINEMATIC (cards 1-2), *MAT_JOHNSON_COOK
 !> (cards 1-4), *MAT_MOONEY-RIVLIN_RUBBER and *MAT_RIGID (cards 1-2); *SECTION_SOLID,
-!> *SECTION_SHELL and *HOURGLASS.
+!> *SECTION_SHELL and *HOURGLASS; the cards of the contacts (CONTACT_AUTOMATIC_SURFACE_TO_
+!> SURFACE: cards 1-3, the eroding contacts' card 4, and the optional cards A, B, C as cards
+!> 101, 102, 103), which all *CONTACT_ keywords read share.
 module mefem_card_layouts
   use mefem_kinds, only: wp
   use mefem_cards, only: reader_t, card_t, split_card, get_int, get_real, MAX_FIELDS
@@ -28,7 +30,7 @@ module mefem_card_layouts
   !> standard format, type ('I' integer, 'F' real), the value of a blank field, required, and
   !> whether a 0 means the default too.
   type, public :: field_layout_t
-    character(len=32) :: keyword = ''
+    character(len=40) :: keyword = ''
     integer :: card = 1
     character(len=8) :: name = ''
     integer :: first_column = 1
@@ -46,7 +48,7 @@ module mefem_card_layouts
     real(wp) :: value(MAX_FIELDS) = 0.0_wp             !< their values (integers exactly)
   end type card_fields_t
 
-  integer, parameter :: N_LAYOUT_FIELDS = 173
+  integer, parameter :: N_LAYOUT_FIELDS = 205
 
   !> The table (doc/keywords.md has the same fields; tests/decks/test_card_layouts.py):
   !> keyword, card, field, first and last column, type, default, required, 0 = default.
@@ -223,19 +225,53 @@ module mefem_card_layouts
     field_layout_t('SECTION_SHELL', 2, 'T1', 1, 10, 'F', 0.0_wp, .false., .false.), &
     field_layout_t('SECTION_SHELL', 2, 'T2', 11, 20, 'F', 0.0_wp, .false., .false.), &
     field_layout_t('SECTION_SHELL', 2, 'T3', 21, 30, 'F', 0.0_wp, .false., .false.), &
-    field_layout_t('SECTION_SHELL', 2, 'T4', 31, 40, 'F', 0.0_wp, .false., .false.)]
+    field_layout_t('SECTION_SHELL', 2, 'T4', 31, 40, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('CONTACT_AUTOMATIC_SURFACE_TO_SURFACE', 1, 'SURFA', 1, 10, 'I', 0.0_wp, .true., .false.), &
+    field_layout_t('CONTACT_AUTOMATIC_SURFACE_TO_SURFACE', 1, 'SURFB', 11, 20, 'I', 0.0_wp, .true., .false.), &
+    field_layout_t('CONTACT_AUTOMATIC_SURFACE_TO_SURFACE', 1, 'SURFATYP', 21, 30, 'I', 0.0_wp, .false., .false.), &
+    field_layout_t('CONTACT_AUTOMATIC_SURFACE_TO_SURFACE', 1, 'SURFBTYP', 31, 40, 'I', 0.0_wp, .false., .false.), &
+    field_layout_t('CONTACT_AUTOMATIC_SURFACE_TO_SURFACE', 1, 'SABOXID', 41, 50, 'I', 0.0_wp, .false., .false.), &
+    field_layout_t('CONTACT_AUTOMATIC_SURFACE_TO_SURFACE', 1, 'SBBOXID', 51, 60, 'I', 0.0_wp, .false., .false.), &
+    field_layout_t('CONTACT_AUTOMATIC_SURFACE_TO_SURFACE', 1, 'SAPR', 61, 70, 'I', 0.0_wp, .false., .false.), &
+    field_layout_t('CONTACT_AUTOMATIC_SURFACE_TO_SURFACE', 1, 'SBPR', 71, 80, 'I', 0.0_wp, .false., .false.), &
+    field_layout_t('CONTACT_AUTOMATIC_SURFACE_TO_SURFACE', 2, 'FS', 1, 10, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('CONTACT_AUTOMATIC_SURFACE_TO_SURFACE', 2, 'FD', 11, 20, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('CONTACT_AUTOMATIC_SURFACE_TO_SURFACE', 2, 'DC', 21, 30, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('CONTACT_AUTOMATIC_SURFACE_TO_SURFACE', 2, 'VC', 31, 40, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('CONTACT_AUTOMATIC_SURFACE_TO_SURFACE', 2, 'VDC', 41, 50, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('CONTACT_AUTOMATIC_SURFACE_TO_SURFACE', 2, 'PENCHK', 51, 60, 'I', 0.0_wp, .false., .false.), &
+    field_layout_t('CONTACT_AUTOMATIC_SURFACE_TO_SURFACE', 2, 'BT', 61, 70, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('CONTACT_AUTOMATIC_SURFACE_TO_SURFACE', 2, 'DT', 71, 80, 'F', 1.0e20_wp, .false., .true.), &
+    field_layout_t('CONTACT_AUTOMATIC_SURFACE_TO_SURFACE', 3, 'SFSA', 1, 10, 'F', 1.0_wp, .false., .true.), &
+    field_layout_t('CONTACT_AUTOMATIC_SURFACE_TO_SURFACE', 3, 'SFSB', 11, 20, 'F', 1.0_wp, .false., .true.), &
+    field_layout_t('CONTACT_AUTOMATIC_SURFACE_TO_SURFACE', 3, 'SAST', 21, 30, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('CONTACT_AUTOMATIC_SURFACE_TO_SURFACE', 3, 'SBST', 31, 40, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('CONTACT_AUTOMATIC_SURFACE_TO_SURFACE', 3, 'SFSAT', 41, 50, 'F', 1.0_wp, .false., .true.), &
+    field_layout_t('CONTACT_AUTOMATIC_SURFACE_TO_SURFACE', 3, 'SFSBT', 51, 60, 'F', 1.0_wp, .false., .true.), &
+    field_layout_t('CONTACT_AUTOMATIC_SURFACE_TO_SURFACE', 3, 'FSF', 61, 70, 'F', 1.0_wp, .false., .true.), &
+    field_layout_t('CONTACT_AUTOMATIC_SURFACE_TO_SURFACE', 3, 'VSF', 71, 80, 'F', 1.0_wp, .false., .true.), &
+    field_layout_t('CONTACT_AUTOMATIC_SURFACE_TO_SURFACE', 4, 'ISYM', 1, 10, 'I', 0.0_wp, .false., .false.), &
+    field_layout_t('CONTACT_AUTOMATIC_SURFACE_TO_SURFACE', 4, 'EROSOP', 11, 20, 'I', 0.0_wp, .false., .false.), &
+    field_layout_t('CONTACT_AUTOMATIC_SURFACE_TO_SURFACE', 4, 'IADJ', 21, 30, 'I', 0.0_wp, .false., .false.), &
+    field_layout_t('CONTACT_AUTOMATIC_SURFACE_TO_SURFACE', 101, 'SOFT', 1, 10, 'I', 0.0_wp, .false., .false.), &
+    field_layout_t('CONTACT_AUTOMATIC_SURFACE_TO_SURFACE', 101, 'SOFSCL', 11, 20, 'F', 0.1_wp, .false., .true.), &
+    field_layout_t('CONTACT_AUTOMATIC_SURFACE_TO_SURFACE', 102, 'PENMAX', 1, 10, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('CONTACT_AUTOMATIC_SURFACE_TO_SURFACE', 103, 'IGAP', 1, 10, 'I', 1.0_wp, .false., .false.), &
+    field_layout_t('CONTACT_AUTOMATIC_SURFACE_TO_SURFACE', 103, 'IGNORE', 11, 20, 'I', 0.0_wp, .false., .false.)]
 
 contains
 
   !> Split card as card card_number of keyword's layout and read its fields (blank: the
   !> default; a blank required field, a bad number: the card's error, as get_int/get_real
   !> report them).
-  subroutine read_layout_card(rd, card, keyword, card_number, fields)
+  subroutine read_layout_card(rd, card, keyword, card_number, fields, optional_here)
     type(reader_t), intent(in) :: rd                   !< reading state (format)
     type(card_t), intent(inout) :: card                !< the card
     character(len=*), intent(in) :: keyword            !< keyword of the table, without '*'
     integer, intent(in) :: card_number                 !< its card
     type(card_fields_t), intent(out) :: fields         !< the values by name
+    character(len=*), intent(in), optional :: optional_here(:) !< required fields that this
+                                                       !< form of the keyword does not need
     integer :: rows(MAX_FIELDS), slot(MAX_FIELDS), widths(MAX_FIELDS), k, n, nslot, value
     integer :: column
     type(field_layout_t) :: f
@@ -264,6 +300,9 @@ contains
     fields%n = n
     do k = 1, n
       f = LAYOUTS(rows(k))
+      if (present(optional_here)) then
+        if (any(optional_here == f%name)) f%required = .false.
+      end if
       fields%name(k) = f%name
       if (f%kind == 'I') then
         call get_int(card, slot(k), trim(f%name), value, default=nint(f%default), &

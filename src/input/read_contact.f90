@@ -16,6 +16,7 @@ module mefem_read_contact
   use mefem_strings, only: itoa, rtoa
   use mefem_cards, only: reader_t, card_t, next_card, split_card, get_int, get_real, &
                          card_error, card_warning, keyword_error
+  use mefem_card_layouts, only: read_layout_card, real_field, int_field, card_fields_t
   use mefem_card_helpers, only: has_option, read_id_card, quoted_real, reject_extra_cards, &
                                 skip_extra_cards, read_id_option
   use mefem_deck_source, only: deck_push_back
@@ -33,6 +34,10 @@ module mefem_read_contact
 
   integer, parameter :: W_10(8) = 10          !< standard 8 x 10 card
   integer, parameter :: N_OPTIONAL = 6        !< optional cards A to F
+  !> The contacts' cards in mefem_card_layouts (optional card A is card CARD_A there, B and C
+  !> follow)
+  character(len=*), parameter :: LAYOUT = 'CONTACT_AUTOMATIC_SURFACE_TO_SURFACE'
+  integer, parameter :: CARD_A = 101
 
 contains
 
@@ -49,9 +54,10 @@ contains
     integer, intent(in) :: form                  !< FORM_* of the keyword
     type(contact_t) :: contact
     type(card_t) :: card, card1, card2, card3, mpp
+    type(card_fields_t) :: f
     logical :: single_surface, tied, transducer, nodes_a, eroding
     logical :: got, ok, bad
-    integer :: k, sapr, sbpr, saboxid, sbboxid, penchk, mpp_ignore
+    integer :: k, saboxid, sbboxid, mpp_ignore
     character(len=:), allocatable :: who
     contact%mortar = has_option(options, 'MORTAR')
     single_surface = form == FORM_SINGLE_SURFACE
@@ -92,16 +98,19 @@ contains
       call keyword_error(rd, 'missing card 1 (SURFA SURFB SURFATYP SURFBTYP ...)')
       return
     end if
-    call split_card(rd, card1, W_10)
-    call get_int(card1, 1, 'SURFA', contact%surf_a_id, required=.not. single_surface)
-    call get_int(card1, 2, 'SURFB', contact%surf_b_id, required=.not. (single_surface .or. &
-                                                                         transducer))
-    call get_int(card1, 3, 'SURFATYP', contact%surf_a_type)
-    call get_int(card1, 4, 'SURFBTYP', contact%surf_b_type)
-    call get_int(card1, 5, 'SABOXID', saboxid)
-    call get_int(card1, 6, 'SBBOXID', sbboxid)
-    call get_int(card1, 7, 'SAPR', sapr)
-    call get_int(card1, 8, 'SBPR', sbpr)
+    if (single_surface) then                   ! (SURFA may be blank: SURFATYP 5, all parts)
+      call read_layout_card(rd, card1, LAYOUT, 1, f, [character(len=8) :: 'SURFA', 'SURFB'])
+    else if (transducer) then
+      call read_layout_card(rd, card1, LAYOUT, 1, f, [character(len=8) :: 'SURFB'])
+    else
+      call read_layout_card(rd, card1, LAYOUT, 1, f)
+    end if
+    contact%surf_a_id = int_field(f, 'SURFA')
+    contact%surf_b_id = int_field(f, 'SURFB')
+    contact%surf_a_type = int_field(f, 'SURFATYP')
+    contact%surf_b_type = int_field(f, 'SURFBTYP')
+    saboxid = int_field(f, 'SABOXID')
+    sbboxid = int_field(f, 'SBBOXID')
     contact%src = source_t(card1%file, card1%line)
     bad = card1%bad
     who = 'contact'
@@ -112,16 +121,14 @@ contains
       call card_error(card1, who//': missing card 2 (FS FD DC VC VDC PENCHK BT DT)')
       return
     end if
-    call split_card(rd, card2, W_10)
-    call get_real(card2, 1, 'FS', contact%fs)
-    call get_real(card2, 2, 'FD', contact%fd)
-    call get_real(card2, 3, 'DC', contact%dc)
-    call get_real(card2, 4, 'VC', contact%vc)
-    call get_real(card2, 5, 'VDC', contact%vdc)
-    call get_int(card2, 6, 'PENCHK', penchk)
-    call get_real(card2, 7, 'BT', contact%birth)
-    call get_real(card2, 8, 'DT', contact%death, default=1.0e20_wp)
-    if (contact%death == 0.0_wp) contact%death = 1.0e20_wp
+    call read_layout_card(rd, card2, LAYOUT, 2, f)
+    contact%fs = real_field(f, 'FS')
+    contact%fd = real_field(f, 'FD')
+    contact%dc = real_field(f, 'DC')
+    contact%vc = real_field(f, 'VC')
+    contact%vdc = real_field(f, 'VDC')
+    contact%birth = real_field(f, 'BT')
+    contact%death = real_field(f, 'DT')
     bad = bad .or. card2%bad
     ! card 3 (required, may be blank)
     call next_card(rd, card3, got, keep_blank=.true.)
@@ -130,21 +137,15 @@ contains
           'VSF; a blank line gives the defaults)')
       return
     end if
-    call split_card(rd, card3, W_10)
-    call get_real(card3, 1, 'SFSA', contact%sfsa, default=1.0_wp)
-    call get_real(card3, 2, 'SFSB', contact%sfsb, default=1.0_wp)
-    call get_real(card3, 3, 'SAST', contact%sast)
-    call get_real(card3, 4, 'SBST', contact%sbst)
-    call get_real(card3, 5, 'SFSAT', contact%sfsat, default=1.0_wp)
-    call get_real(card3, 6, 'SFSBT', contact%sfsbt, default=1.0_wp)
-    call get_real(card3, 7, 'FSF', contact%fsf, default=1.0_wp)
-    call get_real(card3, 8, 'VSF', contact%vsf, default=1.0_wp)
-    call zero_means_one(contact%sfsa)
-    call zero_means_one(contact%sfsb)
-    call zero_means_one(contact%sfsat)
-    call zero_means_one(contact%sfsbt)
-    call zero_means_one(contact%fsf)
-    call zero_means_one(contact%vsf)
+    call read_layout_card(rd, card3, LAYOUT, 3, f)
+    contact%sfsa = real_field(f, 'SFSA')
+    contact%sfsb = real_field(f, 'SFSB')
+    contact%sast = real_field(f, 'SAST')
+    contact%sbst = real_field(f, 'SBST')
+    contact%sfsat = real_field(f, 'SFSAT')
+    contact%sfsbt = real_field(f, 'SFSBT')
+    contact%fsf = real_field(f, 'FSF')
+    contact%vsf = real_field(f, 'VSF')
     bad = bad .or. card3%bad
     if (eroding) then
       call read_eroding_card(rd, card3, who, contact, bad)
@@ -157,17 +158,18 @@ contains
     do k = 1, N_OPTIONAL
       call next_card(rd, card, got, keep_blank=.true.)
       if (.not. got) exit
-      call split_card(rd, card, W_10)
       select case (k)
       case (1)
-        call get_int(card, 1, 'SOFT', contact%soft)
-        call get_real(card, 2, 'SOFSCL', contact%sofscl, default=0.1_wp)
-        if (contact%sofscl == 0.0_wp) contact%sofscl = 0.1_wp
+        call read_layout_card(rd, card, LAYOUT, CARD_A, f)
+        contact%soft = int_field(f, 'SOFT')
+        contact%sofscl = real_field(f, 'SOFSCL')
       case (2)
-        call get_real(card, 1, 'PENMAX', contact%penmax)
+        call read_layout_card(rd, card, LAYOUT, CARD_A + 1, f)
+        contact%penmax = real_field(f, 'PENMAX')
       case (3)
-        call get_int(card, 1, 'IGAP', contact%igap, default=1)
-        call get_int(card, 2, 'IGNORE', contact%ignore)
+        call read_layout_card(rd, card, LAYOUT, CARD_A + 2, f)
+        contact%igap = int_field(f, 'IGAP')
+        contact%ignore = int_field(f, 'IGNORE')
       end select
       bad = bad .or. card%bad
       if (k <= 3 .and. .not. card%bad) call check_optional(card, k, contact, who, bad)
@@ -216,6 +218,7 @@ contains
     type(contact_t), intent(inout) :: contact   !< eroding set
     logical, intent(inout) :: bad                !< a card was wrong
     type(card_t) :: card
+    type(card_fields_t) :: f
     logical :: got
     integer :: isym, erosop, iadj
     call next_card(rd, card, got, keep_blank=.true.)
@@ -225,10 +228,10 @@ contains
       bad = .true.
       return
     end if
-    call split_card(rd, card, W_10)
-    call get_int(card, 1, 'ISYM', isym)
-    call get_int(card, 2, 'EROSOP', erosop)
-    call get_int(card, 3, 'IADJ', iadj)
+    call read_layout_card(rd, card, LAYOUT, 4, f)
+    isym = int_field(f, 'ISYM')
+    erosop = int_field(f, 'EROSOP')
+    iadj = int_field(f, 'IADJ')
     if (card%bad) then
       bad = .true.
       return

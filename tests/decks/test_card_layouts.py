@@ -45,8 +45,12 @@ def manual_tables(keyword):
                 continue
             if set(cells[0]) <= set('-'):
                 continue
-            if has_card:
-                current.append((int(cells[0]) if cells[0].isdigit() else None, cells[1:]))
+            if has_card:                   # optional cards A, B, ... are 101, 102, ...
+                label = cells[0]
+                card = int(label) if label.isdigit() else (
+                    100 + ord(label) - ord('A') + 1 if len(label) == 1 and label.isalpha()
+                    else None)
+                current.append((card, cells[1:]))
             else:
                 current.append((None, cells))
         else:
