@@ -16,7 +16,9 @@
 !> (cards 1-4), *MAT_MOONEY-RIVLIN_RUBBER and *MAT_RIGID (cards 1-2); *SECTION_SOLID,
 !> *SECTION_SHELL and *HOURGLASS; the cards of the contacts (CONTACT_AUTOMATIC_SURFACE_TO_
 !> SURFACE: cards 1-3, the eroding contacts' card 4, and the optional cards A, B, C as cards
-!> 101, 102, 103), which all *CONTACT_ keywords read share.
+!> 101, 102, 103), which all *CONTACT_ keywords read share; *BOUNDARY_SPC_NODE/_SET and
+!> *BOUNDARY_PRESCRIBED_MOTION_NODE/_SET/_RIGID (their first field named by the form: NID, NSID
+!> or PID, first_name).
 module mefem_card_layouts
   use mefem_kinds, only: wp
   use mefem_cards, only: reader_t, card_t, split_card, get_int, get_real, MAX_FIELDS
@@ -48,7 +50,7 @@ module mefem_card_layouts
     real(wp) :: value(MAX_FIELDS) = 0.0_wp             !< their values (integers exactly)
   end type card_fields_t
 
-  integer, parameter :: N_LAYOUT_FIELDS = 205
+  integer, parameter :: N_LAYOUT_FIELDS = 223
 
   !> The table (doc/keywords.md has the same fields; tests/decks/test_card_layouts.py):
   !> keyword, card, field, first and last column, type, default, required, 0 = default.
@@ -257,14 +259,32 @@ module mefem_card_layouts
     field_layout_t('CONTACT_AUTOMATIC_SURFACE_TO_SURFACE', 101, 'SOFSCL', 11, 20, 'F', 0.1_wp, .false., .true.), &
     field_layout_t('CONTACT_AUTOMATIC_SURFACE_TO_SURFACE', 102, 'PENMAX', 1, 10, 'F', 0.0_wp, .false., .false.), &
     field_layout_t('CONTACT_AUTOMATIC_SURFACE_TO_SURFACE', 103, 'IGAP', 1, 10, 'I', 1.0_wp, .false., .false.), &
-    field_layout_t('CONTACT_AUTOMATIC_SURFACE_TO_SURFACE', 103, 'IGNORE', 11, 20, 'I', 0.0_wp, .false., .false.)]
+    field_layout_t('CONTACT_AUTOMATIC_SURFACE_TO_SURFACE', 103, 'IGNORE', 11, 20, 'I', 0.0_wp, .false., .false.), &
+    field_layout_t('BOUNDARY_SPC_NODE', 1, 'NID', 1, 10, 'I', 0.0_wp, .true., .false.), &
+    field_layout_t('BOUNDARY_SPC_NODE', 1, 'CID', 11, 20, 'I', 0.0_wp, .false., .false.), &
+    field_layout_t('BOUNDARY_SPC_NODE', 1, 'DOFX', 21, 30, 'I', 0.0_wp, .false., .false.), &
+    field_layout_t('BOUNDARY_SPC_NODE', 1, 'DOFY', 31, 40, 'I', 0.0_wp, .false., .false.), &
+    field_layout_t('BOUNDARY_SPC_NODE', 1, 'DOFZ', 41, 50, 'I', 0.0_wp, .false., .false.), &
+    field_layout_t('BOUNDARY_SPC_NODE', 1, 'DOFRX', 51, 60, 'I', 0.0_wp, .false., .false.), &
+    field_layout_t('BOUNDARY_SPC_NODE', 1, 'DOFRY', 61, 70, 'I', 0.0_wp, .false., .false.), &
+    field_layout_t('BOUNDARY_SPC_NODE', 1, 'DOFRZ', 71, 80, 'I', 0.0_wp, .false., .false.), &
+    field_layout_t('BOUNDARY_SPC_NODE', 2, 'BIRTH', 1, 10, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('BOUNDARY_SPC_NODE', 2, 'DEATH', 11, 20, 'F', 1.0e20_wp, .false., .true.), &
+    field_layout_t('BOUNDARY_PRESCRIBED_MOTION_NODE', 1, 'NID', 1, 10, 'I', 0.0_wp, .true., .false.), &
+    field_layout_t('BOUNDARY_PRESCRIBED_MOTION_NODE', 1, 'DOF', 11, 20, 'I', 0.0_wp, .true., .false.), &
+    field_layout_t('BOUNDARY_PRESCRIBED_MOTION_NODE', 1, 'VAD', 21, 30, 'I', 0.0_wp, .false., .false.), &
+    field_layout_t('BOUNDARY_PRESCRIBED_MOTION_NODE', 1, 'LCID', 31, 40, 'I', 0.0_wp, .true., .false.), &
+    field_layout_t('BOUNDARY_PRESCRIBED_MOTION_NODE', 1, 'SF', 41, 50, 'F', 1.0_wp, .false., .true.), &
+    field_layout_t('BOUNDARY_PRESCRIBED_MOTION_NODE', 1, 'VID', 51, 60, 'I', 0.0_wp, .false., .false.), &
+    field_layout_t('BOUNDARY_PRESCRIBED_MOTION_NODE', 1, 'DEATH', 61, 70, 'F', 1.0e28_wp, .false., .true.), &
+    field_layout_t('BOUNDARY_PRESCRIBED_MOTION_NODE', 1, 'BIRTH', 71, 80, 'F', 0.0_wp, .false., .false.)]
 
 contains
 
   !> Split card as card card_number of keyword's layout and read its fields (blank: the
   !> default; a blank required field, a bad number: the card's error, as get_int/get_real
   !> report them).
-  subroutine read_layout_card(rd, card, keyword, card_number, fields, optional_here)
+  subroutine read_layout_card(rd, card, keyword, card_number, fields, optional_here, first_name)
     type(reader_t), intent(in) :: rd                   !< reading state (format)
     type(card_t), intent(inout) :: card                !< the card
     character(len=*), intent(in) :: keyword            !< keyword of the table, without '*'
@@ -272,6 +292,8 @@ contains
     type(card_fields_t), intent(out) :: fields         !< the values by name
     character(len=*), intent(in), optional :: optional_here(:) !< required fields that this
                                                        !< form of the keyword does not need
+    character(len=*), intent(in), optional :: first_name !< the first field's name in this
+                                                       !< form (NSID for NID of a _SET form)
     integer :: rows(MAX_FIELDS), slot(MAX_FIELDS), widths(MAX_FIELDS), k, n, nslot, value
     integer :: column
     type(field_layout_t) :: f
@@ -303,6 +325,7 @@ contains
       if (present(optional_here)) then
         if (any(optional_here == f%name)) f%required = .false.
       end if
+      if (present(first_name) .and. k == 1) f%name = first_name
       fields%name(k) = f%name
       if (f%kind == 'I') then
         call get_int(card, slot(k), trim(f%name), value, default=nint(f%default), &

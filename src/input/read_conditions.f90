@@ -11,6 +11,7 @@ module mefem_read_conditions
   use mefem_strings, only: itoa, rtoa
   use mefem_cards, only: reader_t, card_t, next_card, split_card, get_int, get_real, &
                          card_error, card_warning, keyword_error
+  use mefem_card_layouts, only: read_layout_card, real_field, int_field, card_fields_t
   use mefem_card_helpers, only: has_option, read_title_card, read_id_card, quoted_real, &
                                 skip_extra_cards, read_id_option, reject_extra_cards
   use mefem_deck_source, only: location
@@ -31,8 +32,6 @@ module mefem_read_conditions
 
   integer, parameter :: W_10(8) = 10          !< standard 8 x 10 card
   integer, parameter :: W_POINT(2) = 20       !< *DEFINE_CURVE point: 2 x E20
-  real(wp), parameter :: NEVER = 1.0e28_wp    !< DEATH of a prescribed motion by default
-  real(wp), parameter :: SPC_NEVER = 1.0e20_wp  !< DEATH of an SPC by default
   character(len=1), parameter :: AXIS_NAMES(3) = ['X', 'Y', 'Z']   !< *LOAD_BODY_ suffixes
 
 contains
@@ -45,6 +44,7 @@ contains
     logical, intent(in) :: on_set                !< _SET (node set) rather than _NODE
     type(model_t), intent(inout) :: model        !< model appended to
     type(card_t) :: card, card2
+    type(card_fields_t) :: f
     type(spc_t) :: spc
     logical :: got, ok, birth_death
     integer :: flags(6), i, id
@@ -63,13 +63,14 @@ contains
     do
       call next_card(rd, card, got)
       if (.not. got) exit
-      call split_card(rd, card, W_10)
+      call read_layout_card(rd, card, 'BOUNDARY_SPC_NODE', 1, f, &
+                            first_name=trim(merge('NSID', 'NID ', on_set)))
       spc = spc_t()
       spc%target_kind = merge(ON_NODE_SET, ON_NODE, on_set)
-      call get_int(card, 1, trim(merge('NSID', 'NID ', on_set)), spc%target_id, required=.true.)
-      call get_int(card, 2, 'CID', spc%cid)
+      spc%target_id = int_field(f, trim(merge('NSID', 'NID ', on_set)))
+      spc%cid = int_field(f, 'CID')
       do i = 1, 6
-        call get_int(card, 2 + i, trim(DOF_NAMES(i)), flags(i))
+        flags(i) = int_field(f, trim(DOF_NAMES(i)))
       end do
       spc%src = source_t(card%file, card%line)
       if (birth_death) then
@@ -78,10 +79,9 @@ contains
           call card_error(card, 'missing the card BIRTH DEATH of the _BIRTH_DEATH option')
           exit
         end if
-        call split_card(rd, card2, W_10)
-        call get_real(card2, 1, 'BIRTH', spc%birth)
-        call get_real(card2, 2, 'DEATH', spc%death, default=SPC_NEVER)
-        if (spc%death == 0.0_wp) spc%death = SPC_NEVER
+        call read_layout_card(rd, card2, 'BOUNDARY_SPC_NODE', 2, f)
+        spc%birth = real_field(f, 'BIRTH')
+        spc%death = real_field(f, 'DEATH')
         if (card2%bad) cycle
         if (spc%birth >= spc%death) then
           call card_error(card2, 'field BIRTH ('//rtoa(spc%birth)//') must be before DEATH ('// &
@@ -121,6 +121,7 @@ contains
     integer, intent(in) :: target_kind           !< ON_NODE, ON_NODE_SET or ON_PART
     type(model_t), intent(inout) :: model        !< model appended to
     type(card_t) :: card
+    type(card_fields_t) :: f
     type(prescribed_motion_t) :: motion
     logical :: got, ok
     integer :: id
@@ -139,21 +140,20 @@ contains
     do
       call next_card(rd, card, got)
       if (.not. got) exit
-      call split_card(rd, card, W_10)
+      call read_layout_card(rd, card, 'BOUNDARY_PRESCRIBED_MOTION_NODE', 1, f, &
+                            first_name=target_name)
       motion = prescribed_motion_t()
       motion%target_kind = target_kind
-      call get_int(card, 1, target_name, motion%target_id, required=.true.)
-      call get_int(card, 2, 'DOF', motion%dof, required=.true.)
-      call get_int(card, 3, 'VAD', motion%vad)
-      call get_int(card, 4, 'LCID', motion%curve_id, required=.true.)
-      call get_real(card, 5, 'SF', motion%scale, default=1.0_wp)
-      call get_int(card, 6, 'VID', motion%vector_id)
-      call get_real(card, 7, 'DEATH', motion%death, default=NEVER)
-      call get_real(card, 8, 'BIRTH', motion%birth)
+      motion%target_id = int_field(f, target_name)
+      motion%dof = int_field(f, 'DOF')
+      motion%vad = int_field(f, 'VAD')
+      motion%curve_id = int_field(f, 'LCID')
+      motion%scale = real_field(f, 'SF')
+      motion%vector_id = int_field(f, 'VID')
+      motion%death = real_field(f, 'DEATH')
+      motion%birth = real_field(f, 'BIRTH')
       motion%src = source_t(card%file, card%line)
       if (card%bad) cycle
-      if (motion%scale == 0.0_wp) motion%scale = 1.0_wp
-      if (motion%death == 0.0_wp) motion%death = NEVER
       if (motion%target_id <= 0) then
         call card_error(card, 'field '//target_name//' must be a positive id (got '// &
             itoa(motion%target_id)//')')

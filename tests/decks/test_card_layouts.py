@@ -81,7 +81,8 @@ for keyword in sorted({r[0] for r in rows}):
     for index, table in enumerate(tables):
         for card, cells in table:
             card = card if card is not None else index + 1
-            names = [n.strip() for n in cells[0].split(',')]
+            # 'NID / NSID / PID': one field named by the keyword's form (the table: the first)
+            names = [n.split('/')[0].strip() for n in cells[0].split(',')]
             series = re.match(r'([A-Z]+)(\d+) \.\.\. \1(\d+)$', cells[0])   # EPS1 ... EPS8
             if series:
                 names = ['%s%d' % (series.group(1), i)
