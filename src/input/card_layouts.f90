@@ -18,7 +18,7 @@
 !> SURFACE: cards 1-3, the eroding contacts' card 4, and the optional cards A, B, C as cards
 !> 101, 102, 103), which all *CONTACT_ keywords read share; *BOUNDARY_SPC_NODE/_SET and
 !> *BOUNDARY_PRESCRIBED_MOTION_NODE/_SET/_RIGID (their first field named by the form: NID, NSID
-!> or PID, first_name).
+!> or PID, first_name); *LOAD_NODE_POINT/_SET.
 module mefem_card_layouts
   use mefem_kinds, only: wp
   use mefem_cards, only: reader_t, card_t, split_card, get_int, get_real, MAX_FIELDS
@@ -50,7 +50,7 @@ module mefem_card_layouts
     real(wp) :: value(MAX_FIELDS) = 0.0_wp             !< their values (integers exactly)
   end type card_fields_t
 
-  integer, parameter :: N_LAYOUT_FIELDS = 223
+  integer, parameter :: N_LAYOUT_FIELDS = 228
 
   !> The table (doc/keywords.md has the same fields; tests/decks/test_card_layouts.py):
   !> keyword, card, field, first and last column, type, default, required, 0 = default.
@@ -277,7 +277,12 @@ module mefem_card_layouts
     field_layout_t('BOUNDARY_PRESCRIBED_MOTION_NODE', 1, 'SF', 41, 50, 'F', 1.0_wp, .false., .true.), &
     field_layout_t('BOUNDARY_PRESCRIBED_MOTION_NODE', 1, 'VID', 51, 60, 'I', 0.0_wp, .false., .false.), &
     field_layout_t('BOUNDARY_PRESCRIBED_MOTION_NODE', 1, 'DEATH', 61, 70, 'F', 1.0e28_wp, .false., .true.), &
-    field_layout_t('BOUNDARY_PRESCRIBED_MOTION_NODE', 1, 'BIRTH', 71, 80, 'F', 0.0_wp, .false., .false.)]
+    field_layout_t('BOUNDARY_PRESCRIBED_MOTION_NODE', 1, 'BIRTH', 71, 80, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('LOAD_NODE_POINT', 1, 'NID', 1, 10, 'I', 0.0_wp, .true., .false.), &
+    field_layout_t('LOAD_NODE_POINT', 1, 'DOF', 11, 20, 'I', 0.0_wp, .true., .false.), &
+    field_layout_t('LOAD_NODE_POINT', 1, 'LCID', 21, 30, 'I', 0.0_wp, .true., .false.), &
+    field_layout_t('LOAD_NODE_POINT', 1, 'SF', 31, 40, 'F', 1.0_wp, .false., .true.), &
+    field_layout_t('LOAD_NODE_POINT', 1, 'CID', 41, 50, 'I', 0.0_wp, .false., .false.)]
 
 contains
 

@@ -501,6 +501,7 @@ contains
     logical, intent(in) :: on_set                !< _SET (node set) rather than _POINT
     type(model_t), intent(inout) :: model        !< model appended to
     type(card_t) :: card
+    type(card_fields_t) :: f
     type(nodal_load_t) :: load
     logical :: got
     character(len=:), allocatable :: target_name
@@ -508,17 +509,16 @@ contains
     do
       call next_card(rd, card, got)
       if (.not. got) exit
-      call split_card(rd, card, W_10)
+      call read_layout_card(rd, card, 'LOAD_NODE_POINT', 1, f, first_name=target_name)
       load = nodal_load_t()
       load%target_kind = merge(ON_NODE_SET, ON_NODE, on_set)
-      call get_int(card, 1, target_name, load%target_id, required=.true.)
-      call get_int(card, 2, 'DOF', load%dof, required=.true.)
-      call get_int(card, 3, 'LCID', load%curve_id, required=.true.)
-      call get_real(card, 4, 'SF', load%scale, default=1.0_wp)
-      call get_int(card, 5, 'CID', load%cid)
+      load%target_id = int_field(f, target_name)
+      load%dof = int_field(f, 'DOF')
+      load%curve_id = int_field(f, 'LCID')
+      load%scale = real_field(f, 'SF')
+      load%cid = int_field(f, 'CID')
       load%src = source_t(card%file, card%line)
       if (card%bad) cycle
-      if (load%scale == 0.0_wp) load%scale = 1.0_wp
       if (load%target_id <= 0) then
         call card_error(card, 'field '//target_name//' must be a positive id (got '// &
             itoa(load%target_id)//')')
