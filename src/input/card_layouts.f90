@@ -18,7 +18,7 @@
 !> SURFACE: cards 1-3, the eroding contacts' card 4, and the optional cards A, B, C as cards
 !> 101, 102, 103), which all *CONTACT_ keywords read share; *BOUNDARY_SPC_NODE/_SET and
 !> *BOUNDARY_PRESCRIBED_MOTION_NODE/_SET/_RIGID (their first field named by the form: NID, NSID
-!> or PID, first_name); *LOAD_NODE_POINT/_SET.
+!> or PID, first_name); *LOAD_NODE_POINT/_SET; *DEFINE_CURVE (card 2: each point card).
 module mefem_card_layouts
   use mefem_kinds, only: wp
   use mefem_cards, only: reader_t, card_t, split_card, get_int, get_real, MAX_FIELDS
@@ -50,7 +50,7 @@ module mefem_card_layouts
     real(wp) :: value(MAX_FIELDS) = 0.0_wp             !< their values (integers exactly)
   end type card_fields_t
 
-  integer, parameter :: N_LAYOUT_FIELDS = 228
+  integer, parameter :: N_LAYOUT_FIELDS = 237
 
   !> The table (doc/keywords.md has the same fields; tests/decks/test_card_layouts.py):
   !> keyword, card, field, first and last column, type, default, required, 0 = default.
@@ -282,7 +282,16 @@ module mefem_card_layouts
     field_layout_t('LOAD_NODE_POINT', 1, 'DOF', 11, 20, 'I', 0.0_wp, .true., .false.), &
     field_layout_t('LOAD_NODE_POINT', 1, 'LCID', 21, 30, 'I', 0.0_wp, .true., .false.), &
     field_layout_t('LOAD_NODE_POINT', 1, 'SF', 31, 40, 'F', 1.0_wp, .false., .true.), &
-    field_layout_t('LOAD_NODE_POINT', 1, 'CID', 41, 50, 'I', 0.0_wp, .false., .false.)]
+    field_layout_t('LOAD_NODE_POINT', 1, 'CID', 41, 50, 'I', 0.0_wp, .false., .false.), &
+    field_layout_t('DEFINE_CURVE', 1, 'LCID', 1, 10, 'I', 0.0_wp, .true., .false.), &
+    field_layout_t('DEFINE_CURVE', 1, 'SIDR', 11, 20, 'I', 0.0_wp, .false., .false.), &
+    field_layout_t('DEFINE_CURVE', 1, 'SFA', 21, 30, 'F', 1.0_wp, .false., .true.), &
+    field_layout_t('DEFINE_CURVE', 1, 'SFO', 31, 40, 'F', 1.0_wp, .false., .true.), &
+    field_layout_t('DEFINE_CURVE', 1, 'OFFA', 41, 50, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('DEFINE_CURVE', 1, 'OFFO', 51, 60, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('DEFINE_CURVE', 1, 'DATTYP', 61, 70, 'I', 0.0_wp, .false., .false.), &
+    field_layout_t('DEFINE_CURVE', 2, 'A', 1, 20, 'F', 0.0_wp, .true., .false.), &
+    field_layout_t('DEFINE_CURVE', 2, 'O', 21, 40, 'F', 0.0_wp, .true., .false.)]
 
 contains
 

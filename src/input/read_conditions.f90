@@ -223,6 +223,7 @@ contains
     character(len=*), intent(in) :: options      !< keyword options
     type(model_t), intent(inout) :: model        !< model appended to
     type(card_t) :: card, point
+    type(card_fields_t) :: fields
     type(curve_t) :: curve
     logical :: got, bad
     real(wp) :: sfa, sfo, offa, offo, a, o, previous
@@ -234,18 +235,16 @@ contains
       call keyword_error(rd, 'missing card 1 (LCID SIDR SFA SFO OFFA OFFO DATTYP)')
       return
     end if
-    call split_card(rd, card, W_10)
-    call get_int(card, 1, 'LCID', curve%id, required=.true.)
-    call get_int(card, 2, 'SIDR', curve%sidr)
-    call get_real(card, 3, 'SFA', sfa, default=1.0_wp)
-    call get_real(card, 4, 'SFO', sfo, default=1.0_wp)
-    call get_real(card, 5, 'OFFA', offa)
-    call get_real(card, 6, 'OFFO', offo)
-    call get_int(card, 7, 'DATTYP', dattyp)
+    call read_layout_card(rd, card, 'DEFINE_CURVE', 1, fields)
+    curve%id = int_field(fields, 'LCID')
+    curve%sidr = int_field(fields, 'SIDR')
+    sfa = real_field(fields, 'SFA')
+    sfo = real_field(fields, 'SFO')
+    offa = real_field(fields, 'OFFA')
+    offo = real_field(fields, 'OFFO')
+    dattyp = int_field(fields, 'DATTYP')
     curve%src = source_t(card%file, card%line)
     bad = card%bad
-    if (sfa == 0.0_wp) sfa = 1.0_wp
-    if (sfo == 0.0_wp) sfo = 1.0_wp
     if (.not. bad) then
       if (curve%id <= 0) then
         call card_error(card, 'field LCID: curve id must be positive (got '//itoa(curve%id)//')')
@@ -277,9 +276,9 @@ contains
     do
       call next_card(rd, point, got)
       if (.not. got) exit
-      call split_card(rd, point, W_POINT)
-      call get_real(point, 1, 'A', a, required=.true.)
-      call get_real(point, 2, 'O', o, required=.true.)
+      call read_layout_card(rd, point, 'DEFINE_CURVE', 2, fields)
+      a = real_field(fields, 'A')
+      o = real_field(fields, 'O')
       if (point%bad) then
         bad = .true.
         cycle

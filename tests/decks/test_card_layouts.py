@@ -46,7 +46,7 @@ def manual_tables(keyword):
             if set(cells[0]) <= set('-'):
                 continue
             if has_card:                   # optional cards A, B, ... are 101, 102, ...
-                label = cells[0]
+                label = cells[0].rstrip('.')               # '2...': card 2, repeated
                 card = int(label) if label.isdigit() else (
                     100 + ord(label) - ord('A') + 1 if len(label) == 1 and label.isalpha()
                     else None)
