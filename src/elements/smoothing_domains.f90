@@ -28,6 +28,7 @@ module mefem_smoothing_domains
   use mefem_kinds, only: wp
   use mefem_vector_math, only: cross
   use mefem_errors, only: status_t
+  use mefem_index_lists, only: sort_small
   implicit none
   private
 
@@ -434,22 +435,6 @@ contains
     end do
     side_parity = mod(inversions, 2) == 1
   end function side_parity
-
-  !> Sort a short integer tuple ascending (insertion sort).
-  pure subroutine sort_small(t)
-    integer, intent(inout) :: t(:)            !< the tuple
-    integer :: i, j, v
-    do i = 2, size(t)
-      v = t(i)
-      j = i - 1
-      do while (j >= 1)
-        if (t(j) <= v) exit
-        t(j + 1) = t(j)
-        j = j - 1
-      end do
-      t(j + 1) = v
-    end do
-  end subroutine sort_small
 
   !> Append one problem to status (the first MAX_REPORTED are spelled out).
   subroutine add_problem(status, nproblem, text)

@@ -26,6 +26,7 @@ module mefem_implicit_nodal_pressure
   use mefem_cells, only: cells_t
   use mefem_cell_finite_strain, only: cell_deformation_gradient, inverse_3x3
   use mefem_tensor_algebra, only: inverse_cube_root
+  use mefem_index_lists, only: counts_to_starts, sort_small
   implicit none
   private
 
@@ -83,25 +84,21 @@ contains
     if (patches%n > 0) nnode = maxval(cells%nodes(1:4, patches%cell))
     ! the nodes' ELFORM 13 elements (CSR), reference volumes and materials
     allocate(node_start(nnode + 1), fill(nnode), volume(nnode), m_min(nnode), m_max(nnode))
-    node_start = 0
+    fill = 0
     volume = 0.0_wp
     m_min = huge(1.0_wp)
     m_max = -huge(1.0_wp)
     do e = 1, patches%n
       do a = 1, 4
         node = cells%nodes(a, patches%cell(e))
-        node_start(node + 1) = node_start(node + 1) + 1
+        fill(node) = fill(node) + 1
         volume(node) = volume(node) + 0.25_wp*cells%weight(patches%cell(e))
         m_min(node) = min(m_min(node), real(cells%material(patches%cell(e)), wp))
         m_max(node) = max(m_max(node), real(cells%material(patches%cell(e)), wp))
       end do
     end do
-    node_start(1) = 1
-    do node = 1, nnode
-      node_start(node + 1) = node_start(node + 1) + node_start(node)
-    end do
+    call counts_to_starts(fill, node_start, 1)
     allocate(node_cell(max(node_start(nnode + 1) - 1, 0)))
-    fill = node_start(1:nnode)
     do e = 1, patches%n
       do a = 1, 4
         node = cells%nodes(a, patches%cell(e))
@@ -156,7 +153,7 @@ contains
                         0.0625_wp*cells%weight(patches%cell(node_cell(k)))/volume(node))
         end do
       end do
-      call sort_integers(h_list(1:nh))
+      call sort_small(h_list(1:nh))
       mark_h(h_list(1:nh)) = 0
       count_nodes = 0
       do k = 1, nh
@@ -169,7 +166,7 @@ contains
         end do
       end do
       mark_node(fill(1:count_nodes)) = 0
-      call sort_integers(fill(1:count_nodes))
+      call sort_small(fill(1:count_nodes))
     end subroutine element_terms
 
     !> Add w to c_eh (h first met: listed).
@@ -198,19 +195,15 @@ contains
     if (size(patches%patch_node) > 0) nnode = maxval(patches%patch_node)
     ! the owned patches holding each node (CSR)
     allocate(row_start(nnode + 1), fill(nnode), mark(nnode), list(nnode))
-    row_start = 0
+    fill = 0
     do e = 1, patches%n
       if (.not. owned(patches%cell(e))) cycle
       do k = patches%patch_start(e), patches%patch_start(e + 1) - 1
-        row_start(patches%patch_node(k) + 1) = row_start(patches%patch_node(k) + 1) + 1
+        fill(patches%patch_node(k)) = fill(patches%patch_node(k)) + 1
       end do
     end do
-    row_start(1) = 1
-    do node = 1, nnode
-      row_start(node + 1) = row_start(node + 1) + row_start(node)
-    end do
+    call counts_to_starts(fill, row_start, 1)
     allocate(row_patch(row_start(nnode + 1) - 1))
-    fill = row_start(1:nnode)
     do e = 1, patches%n
       if (.not. owned(patches%cell(e))) cycle
       do k = patches%patch_start(e), patches%patch_start(e + 1) - 1
@@ -241,7 +234,7 @@ contains
           patches%pair_start(i + 1) = patches%pair_start(i) + count_row
           total = total + count_row
         else
-          call sort_integers(list(1:count_row))
+          call sort_small(list(1:count_row))
           patches%pair_node(patches%pair_start(i):patches%pair_start(i + 1) - 1) = &
               list(1:count_row)
         end if
@@ -270,22 +263,6 @@ contains
       end do
     end do
   end subroutine np_add_to_pairs
-
-  !> Insertion sort of a short list of integers, ascending.
-  pure subroutine sort_integers(list)
-    integer, intent(inout) :: list(:)                 !< the list
-    integer :: i, j, key
-    do i = 2, size(list)
-      key = list(i)
-      j = i - 1
-      do while (j >= 1)
-        if (list(j) <= key) exit
-        list(j + 1) = list(j)
-        j = j - 1
-      end do
-      list(j + 1) = key
-    end do
-  end subroutine sort_integers
 
   !> F, J and F^-T g_a of every ELFORM 13 cell at displacements u, and their Jbar; ok is
   !> .false. (and bad the first such cell) where a J is not positive.

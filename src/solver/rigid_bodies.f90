@@ -950,6 +950,21 @@ contains
     inertia = matmul(r, matmul(body%inertia0, transpose(r)))
   end function spatial_inertia
 
+  !> The components not held, in order (free_index(1:nfree)).
+  pure subroutine free_components(held, free_index, nfree)
+    logical, intent(in) :: held(3)                !< components given
+    integer, intent(out) :: free_index(3)         !< the free ones
+    integer, intent(out) :: nfree                 !< how many
+    integer :: i
+    nfree = 0
+    free_index = 0
+    do i = 1, 3
+      if (held(i)) cycle
+      nfree = nfree + 1
+      free_index(nfree) = i
+    end do
+  end subroutine free_components
+
   !> omega with its held components kept: the free ones solve the free rows of
   !> inertia omega = l. A singular free block (excluded by rigid_bodies_build) keeps them.
   subroutine solve_free_rotation(inertia, l, held, omega)
@@ -959,12 +974,7 @@ contains
     integer :: free_index(3), nfree, i
     real(wp) :: block(3, 3), rhs(3)
     logical :: ok
-    nfree = 0
-    do i = 1, 3
-      if (held(i)) cycle
-      nfree = nfree + 1
-      free_index(nfree) = i
-    end do
+    call free_components(held, free_index, nfree)
     if (nfree == 0) return
     block(1:nfree, 1:nfree) = inertia(free_index(1:nfree), free_index(1:nfree))
     rhs(1:nfree) = l(free_index(1:nfree))
@@ -986,12 +996,7 @@ contains
     integer :: free_index(3), nfree, i
     real(wp) :: block(4, 4), rhs(4), s
     logical :: ok
-    nfree = 0
-    do i = 1, 3
-      if (held(i)) cycle
-      nfree = nfree + 1
-      free_index(nfree) = i
-    end do
+    call free_components(held, free_index, nfree)
     if (nfree == 0) return
     ! rows: the free rows of I omega - lambda n = l; last: n . omega = r (the border scaled
     ! by the inertia's size, s: the pivots stay comparable)

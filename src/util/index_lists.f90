@@ -3,7 +3,7 @@ module mefem_index_lists
   implicit none
   private
 
-  public :: counts_to_starts
+  public :: counts_to_starts, sort_small
 
 contains
 
@@ -21,5 +21,21 @@ contains
     end do
     counts = start(1:size(counts))
   end subroutine counts_to_starts
+
+  !> Sort a short list of integers ascending (insertion sort).
+  pure subroutine sort_small(list)
+    integer, intent(inout) :: list(:)                 !< the list
+    integer :: i, j, v
+    do i = 2, size(list)
+      v = list(i)
+      j = i - 1
+      do while (j >= 1)
+        if (list(j) <= v) exit
+        list(j + 1) = list(j)
+        j = j - 1
+      end do
+      list(j + 1) = v
+    end do
+  end subroutine sort_small
 
 end module mefem_index_lists

@@ -99,6 +99,18 @@ def run(deck, outdir, ranks=1, exe='bin/mefem'):
     return p.returncode, p.stdout + p.stderr
 
 
+def newton_end_ratios(text):
+    """(second-to-last, last) relative residual of every Newton loop of 3 or more iterations
+    in an implicit run's log (quadratic convergence: last < C prev^2)."""
+    import re
+    ratios = []
+    for block in re.split(r'\nstep ', text):
+        res = [float(m) for m in re.findall(r'\|R\| = \S+ \((\S+)\)', block)]
+        if len(res) >= 3:
+            ratios.append((res[-2], res[-1]))
+    return ratios
+
+
 def read_state(h5path, step=1):
     """Node ids, coordinates, displacement (nnode, 3), and cell fields of a state."""
     with h5py.File(h5path, 'r') as f:

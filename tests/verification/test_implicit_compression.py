@@ -23,7 +23,7 @@ import numpy as np
 
 sys.path.insert(0, os.path.dirname(__file__))
 from deck_writer import (ROOT, Checks, elements_card, f10, free, nodes_card, read_state, run,
-                         write_deck)
+                         write_deck, newton_end_ratios)
 from test_patch import cube_mesh
 
 OUT = os.path.join(ROOT, 'tests', 'out', 'implicit_compression')
@@ -120,11 +120,7 @@ for elform in (43, 10, 13):
     checks.check(worst_alpha < 2 * 45.0 / mu, name + ': plastic strain = log plastic strain '
                  'within Simo\'s update difference', '%.3e' % worst_alpha)
     # quadratic convergence at the end of each Newton loop
-    ratios = []
-    for block in re.split(r'\nstep ', text):
-        r = [float(m) for m in re.findall(r'\|R\| = \S+ \((\S+)\)', block)]
-        if len(r) >= 3:
-            ratios.append((r[-2], r[-1]))
+    ratios = newton_end_ratios(text)
     quadratic = all(last < 100.0 * prev ** 2 or last < 1e-12 for prev, last in ratios)
     checks.check(len(ratios) > 0 and quadratic, name + ': quadratic convergence at the end of '
                  'every Newton loop', str(ratios[:5]))

@@ -30,7 +30,8 @@ import sys
 import numpy as np
 
 sys.path.insert(0, os.path.dirname(__file__))
-from deck_writer import Checks, ROOT, f10, free, nodes_card, elements_card, write_deck, run
+from deck_writer import Checks, ROOT, f10, free, nodes_card, elements_card, write_deck, run, \
+    newton_end_ratios
 from explicit_cases import OUT, box_tets, part_cards, elastic, node_set, history_nodes, \
     curve, run_case, glstat, nodout, smooth_ramp, wave_speeds
 from explicit_cases import YOUNG as YOUNG_E
@@ -274,11 +275,7 @@ for elform in (13, 43, 10):
     text, mesh, u, g = r
     implicit_energy[elform] = g['internal energy'][-1]
     # quadratic convergence at the end of every Newton loop (the tangent of the means)
-    ratios = []
-    for block in re.split(r'\nstep ', text):
-        res = [float(m) for m in re.findall(r'\|R\| = \S+ \((\S+)\)', block)]
-        if len(res) >= 3:
-            ratios.append((res[-2], res[-1]))
+    ratios = newton_end_ratios(text)
     quadratic = all(last < 100.0 * prev ** 2 or last < 1e-12 for prev, last in ratios)
     iterations = [int(n) for n in re.findall(r'^step \d+: t = .*, (\d+) iterations$', text, re.M)]
     print('    implicit indentation ELFORM %d: internal energy %.5e mJ, Newton iterations per '
