@@ -337,14 +337,6 @@ contains
             'tetrahedron; part '//itoa(model%parts(p)%id)//', first element '// &
             itoa(model%elements%id(e))//' at '//element_where(model, e))
         part_reported(p) = .true.
-      else if (elform == ELFORM_TET_NODAL_PRESSURE .and. model%controls%imflag == 1 .and. &
-               model%controls%nsolvr == 1) then
-        if (.not. part_reported(p)) call input_error(section_where(model, s), &
-            'section '//itoa(model%sections(s)%id)//': solid ELFORM 13 (nodal-pressure '// &
-            'tetrahedron) runs in the explicit and the nonlinear implicit analyses; the '// &
-            'linear analysis (NSOLVR = 1) needs 43 (ME-FEM tetrahedron, also locking-free) '// &
-            'or 10; part '//itoa(model%parts(p)%id))
-        part_reported(p) = .true.
       else if (.not. hexahedral .and. topo /= TOPO_TET4) then
         call input_error(element_where(model, e), &
             'element '//itoa(model%elements%id(e))//': part '// &

@@ -18,7 +18,11 @@ module mefem_linear_static
   use mefem_cell_linear, only: lame_parameters, cell_strain, isotropic_stress, cell_stiffness
   use mefem_hexahedron, only: hourglass_stiffness_cell
   use mefem_boundary_conditions, only: fixed_dofs, prescribed_displacements, external_forces
-  use mefem_sparse_assembly, only: coo_matrix_t, coo_init, coo_add_block, coo_free
+  use mefem_sparse_assembly, only: coo_matrix_t, coo_init, coo_add_block, coo_add_rectangle, &
+                                   coo_free
+  use mefem_implicit_nodal_pressure, only: np_patches_t, np_values_t, np_patches_build, &
+                                           np_pairs_build, np_prepare, np_pressures, &
+                                           np_cell_terms, np_add_to_pairs
   use mefem_mumps, only: mumps_solver_t, mumps_init, mumps_analyse, mumps_factorise, &
                          mumps_solve, mumps_free, mumps_stats, mumps_stats_t, MUMPS_SPD
   use mefem_output_mesh, only: output_field_t
@@ -31,6 +35,13 @@ module mefem_linear_static
 
   public :: linear_static_run, cell_stresses
 
+
+  !> Nodal-pressure tetrahedra (ELFORM 13): their patches (mefem_implicit_nodal_pressure). In
+  !> the linear analysis the element is the F-bar form at u = 0: the deviatoric stiffness of
+  !> the element and, on its patch, V0 K b b^T with b the gradient of its mean volumetric strain
+  !> (doc/theory.md 2.7.1 at F = 1); the stress is 2 mu dev(eps) + pbar, pbar the patch mean
+  !> of K tr(eps).
+  type(np_patches_t) :: patches
 contains
 
   !> Run the linear static analysis and write its results as output state 1.
@@ -52,6 +63,7 @@ contains
     call cells_build(model, cells, status, static=.true.)
     if (.not. status%ok) call fatal('element set-up: '//status%message)
     call check_supported(model, cells)
+    call np_patches_build(cells, patches)
     dim = cells%dim
     n_all = cells%n_mesh_nodes + cells%n_enriched
     call cells_summary(cells)
@@ -182,17 +194,29 @@ contains
     real(wp), parameter :: zero(3, CELL_MAX_NODES) = 0.0_wp
     real(wp), parameter :: identity(3, 3) = reshape([1.0_wp, 0.0_wp, 0.0_wp, 0.0_wp, 1.0_wp, &
                                                      0.0_wp, 0.0_wp, 0.0_wp, 1.0_wp], [3, 3])
-    integer :: dofs(3*CELL_MAX_NODES), c, nn, nd, dim, a, i, k
+    integer :: dofs(3*CELL_MAX_NODES), c, nn, nd, dim, a, i, k, node, other
     integer :: n_owned
+    type(np_values_t) :: values
+    real(wp) :: tau(3, 3), c_eff(3, 3, 3, 3)
+    real(wp), allocatable :: block(:,:), pair_values(:,:,:)
     dim = cells%dim
+    allocate(block(3*patches%max_patch, 3*patches%max_patch))
     n_owned = count(owned_element(cells%elements(1, 1:cells%n)))
     call coo_init(stiffness, maxval(equation), int(n_owned, kind(1))*((dim*5)**2/2 + dim*5))
+    if (patches%n > 0) call nodal_pressure_set_up()
     do c = 1, cells%n
       if (.not. owned_element(cells%elements(1, c))) cycle
       nn = cells%nnodes(c)
       nd = dim*nn
       call lame_parameters(model%materials(cells%material(c))%young, &
                            model%materials(cells%material(c))%poisson, lambda, mu)
+      if (patches%n > 0) then
+        if (patches%index_of(c) > 0) then       ! ELFORM 13: the deviatoric part here
+          lambda = -2.0_wp*mu/3.0_wp
+          call np_cell_terms(cells, patches, values, patches%index_of(c), tau, c_eff, block)
+          call np_add_to_pairs(patches, patches%index_of(c), block, pair_values)
+        end if
+      end if
       call cell_stiffness(dim, nn, cells%grad(:, :, c), cells%weight(c), lambda, mu, &
                           ke(1:nd, 1:nd))
       if (cells%hex_of(c) > 0) then       ! one-point hexahedron: hourglass stiffness at u = 0
@@ -216,6 +240,59 @@ contains
         end do
       end if
     end do
+    ! ELFORM 13: the patch blocks' sums, each node pair once (lower triangle), and their
+    ! prescribed columns
+    if (patches%n == 0) return
+    do node = 1, size(patches%pair_start) - 1
+      do k = patches%pair_start(node), patches%pair_start(node + 1) - 1
+        other = patches%pair_node(k)
+        call coo_add_rectangle(stiffness, equation(:, node), equation(:, other), &
+                               pair_values(:, :, k), .true.)
+        do i = 1, dim
+          if (equation(i, node) <= 0) cycle
+          do a = 1, dim
+            if (equation(a, other) <= 0) rhs(equation(i, node)) = rhs(equation(i, node)) - &
+                pair_values(i, a, k)*prescribed(a, other)
+          end do
+        end do
+      end do
+    end do
+
+  contains
+
+    !> The patches' node pairs of this rank's ELFORM 13 cells and their values at u = 0 with
+    !> each cell's elastic tangent (K for the volumetric part, mu for the deviatoric).
+    subroutine nodal_pressure_set_up()
+      logical :: owned_cell(cells%n)
+      real(wp) :: zero_u(3, cells%n_mesh_nodes + cells%n_enriched), lam, shear
+      integer :: e, bad, p, q, r, t
+      logical :: ok
+      owned_cell = owned_element(cells%elements(1, 1:cells%n))
+      call np_pairs_build(patches, owned_cell)
+      allocate(pair_values(3, 3, size(patches%pair_node)))
+      pair_values = 0.0_wp
+      zero_u = 0.0_wp
+      call np_prepare(cells, patches, zero_u, values, ok, bad)
+      do e = 1, patches%n
+        call lame_parameters(model%materials(cells%material(patches%cell(e)))%young, &
+                             model%materials(cells%material(patches%cell(e)))%poisson, lam, &
+                             shear)
+        values%tau(:, :, e) = 0.0_wp
+        do t = 1, 3
+          do r = 1, 3
+            do q = 1, 3
+              do p = 1, 3
+                values%c(p, q, r, t, e) = lam*merge(1.0_wp, 0.0_wp, p == q .and. r == t) + &
+                    shear*(merge(1.0_wp, 0.0_wp, p == r .and. q == t) + &
+                           merge(1.0_wp, 0.0_wp, p == t .and. q == r))
+              end do
+            end do
+          end do
+        end do
+      end do
+      call np_pressures(patches, values)
+    end subroutine nodal_pressure_set_up
+
   end subroutine assemble
 
   !> Strain and stress of every cell (Voigt, stress xx yy zz xy yz zx).
@@ -226,15 +303,47 @@ contains
     real(wp), allocatable, intent(out) :: strain(:,:)  !< (6, cells) engineering shears
     real(wp), allocatable, intent(out) :: stress(:,:)  !< (6, cells)
     real(wp) :: lambda, mu
-    integer :: c, nn
+    type(np_values_t) :: values
+    real(wp) :: bulk(patches%n)
+    logical :: ok
+    integer :: c, nn, e, bad, k
     allocate(strain(6, cells%n), stress(6, cells%n))
+    if (patches%n > 0) then                     ! ELFORM 13: K tr(eps) per cell, then means
+      call np_prepare(cells, patches, u(:, 1:size(u, 2)), values, ok, bad)
+    end if
     do c = 1, cells%n
       nn = cells%nnodes(c)
       call lame_parameters(model%materials(cells%material(c))%young, &
                            model%materials(cells%material(c))%poisson, lambda, mu)
       call cell_strain(cells%dim, nn, cells%grad(:, :, c), u(:, cells%nodes(1:nn, c)), &
                        strain(:, c))
+      if (patches%n > 0) then
+        e = patches%index_of(c)
+        if (e > 0) then                          ! its volumetric strain (a 'pressure' of 1)
+          values%tau(:, :, e) = 0.0_wp
+          do k = 1, 3
+            values%tau(k, k, e) = sum(strain(1:3, c))
+          end do
+          values%jbar(e) = 1.0_wp
+          bulk(e) = lambda + 2.0_wp*mu/3.0_wp
+          lambda = -2.0_wp*mu/3.0_wp             ! the deviatoric stress
+        end if
+      end if
       call isotropic_stress(lambda, mu, strain(:, c), stress(:, c))
+    end do
+    if (patches%n == 0) return
+    ! the pressure K (Jbar - 1) of each cell, Jbar - 1 the patch mean of the volumetric
+    ! strain, and its patch mean again (the element's pbar, as in the nonlinear analyses)
+    call np_pressures(patches, values)
+    do e = 1, patches%n
+      values%tau(:, :, e) = 0.0_wp
+      do k = 1, 3
+        values%tau(k, k, e) = bulk(e)*values%pbar(e)
+      end do
+    end do
+    call np_pressures(patches, values)
+    do e = 1, patches%n
+      stress(1:3, patches%cell(e)) = stress(1:3, patches%cell(e)) + values%pbar(e)
     end do
   end subroutine cell_stresses
 

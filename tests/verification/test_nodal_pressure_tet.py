@@ -20,7 +20,9 @@ rank independence.
    convergence with the tangent of the nodal means, no locking (against ME-FEM), the strain
    energy of the converged state equal to glstat's work of the forces, the same energy as the
    explicit quasi-static run, and the same displacements on 1 and 3 ranks.
-6. A linear-analysis deck with an ELFORM 13 part: refused at the section's line.
+6. The linear analysis (NSOLVR = 1) of the indentation pressed 1e-4 mm: the nonlinear analysis'
+   displacements and stresses at that small strain; 2 ranks give 1 rank's displacements; the
+   standard tet locks (its energy).
 """
 import os
 import re
@@ -309,16 +311,55 @@ if one is not None and three is not None:
     checks.check(diff < 1e-8, 'implicit indentation ELFORM 13: 1 and 3 ranks give the same '
                  'displacements (1e-8)', '%.2e' % diff)
 
-# ---- 6. the linear analysis: refused ----------------------------------------------------------
-bad = os.path.join(OUT, 'linear_e13.k')
-write_deck(bad, [nodes_card(xh), elements_card('ELEMENT_SOLID', ch),
-                 part_cards(13, elastic()), ['*CONTROL_IMPLICIT_GENERAL', f10(1, 0.1)],
-                 ['*CONTROL_IMPLICIT_SOLUTION', f10(1)],
-                 ['*CONTROL_TERMINATION', f10(1.0)]], title='linear_e13')
-rc, text = run(bad, os.path.join(OUT, 'linear_e13'))
-with open(bad) as fh:
-    line = [i + 1 for i, t in enumerate(fh) if t.startswith('*SECTION_SOLID')][0]
-expected = 'linear_e13.k:%d: *SECTION_SOLID: section 1: solid ELFORM 13' % (line + 1)
-checks.check(rc != 0 and expected in text and 'linear analysis (NSOLVR = 1)' in text,
-             'linear deck with ELFORM 13: refused at the section\'s line', text[-600:])
+# ---- 6. the linear analysis: the same element at u = 0 -----------------------------------------
+SMALL = 1.0e-4                          # mm: the nonlinear run at this depth is linear to ~1e-4
+
+
+def small_indentation(elform, nsolvr, ranks=1):
+    """The indentation (nu = 0.499) pressed SMALL deep in one step, by the linear (NSOLVR 1)
+    or the nonlinear (12) analysis; returns the final displacements or None."""
+    blocks = [nodes_card(x), elements_card('ELEMENT_SOLID', conn),
+              part_cards(elform, elastic(poisson=0.499)),
+              node_set(1, base), node_set(2, punch),
+              ['*BOUNDARY_SPC_SET', f10(1, 0, 1, 1, 1, 1, 1, 1)],
+              ['*BOUNDARY_PRESCRIBED_MOTION_SET', f10(2, 3, 2, 1, -SMALL)],
+              curve(1, [(0.0, 0.0), (1.0, 1.0)]),
+              ['*CONTROL_TERMINATION', f10(1.0), '*CONTROL_IMPLICIT_GENERAL', f10(1, 1.0),
+               '*CONTROL_IMPLICIT_SOLUTION', f10(nsolvr), '*DATABASE_BINARY_D3PLOT', f10(1.0)]]
+    tag = 'small_e%d_nsolvr%d_np%d' % (elform, nsolvr, ranks)
+    rc, text, out = run_case(tag, blocks, ranks)
+    checks.check(rc == 0, '%s: run succeeds' % tag, text[-600:])
+    if rc != 0:
+        return None
+    import h5py
+    path = [os.path.join(out, f) for f in os.listdir(out) if f.endswith('.h5')][0]
+    with h5py.File(path, 'r') as h:
+        last = h['states'][sorted(h['states'].keys())[-1]]
+        mesh = (np.array(h['mesh']['coordinates']),
+                np.array(h['mesh']['connectivity']).reshape(-1, 4))
+        return np.array(last['point']['displacement']), np.array(last['cell']['stress']), mesh
+
+
+linear13, nonlinear13 = small_indentation(13, 1), small_indentation(13, 12)
+linear10 = small_indentation(10, 1)
+if linear13 is not None and nonlinear13 is not None:
+    du = np.abs(linear13[0] - nonlinear13[0]).max() / np.abs(nonlinear13[0]).max()
+    ds = np.abs(linear13[1] - nonlinear13[1]).max() / np.abs(nonlinear13[1]).max()
+    print('    linear ELFORM 13 against the nonlinear one at %.0e mm: displacements %.1e, '
+          'stresses %.1e of their largest' % (SMALL, du, ds))
+    checks.check(du < 1e-4 and ds < 1e-3, 'linear ELFORM 13: the nonlinear element at small '
+                 'strain (displacements 1e-4, stresses 1e-3 of their largest; the difference is '
+                 'the nonlinearity, ~1e-5 at this strain)', '%.2e %.2e' % (du, ds))
+    two = small_indentation(13, 1, ranks=2)
+    if two is not None:
+        d2 = np.abs(two[0] - linear13[0]).max() / np.abs(linear13[0]).max()
+        checks.check(d2 < 1e-10, 'linear ELFORM 13 on 2 ranks: the displacements of 1 (1e-10)',
+                     '%.2e' % d2)
+if linear13 is not None and linear10 is not None:
+    # the strain energy of the same indentation: the standard tet locks, 13 does not
+    e13 = strain_energy(linear13[2], linear13[0], 0.499, 13)
+    e10 = strain_energy(linear10[2], linear10[0], 0.499, 10)
+    print('    linear indentation energy, ELFORM 10 / 13: %.3f' % (e10 / e13))
+    checks.check(e10 / e13 > 1.5, 'linear ELFORM 13: no locking (the standard tet needs more '
+                 'than 1.5 x its energy for the same indentation)', '%.3f' % (e10 / e13))
 checks.exit()
