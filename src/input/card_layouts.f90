@@ -18,7 +18,8 @@
 !> SURFACE: cards 1-3, the eroding contacts' card 4, and the optional cards A, B, C as cards
 !> 101, 102, 103), which all *CONTACT_ keywords read share; *BOUNDARY_SPC_NODE/_SET and
 !> *BOUNDARY_PRESCRIBED_MOTION_NODE/_SET/_RIGID (their first field named by the form: NID, NSID
-!> or PID, first_name); *LOAD_NODE_POINT/_SET; *DEFINE_CURVE (card 2: each point card).
+!> or PID, first_name); *LOAD_NODE_POINT/_SET; *DEFINE_CURVE (card 2: each point card);
+!> *INITIAL_VELOCITY (cards 1-3).
 module mefem_card_layouts
   use mefem_kinds, only: wp
   use mefem_cards, only: reader_t, card_t, split_card, get_int, get_real, MAX_FIELDS
@@ -50,7 +51,7 @@ module mefem_card_layouts
     real(wp) :: value(MAX_FIELDS) = 0.0_wp             !< their values (integers exactly)
   end type card_fields_t
 
-  integer, parameter :: N_LAYOUT_FIELDS = 237
+  integer, parameter :: N_LAYOUT_FIELDS = 251
 
   !> The table (doc/keywords.md has the same fields; tests/decks/test_card_layouts.py):
   !> keyword, card, field, first and last column, type, default, required, 0 = default.
@@ -291,7 +292,21 @@ module mefem_card_layouts
     field_layout_t('DEFINE_CURVE', 1, 'OFFO', 51, 60, 'F', 0.0_wp, .false., .false.), &
     field_layout_t('DEFINE_CURVE', 1, 'DATTYP', 61, 70, 'I', 0.0_wp, .false., .false.), &
     field_layout_t('DEFINE_CURVE', 2, 'A', 1, 20, 'F', 0.0_wp, .true., .false.), &
-    field_layout_t('DEFINE_CURVE', 2, 'O', 21, 40, 'F', 0.0_wp, .true., .false.)]
+    field_layout_t('DEFINE_CURVE', 2, 'O', 21, 40, 'F', 0.0_wp, .true., .false.), &
+    field_layout_t('INITIAL_VELOCITY', 1, 'NSID', 1, 10, 'I', 0.0_wp, .false., .false.), &
+    field_layout_t('INITIAL_VELOCITY', 1, 'NSIDEX', 11, 20, 'I', 0.0_wp, .false., .false.), &
+    field_layout_t('INITIAL_VELOCITY', 1, 'BOXID', 21, 30, 'I', 0.0_wp, .false., .false.), &
+    field_layout_t('INITIAL_VELOCITY', 1, 'IRIGID', 31, 40, 'I', 0.0_wp, .false., .false.), &
+    field_layout_t('INITIAL_VELOCITY', 1, 'ICID', 41, 50, 'I', 0.0_wp, .false., .false.), &
+    field_layout_t('INITIAL_VELOCITY', 2, 'VX', 1, 10, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('INITIAL_VELOCITY', 2, 'VY', 11, 20, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('INITIAL_VELOCITY', 2, 'VZ', 21, 30, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('INITIAL_VELOCITY', 2, 'VXR', 31, 40, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('INITIAL_VELOCITY', 2, 'VYR', 41, 50, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('INITIAL_VELOCITY', 2, 'VZR', 51, 60, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('INITIAL_VELOCITY', 3, 'VXE', 1, 10, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('INITIAL_VELOCITY', 3, 'VYE', 11, 20, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('INITIAL_VELOCITY', 3, 'VZE', 21, 30, 'F', 0.0_wp, .false., .false.)]
 
 contains
 

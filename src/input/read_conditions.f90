@@ -32,7 +32,7 @@ module mefem_read_conditions
 
   integer, parameter :: W_10(8) = 10          !< standard 8 x 10 card
   integer, parameter :: W_POINT(2) = 20       !< *DEFINE_CURVE point: 2 x E20
-  character(len=1), parameter :: AXIS_NAMES(3) = ['X', 'Y', 'Z']   !< *LOAD_BODY_ suffixes
+  character(len=1), parameter :: AXIS_NAMES(3) = ['X', 'Y', 'Z']   !< axis names: *LOAD_BODY_ suffixes, velocity fields
 
 contains
 
@@ -706,20 +706,21 @@ contains
   subroutine read_initial_velocity(rd, model)
     type(reader_t), intent(inout) :: rd          !< reading state
     type(model_t), intent(inout) :: model        !< model appended to
+    character(len=*), parameter :: KEY = 'INITIAL_VELOCITY'
     type(card_t) :: card, card2, card3
+    type(card_fields_t) :: f
     type(initial_velocity_t) :: iv
     logical :: got, bad
-    integer :: irigid, icid
+    integer :: icid, k
     do
       call next_card(rd, card, got)
       if (.not. got) exit
-      call split_card(rd, card, W_10)
+      call read_layout_card(rd, card, KEY, 1, f)
       iv = initial_velocity_t()
-      call get_int(card, 1, 'NSID', iv%target_id)
-      call get_int(card, 2, 'NSIDEX', iv%exempt_set_id)
-      call get_int(card, 3, 'BOXID', iv%box_id)
-      call get_int(card, 4, 'IRIGID', irigid)
-      call get_int(card, 5, 'ICID', icid)
+      iv%target_id = int_field(f, 'NSID')
+      iv%exempt_set_id = int_field(f, 'NSIDEX')
+      iv%box_id = int_field(f, 'BOXID')
+      icid = int_field(f, 'ICID')
       iv%src = source_t(card%file, card%line)
       bad = card%bad
       call next_card(rd, card2, got, keep_blank=.true.)
@@ -727,7 +728,11 @@ contains
         call card_error(card, 'missing card 2 (VX VY VZ VXR VYR VZR)')
         exit
       end if
-      call read_velocities(rd, card2, iv%v, iv%omega_vector, 'V')
+      call read_layout_card(rd, card2, KEY, 2, f)
+      do k = 1, 3
+        iv%v(k) = real_field(f, 'V'//AXIS_NAMES(k))
+        iv%omega_vector(k) = real_field(f, 'V'//AXIS_NAMES(k)//'R')
+      end do
       bad = bad .or. card2%bad
       if (iv%exempt_set_id > 0) then
         call next_card(rd, card3, got, keep_blank=.true.)
@@ -735,10 +740,10 @@ contains
           call card_error(card, 'missing card 3 (VXE VYE VZE ...) of the exempted nodes NSIDEX')
           exit
         end if
-        call split_card(rd, card3, W_10)
-        call get_real(card3, 1, 'VXE', iv%v_exempt(1))
-        call get_real(card3, 2, 'VYE', iv%v_exempt(2))
-        call get_real(card3, 3, 'VZE', iv%v_exempt(3))
+        call read_layout_card(rd, card3, KEY, 3, f)
+        do k = 1, 3
+          iv%v_exempt(k) = real_field(f, 'V'//AXIS_NAMES(k)//'E')
+        end do
         bad = bad .or. card3%bad
       end if
       if (bad) cycle
@@ -859,21 +864,6 @@ contains
       end if
     end do
   end subroutine read_initial_velocity_generation
-
-  !> Six velocities VX VY VZ VXR VYR VZR of a card (prefix 'V' names the fields).
-  subroutine read_velocities(rd, card, v, vr, prefix)
-    type(reader_t), intent(in) :: rd             !< reading state
-    type(card_t), intent(inout) :: card          !< the card
-    real(wp), intent(out) :: v(3), vr(3)         !< translational and rotational velocities
-    character(len=*), intent(in) :: prefix       !< field-name prefix
-    call split_card(rd, card, W_10)
-    call get_real(card, 1, prefix//'X', v(1))
-    call get_real(card, 2, prefix//'Y', v(2))
-    call get_real(card, 3, prefix//'Z', v(3))
-    call get_real(card, 4, prefix//'XR', vr(1))
-    call get_real(card, 5, prefix//'YR', vr(2))
-    call get_real(card, 6, prefix//'ZR', vr(3))
-  end subroutine read_velocities
 
   !> Append an SPC.
   subroutine add_spc(model, item)

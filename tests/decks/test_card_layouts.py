@@ -46,8 +46,9 @@ def manual_tables(keyword):
             if set(cells[0]) <= set('-'):
                 continue
             if has_card:                   # optional cards A, B, ... are 101, 102, ...
-                label = cells[0].rstrip('.')               # '2...': card 2, repeated
-                card = int(label) if label.isdigit() else (
+                label = cells[0]                           # '2...', '3 (NSIDEX > 0 only)':
+                number = re.match(r'(\d+)', label)          # card 2, card 3
+                card = int(number.group(1)) if number else (
                     100 + ord(label) - ord('A') + 1 if len(label) == 1 and label.isalpha()
                     else None)
                 current.append((card, cells[1:]))
