@@ -167,6 +167,9 @@ module mefem_mortar_contact
     logical :: divided = .false.                   !< this evaluation's work is divided
     logical :: evaluated = .false.                 !< the first evaluation has been made
     real(wp), allocatable :: offset(:)             !< (ns) o_A, penetration not pushed out
+    logical, allocatable :: held(:)                !< (ns) a tiebreak's contact: the node is
+                                                   !< still tied (no contact force; set and
+                                                   !< cleared by the tie, mefem_explicit_ties)
     ! pairs of the last and of the call before
     integer :: npair = 0, npair_old = 0
     type(pair_t), allocatable :: pairs(:), pairs_old(:)
@@ -754,6 +757,15 @@ contains
         cycle
       end if
       it%gap(a) = dot_product(it%normal(:, a), it%gap_vector(:, a))/it%area(a)
+      if (allocated(it%held)) then
+        if (it%held(a)) then                          ! its tie holds it
+          it%pressure(a) = 0.0_wp
+          it%traction(:, a) = 0.0_wp
+          it%traction_local(:, a) = 0.0_wp
+          it%offset(a) = 0.0_wp
+          cycle
+        end if
+      end if
       eps = penalty_scale*it%eps_material
       if (dt > 0.0_wp) eps = min(eps, contact%mass_limit*it%mass_per_area/(dt*dt))
       if (it%single) eps = it%pass_weight(a)*eps

@@ -24,7 +24,7 @@ module mefem_tied_contact
   use mefem_errors, only: status_t
   use mefem_strings, only: itoa
   use mefem_vector_math, only: cross
-  use mefem_model, only: model_t, SURFACE_NODE_SET
+  use mefem_model, only: model_t, SURFACE_NODE_SET, TIEBREAK_NONE
   use mefem_id_map, only: sort_with_index
   use mefem_contact_surfaces, only: contact_surface_t, contact_search_t, contact_surface_build, &
                                     contact_search_build, contact_surface_triangulate, &
@@ -59,6 +59,16 @@ module mefem_tied_contact
     integer, allocatable :: untied(:)              !< (ties) SURFA nodes left untied
     integer, allocatable :: first_untied(:)        !< (ties) the first of them (mesh node)
     real(wp), allocatable :: tolerance(:)          !< (ties) the tolerance (-SST), or 0
+    ! tiebreak (contact_t%tiebreak): a tied node is held until its tie force fails it
+    real(wp), allocatable :: area(:)               !< (n) its share of the SURFA facets' area
+                                                   !< (reference; 0 for a node on none)
+    logical, allocatable :: held(:)                !< (n) still tied (always, without failure)
+    integer, allocatable :: slave_id(:)            !< (n) the node's id (messages)
+    logical :: tiebreak = .false.                  !< some tie can fail
+    integer, allocatable :: fail_kind(:)           !< (ties) TIEBREAK_* of each tie
+    real(wp), allocatable :: fail_limits(:,:)      !< (4, ties) normal and shear limits, their
+                                                   !< exponents (contact_t fail_*)
+    integer, allocatable :: companion(:)           !< (ties) the contact taking over, or 0
   end type tied_nodes_t
 
   !> A growing list of (slave, master, weight) triplets.
@@ -81,12 +91,15 @@ contains
     type(triplets_t) :: list
     integer, allocatable :: order(:), keys(:), tie_of(:), slot(:)
     logical, allocatable :: is_master(:)
+    real(wp), allocatable :: node_area(:)
     integer :: k, i, j, e, c, g, n
     allocate(tied%untied(model%n_ties), tied%first_untied(model%n_ties), &
              tied%tolerance(model%n_ties))
     allocate(list%slave(64), list%master(64), list%tie(64), list%weight(64), list%dual(64))
+    allocate(node_area(model%nodes%n))
+    node_area = 0.0_wp
     do k = 1, model%n_ties
-      call tie_one(model, k, tied, list, status)
+      call tie_one(model, k, tied, list, node_area, status)
       if (.not. status%ok) return
     end do
     ! the triplets by slave node (stable: each node's entries in the order found)
@@ -119,6 +132,19 @@ contains
     tied%n = n
     tied%slave = pack([(g, g = 1, model%nodes%n)], tie_of > 0)
     tied%tie = tie_of(tied%slave)
+    tied%area = node_area(tied%slave)
+    tied%slave_id = model%nodes%id(tied%slave)
+    allocate(tied%held(n))
+    tied%held = .true.
+    tied%fail_kind = [(model%ties(k)%tiebreak, k = 1, model%n_ties)]
+    tied%companion = [(model%ties(k)%companion, k = 1, model%n_ties)]
+    allocate(tied%fail_limits(4, model%n_ties))
+    do k = 1, model%n_ties
+      tied%fail_limits(:, k) = [model%ties(k)%fail_normal, model%ties(k)%fail_shear, &
+                                model%ties(k)%fail_exponent_normal, &
+                                model%ties(k)%fail_exponent_shear]
+    end do
+    tied%tiebreak = any(tied%fail_kind /= TIEBREAK_NONE)
     allocate(tied%start(n + 1), tied%dual(n))
     tied%master = list%master(order)
     tied%weight = list%weight(order)
@@ -177,11 +203,13 @@ contains
   !> The tied nodes of tied contact k as triplets (slave, master, weight) appended to list:
   !> dual mortar weights for the SURFA nodes whose facets are covered, projection weights
   !> for the others within the tolerance; its count of untied SURFA nodes.
-  subroutine tie_one(model, k, tied, list, status)
+  subroutine tie_one(model, k, tied, list, node_area, status)
     type(model_t), intent(in) :: model                !< resolved model
     integer, intent(in) :: k                          !< the contact (model%ties)
     type(tied_nodes_t), intent(inout) :: tied         !< untied counts, tolerances
     type(triplets_t), intent(inout) :: list           !< triplets appended
+    real(wp), intent(inout) :: node_area(:)           !< (mesh nodes) SURFA facet area shares
+                                                      !< added
     type(status_t), intent(out) :: status             !< failure and message
     type(contact_surface_t) :: slave, master
     integer, allocatable :: slaves(:), local_of(:)
@@ -223,12 +251,29 @@ contains
     if (have_facets) then
       call contact_surface_triangulate(slave)
       call dual_weights(model, slave, master, facet_tolerance, list, k, slaves, local_of, done)
+      call add_area_shares(model, slave, node_area)
     end if
     ! projections of the others
     call projections(model, master, facet_tolerance, slaves, done, list, k, &
                      tied%untied(k), tied%first_untied(k))
     status%ok = .true.
   end subroutine tie_one
+
+  !> Each node's share of the area of the (triangulated) SURFA facets: a facet's weighted area
+  !> over its vertices, summed (2D: the length of the edges; reference configuration).
+  subroutine add_area_shares(model, slave, node_area)
+    type(model_t), intent(in) :: model                !< the model (coordinates)
+    type(contact_surface_t), intent(in) :: slave      !< SURFA facets (triangulated)
+    real(wp), intent(inout) :: node_area(:)           !< (mesh nodes) shares added
+    real(wp) :: share
+    integer :: sf, nv
+    nv = slave%dim
+    do sf = 1, slave%nfacet
+      share = slave%weight(sf)*norm2(contact_facet_area_vector(slave, sf, model%nodes%x))/ &
+              real(nv, wp)
+      node_area(slave%facets(1:nv, sf)) = node_area(slave%facets(1:nv, sf)) + share
+    end do
+  end subroutine add_area_shares
 
   !> Each SURFB facet's tolerance: the given one (-SST), or DEFAULT_TOLERANCE times its size
   !> (square root of its area; 2D: its length).

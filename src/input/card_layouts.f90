@@ -19,7 +19,9 @@
 !> 101, 102, 103), which all *CONTACT_ keywords read share; *BOUNDARY_SPC_NODE/_SET and
 !> *BOUNDARY_PRESCRIBED_MOTION_NODE/_SET/_RIGID (their first field named by the form: NID, NSID
 !> or PID, first_name); *LOAD_NODE_POINT/_SET; *DEFINE_CURVE (card 2: each point card);
-!> *INITIAL_VELOCITY (cards 1-3).
+!> *INITIAL_VELOCITY (cards 1-3); the tiebreak contacts' card 4
+!> (*CONTACT_TIEBREAK_SURFACE_TO_SURFACE, _NODES_TO_SURFACE, *CONTACT_AUTOMATIC_(ONE_WAY_)
+!> SURFACE_TO_SURFACE_TIEBREAK).
 module mefem_card_layouts
   use mefem_kinds, only: wp
   use mefem_cards, only: reader_t, card_t, split_card, get_int, get_real, MAX_FIELDS
@@ -33,7 +35,7 @@ module mefem_card_layouts
   !> standard format, type ('I' integer, 'F' real), the value of a blank field, required, and
   !> whether a 0 means the default too.
   type, public :: field_layout_t
-    character(len=40) :: keyword = ''
+    character(len=48) :: keyword = ''
     integer :: card = 1
     character(len=8) :: name = ''
     integer :: first_column = 1
@@ -51,11 +53,13 @@ module mefem_card_layouts
     real(wp) :: value(MAX_FIELDS) = 0.0_wp             !< their values (integers exactly)
   end type card_fields_t
 
-  integer, parameter :: N_LAYOUT_FIELDS = 251
+  integer, parameter :: N_LAYOUT_FIELDS = 267
 
   !> The table (doc/keywords.md has the same fields; tests/decks/test_card_layouts.py):
-  !> keyword, card, field, first and last column, type, default, required, 0 = default.
-  type(field_layout_t), parameter, public :: LAYOUTS(N_LAYOUT_FIELDS) = [ &
+  !> keyword, card, field, first and last column, type, default, required, 0 = default; in
+  !> two parts (a statement has at most 255 continuation lines): the controls, output,
+  !> materials, sections and contacts, then the conditions and the rest.
+  type(field_layout_t), parameter :: LAYOUTS_MODEL(205) = [ &
     field_layout_t('CONTROL_TERMINATION', 1, 'ENDTIM', 1, 10, 'F', 0.0_wp, .false., .false.), &
     field_layout_t('CONTROL_TERMINATION', 1, 'ENDCYC', 11, 20, 'I', 0.0_wp, .false., .false.), &
     field_layout_t('CONTROL_TERMINATION', 1, 'DTMIN', 21, 30, 'F', 0.0_wp, .false., .false.), &
@@ -260,7 +264,8 @@ module mefem_card_layouts
     field_layout_t('CONTACT_AUTOMATIC_SURFACE_TO_SURFACE', 101, 'SOFSCL', 11, 20, 'F', 0.1_wp, .false., .true.), &
     field_layout_t('CONTACT_AUTOMATIC_SURFACE_TO_SURFACE', 102, 'PENMAX', 1, 10, 'F', 0.0_wp, .false., .false.), &
     field_layout_t('CONTACT_AUTOMATIC_SURFACE_TO_SURFACE', 103, 'IGAP', 1, 10, 'I', 1.0_wp, .false., .false.), &
-    field_layout_t('CONTACT_AUTOMATIC_SURFACE_TO_SURFACE', 103, 'IGNORE', 11, 20, 'I', 0.0_wp, .false., .false.), &
+    field_layout_t('CONTACT_AUTOMATIC_SURFACE_TO_SURFACE', 103, 'IGNORE', 11, 20, 'I', 0.0_wp, .false., .false.)]
+  type(field_layout_t), parameter :: LAYOUTS_CONDITIONS(62) = [ &
     field_layout_t('BOUNDARY_SPC_NODE', 1, 'NID', 1, 10, 'I', 0.0_wp, .true., .false.), &
     field_layout_t('BOUNDARY_SPC_NODE', 1, 'CID', 11, 20, 'I', 0.0_wp, .false., .false.), &
     field_layout_t('BOUNDARY_SPC_NODE', 1, 'DOFX', 21, 30, 'I', 0.0_wp, .false., .false.), &
@@ -293,6 +298,22 @@ module mefem_card_layouts
     field_layout_t('DEFINE_CURVE', 1, 'DATTYP', 61, 70, 'I', 0.0_wp, .false., .false.), &
     field_layout_t('DEFINE_CURVE', 2, 'A', 1, 20, 'F', 0.0_wp, .true., .false.), &
     field_layout_t('DEFINE_CURVE', 2, 'O', 21, 40, 'F', 0.0_wp, .true., .false.), &
+    field_layout_t('CONTACT_TIEBREAK_SURFACE_TO_SURFACE', 4, 'NFLS', 1, 10, 'F', 0.0_wp, .true., .false.), &
+    field_layout_t('CONTACT_TIEBREAK_SURFACE_TO_SURFACE', 4, 'SFLS', 11, 20, 'F', 0.0_wp, .true., .false.), &
+    field_layout_t('CONTACT_TIEBREAK_SURFACE_TO_SURFACE', 4, 'TBLCID', 21, 30, 'I', 0.0_wp, .false., .false.), &
+    field_layout_t('CONTACT_TIEBREAK_SURFACE_TO_SURFACE', 4, 'THKOFF', 31, 40, 'I', 0.0_wp, .false., .false.), &
+    field_layout_t('CONTACT_TIEBREAK_NODES_TO_SURFACE', 4, 'NFLF', 1, 10, 'F', 0.0_wp, .true., .false.), &
+    field_layout_t('CONTACT_TIEBREAK_NODES_TO_SURFACE', 4, 'SFLF', 11, 20, 'F', 0.0_wp, .true., .false.), &
+    field_layout_t('CONTACT_TIEBREAK_NODES_TO_SURFACE', 4, 'NEN', 21, 30, 'F', 2.0_wp, .false., .true.), &
+    field_layout_t('CONTACT_TIEBREAK_NODES_TO_SURFACE', 4, 'MES', 31, 40, 'F', 2.0_wp, .false., .true.), &
+    field_layout_t('CONTACT_AUTOMATIC_SURFACE_TO_SURFACE_TIEBREAK', 4, 'OPTION', 1, 10, 'I', 1.0_wp, .false., .false.), &
+    field_layout_t('CONTACT_AUTOMATIC_SURFACE_TO_SURFACE_TIEBREAK', 4, 'NFLS', 11, 20, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('CONTACT_AUTOMATIC_SURFACE_TO_SURFACE_TIEBREAK', 4, 'SFLS', 21, 30, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('CONTACT_AUTOMATIC_SURFACE_TO_SURFACE_TIEBREAK', 4, 'PARAM', 31, 40, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('CONTACT_AUTOMATIC_SURFACE_TO_SURFACE_TIEBREAK', 4, 'ERATEN', 41, 50, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('CONTACT_AUTOMATIC_SURFACE_TO_SURFACE_TIEBREAK', 4, 'ERATES', 51, 60, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('CONTACT_AUTOMATIC_SURFACE_TO_SURFACE_TIEBREAK', 4, 'CT2CN', 61, 70, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('CONTACT_AUTOMATIC_SURFACE_TO_SURFACE_TIEBREAK', 4, 'CN', 71, 80, 'F', 0.0_wp, .false., .false.), &
     field_layout_t('INITIAL_VELOCITY', 1, 'NSID', 1, 10, 'I', 0.0_wp, .false., .false.), &
     field_layout_t('INITIAL_VELOCITY', 1, 'NSIDEX', 11, 20, 'I', 0.0_wp, .false., .false.), &
     field_layout_t('INITIAL_VELOCITY', 1, 'BOXID', 21, 30, 'I', 0.0_wp, .false., .false.), &
@@ -307,6 +328,8 @@ module mefem_card_layouts
     field_layout_t('INITIAL_VELOCITY', 3, 'VXE', 1, 10, 'F', 0.0_wp, .false., .false.), &
     field_layout_t('INITIAL_VELOCITY', 3, 'VYE', 11, 20, 'F', 0.0_wp, .false., .false.), &
     field_layout_t('INITIAL_VELOCITY', 3, 'VZE', 21, 30, 'F', 0.0_wp, .false., .false.)]
+  type(field_layout_t), parameter, public :: LAYOUTS(N_LAYOUT_FIELDS) = &
+    [LAYOUTS_MODEL, LAYOUTS_CONDITIONS]
 
 contains
 

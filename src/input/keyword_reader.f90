@@ -48,7 +48,8 @@ module mefem_keyword_reader
                                 read_rigidwall_geometric, &
                                 FORM_SURFACE_TO_SURFACE, FORM_SINGLE_SURFACE, &
                                 FORM_NODES_TO_SURFACE, FORM_TIED, FORM_TIED_NODES, &
-                                FORM_TRANSDUCER
+                                FORM_TRANSDUCER, FORM_TIEBREAK, FORM_TIEBREAK_NODES, &
+                                FORM_TIEBREAK_AUTOMATIC
   implicit none
   private
 
@@ -87,19 +88,19 @@ module mefem_keyword_reader
                         H_DEFINE_CURVE_SMOOTH = 73, H_DEFINE_TABLE = 74, &
                         H_DEFINE_COORDINATE_SYSTEM = 75, H_DEFINE_COORDINATE_VECTOR = 76, &
                         H_DEFINE_COORDINATE_NODES = 77, H_DEFINE_VECTOR = 78, &
-                        H_SET_SOLID = 79, H_SET_SHELL = 80
+                        H_SET_SOLID = 79, H_SET_SHELL = 80, H_CONTACT_TIEBREAK = 81
 
   !> Id read from the first card of a rejected keyword (skip_cards), 0 when none.
   integer :: rejected_id = 0
 
   !> One registered keyword.
   type :: keyword_entry_t
-    character(len=48) :: base = ''       !< name without options, upper case, no '*'
+    character(len=56) :: base = ''       !< name without options, upper case, no '*'
     integer :: handler = 0               !< H_* code
     character(len=64) :: options = ''    !< options accepted, as ' OPT1 OPT2 '
   end type keyword_entry_t
 
-  integer, parameter :: N_ENTRIES = 97
+  integer, parameter :: N_ENTRIES = 101
   type(keyword_entry_t), parameter :: REGISTRY(N_ENTRIES) = [ &
     keyword_entry_t('NODE', H_NODE, ' '), &
     keyword_entry_t('ELEMENT_SOLID', H_ELEMENT_SOLID, ' '), &
@@ -178,6 +179,15 @@ module mefem_keyword_reader
                     ' OFFSET CONSTRAINED ID TITLE MPP '), &
     keyword_entry_t('CONTACT_TIED_NODES_TO_SURFACE', H_CONTACT_TIED, &
                     ' OFFSET CONSTRAINED ID TITLE MPP '), &
+    ! the tiebreak contacts: a tie that fails, then the contact (card 4: the failure)
+    keyword_entry_t('CONTACT_TIEBREAK_SURFACE_TO_SURFACE', H_CONTACT_TIEBREAK, &
+                    ' ID TITLE MPP '), &
+    keyword_entry_t('CONTACT_TIEBREAK_NODES_TO_SURFACE', H_CONTACT_TIEBREAK, &
+                    ' ID TITLE MPP '), &
+    keyword_entry_t('CONTACT_AUTOMATIC_SURFACE_TO_SURFACE_TIEBREAK', H_CONTACT_TIEBREAK, &
+                    ' MORTAR ID TITLE MPP '), &
+    keyword_entry_t('CONTACT_AUTOMATIC_ONE_WAY_SURFACE_TO_SURFACE_TIEBREAK', &
+                    H_CONTACT_TIEBREAK, ' MORTAR ID TITLE MPP '), &
     ! the eroding contacts: the same cards and card 4 (ISYM EROSOP IADJ)
     keyword_entry_t('CONTACT_ERODING_SURFACE_TO_SURFACE', H_CONTACT_SURFACE_TO_SURFACE, &
                     ' ID TITLE MPP '), &
@@ -532,6 +542,14 @@ contains
         call read_contact_surface_to_surface(rd, options, model, FORM_TIED_NODES)
       else
         call read_contact_surface_to_surface(rd, options, model, FORM_TIED)
+      end if
+    case (H_CONTACT_TIEBREAK)
+      if (starts_with(rd%keyword, '*CONTACT_TIEBREAK_NODES')) then
+        call read_contact_surface_to_surface(rd, options, model, FORM_TIEBREAK_NODES)
+      else if (starts_with(rd%keyword, '*CONTACT_TIEBREAK_')) then
+        call read_contact_surface_to_surface(rd, options, model, FORM_TIEBREAK)
+      else
+        call read_contact_surface_to_surface(rd, options, model, FORM_TIEBREAK_AUTOMATIC)
       end if
     case (H_CONTACT_TRANSDUCER)
       call read_contact_surface_to_surface(rd, options, model, FORM_TRANSDUCER)

@@ -21,7 +21,7 @@ module mefem_read_contact
                                 skip_extra_cards, read_id_option
   use mefem_deck_source, only: deck_push_back
   use mefem_model, only: model_t, contact_t, rigid_wall_t, source_t, FS_FROM_PARTS, &
-                         WALL_PLANE, WALL_FLAT, WALL_PRISM, WALL_CYLINDER, WALL_SPHERE
+                         TIEBREAK_STRESS, TIEBREAK_FORCE, WALL_PLANE, WALL_FLAT, WALL_PRISM, WALL_CYLINDER, WALL_SPHERE
   implicit none
   private
 
@@ -30,7 +30,8 @@ module mefem_read_contact
   !> Forms of the contact keywords read by read_contact_surface_to_surface.
   integer, parameter, public :: FORM_SURFACE_TO_SURFACE = 1, FORM_SINGLE_SURFACE = 2, &
                                 FORM_NODES_TO_SURFACE = 3, FORM_TIED = 4, FORM_TIED_NODES = 5, &
-                                FORM_TRANSDUCER = 6
+                                FORM_TRANSDUCER = 6, FORM_TIEBREAK = 7, &
+                                FORM_TIEBREAK_NODES = 8, FORM_TIEBREAK_AUTOMATIC = 9
 
   integer, parameter :: W_10(8) = 10          !< standard 8 x 10 card
   integer, parameter :: N_OPTIONAL = 6        !< optional cards A to F
@@ -46,7 +47,9 @@ contains
   !> (and the forming contacts), FORM_SINGLE_SURFACE *CONTACT_AUTOMATIC_SINGLE_SURFACE(...),
   !> FORM_NODES_TO_SURFACE the nodes-to-surface contacts (SURFA may be a node set), FORM_TIED
   !> and FORM_TIED_NODES the tied contacts (into model%ties), FORM_TRANSDUCER
-  !> *CONTACT_FORCE_TRANSDUCER_PENALTY (into model%transducers).
+  !> *CONTACT_FORCE_TRANSDUCER_PENALTY (into model%transducers), FORM_TIEBREAK,
+  !> FORM_TIEBREAK_NODES and FORM_TIEBREAK_AUTOMATIC the tiebreak contacts (card 4 after card
+  !> 3: a tie into model%ties that fails, and its companion contact into model%contacts).
   subroutine read_contact_surface_to_surface(rd, options, model, form)
     type(reader_t), intent(inout) :: rd          !< reading state
     character(len=*), intent(in) :: options      !< keyword options
@@ -55,20 +58,21 @@ contains
     type(contact_t) :: contact
     type(card_t) :: card, card1, card2, card3, mpp
     type(card_fields_t) :: f
-    logical :: single_surface, tied, transducer, nodes_a, eroding
+    logical :: single_surface, tied, transducer, nodes_a, eroding, tiebreak
     logical :: got, ok, bad
     integer :: k, saboxid, sbboxid, mpp_ignore
     character(len=:), allocatable :: who
     contact%mortar = has_option(options, 'MORTAR')
     single_surface = form == FORM_SINGLE_SURFACE
-    tied = form == FORM_TIED .or. form == FORM_TIED_NODES
+    tiebreak = any(form == [FORM_TIEBREAK, FORM_TIEBREAK_NODES, FORM_TIEBREAK_AUTOMATIC])
+    tied = form == FORM_TIED .or. form == FORM_TIED_NODES .or. tiebreak
     transducer = form == FORM_TRANSDUCER
-    nodes_a = form == FORM_NODES_TO_SURFACE .or. form == FORM_TIED_NODES
+    nodes_a = any(form == [FORM_NODES_TO_SURFACE, FORM_TIED_NODES, FORM_TIEBREAK_NODES])
     contact%single_surface = single_surface
     eroding = index(rd%keyword, '*CONTACT_ERODING_') == 1
     contact%tied = tied
     contact%offset = tied .and. has_option(options, 'OFFSET')
-    if (tied .or. transducer) contact%keyword = rd%keyword
+    if (tied .or. transducer) contact%keyword = trim(rd%keyword)
     if (has_option(options, 'ID') .or. has_option(options, 'TITLE')) then
       call read_id_card(rd, contact%id, contact%title, ok)
       if (.not. ok) then
@@ -154,6 +158,13 @@ contains
         return
       end if
     end if
+    if (tiebreak) then
+      call read_tiebreak_card(rd, card3, who, form, contact, bad)
+      if (bad) then
+        call skip_extra_cards(rd)
+        return
+      end if
+    end if
     ! optional cards A, B, C (D, E, F accepted and not used)
     do k = 1, N_OPTIONAL
       call next_card(rd, card, got, keep_blank=.true.)
@@ -191,11 +202,19 @@ contains
     end if
     call check_contact(card1, card2, card3, contact, nodes_a, transducer, who, saboxid, &
                        sbboxid, bad)
-    if ((tied .or. transducer) .and. contact%fs /= 0.0_wp) call card_warning(card2, who// &
-        ': FS, FD and DC are not used by a '//trim(merge('tied contact    ', &
-                                                          'force transducer', tied)))
+    if (((tied .and. .not. tiebreak) .or. transducer) .and. contact%fs /= 0.0_wp) &
+      call card_warning(card2, who//': FS, FD and DC are not used by a '// &
+                        trim(merge('tied contact    ', 'force transducer', tied)))
     if (.not. bad) then
-      if (tied) then
+      if (tiebreak) then
+        ! the tie, and the contact that takes over at each node the tie releases
+        contact%companion = model%n_contacts + 1
+        call add_tie(model, contact)
+        contact%tied = .false.
+        contact%tiebreak = 0
+        contact%companion = model%n_ties
+        call add_contact(model, contact)
+      else if (tied) then
         call add_tie(model, contact)
       else if (transducer) then
         call add_transducer(model, contact)
@@ -253,6 +272,106 @@ contains
     if (isym /= 0) call card_warning(card, who//': ISYM ignored: faces on symmetry planes '// &
         'are not left out of the surfaces')
   end subroutine read_eroding_card
+
+  !> Card 4 of the tiebreak contacts (required), by form: *CONTACT_TIEBREAK_SURFACE_TO_SURFACE
+  !> NFLS SFLS TBLCID THKOFF (failure stresses); *CONTACT_TIEBREAK_NODES_TO_SURFACE NFLF SFLF
+  !> NEN MES (failure forces and exponents); *CONTACT_AUTOMATIC_(ONE_WAY_)SURFACE_TO_SURFACE_
+  !> TIEBREAK OPTION NFLS SFLS PARAM ERATEN ERATES CT2CN CN, of which OPTION 2 (the nodes in
+  !> contact at the start tied until the stress criterion fails them) runs; the other
+  !> responses (permanent sticking of nodes that come into contact later, frictional sliding
+  !> while tied, damage models) are errors naming the option.
+  subroutine read_tiebreak_card(rd, previous, who, form, contact, bad)
+    type(reader_t), intent(inout) :: rd          !< reading state
+    type(card_t), intent(in) :: previous         !< card 3 (for a missing card's message)
+    character(len=*), intent(in) :: who          !< 'contact N'
+    integer, intent(in) :: form                  !< FORM_TIEBREAK*
+    type(contact_t), intent(inout) :: contact    !< failure data set
+    logical, intent(inout) :: bad                !< a card was wrong
+    type(card_t) :: card
+    type(card_fields_t) :: f
+    character(len=:), allocatable :: normal, shear
+    logical :: got
+    integer :: option
+    call next_card(rd, card, got, keep_blank=.true.)
+    if (.not. got) then
+      select case (form)
+      case (FORM_TIEBREAK_NODES)
+        call card_error(previous, who//': missing card 4 of the tiebreak (NFLF SFLF NEN MES)')
+      case (FORM_TIEBREAK)
+        call card_error(previous, who//': missing card 4 of the tiebreak (NFLS SFLS TBLCID '// &
+            'THKOFF)')
+      case default
+        call card_error(previous, who//': missing card 4 of the tiebreak (OPTION NFLS SFLS '// &
+            'PARAM ERATEN ERATES CT2CN CN)')
+      end select
+      bad = .true.
+      return
+    end if
+    select case (form)
+    case (FORM_TIEBREAK_NODES)
+      call read_layout_card(rd, card, 'CONTACT_TIEBREAK_NODES_TO_SURFACE', 4, f)
+      contact%tiebreak = TIEBREAK_FORCE
+      normal = 'NFLF'
+      shear = 'SFLF'
+      contact%fail_exponent_normal = real_field(f, 'NEN')
+      contact%fail_exponent_shear = real_field(f, 'MES')
+    case (FORM_TIEBREAK)
+      call read_layout_card(rd, card, 'CONTACT_TIEBREAK_SURFACE_TO_SURFACE', 4, f)
+      contact%tiebreak = TIEBREAK_STRESS
+      normal = 'NFLS'
+      shear = 'SFLS'
+      if (.not. card%bad .and. int_field(f, 'TBLCID') /= 0) call fail(who//': TBLCID = '// &
+          itoa(int_field(f, 'TBLCID'))//' (a post-failure stress curve) is not supported: '// &
+          'give 0 (after failure the surfaces are in plain contact)')
+    case default
+      call read_layout_card(rd, card, 'CONTACT_AUTOMATIC_SURFACE_TO_SURFACE_TIEBREAK', 4, f)
+      contact%tiebreak = TIEBREAK_STRESS
+      normal = 'NFLS'
+      shear = 'SFLS'
+      if (.not. card%bad) then
+        option = int_field(f, 'OPTION')
+        select case (option)
+        case (2)
+          if (real_field(f, 'CN') /= 0.0_wp) call card_warning(card, who//': CN ignored: '// &
+              'the tie holds the nodes kinematically (no tie stiffness)')
+        case (1, 3)
+          call fail(who//': OPTION = '//itoa(option)//' (nodes that come into contact '// &
+              'stick for good) is not supported: OPTION = 2 ties the nodes in contact at the '// &
+              'start until NFLS/SFLS fail them (doc/keywords.md 3.10)')
+        case (4)
+          call fail(who//': OPTION = 4 (tied in the normal direction, sliding with '// &
+              'friction) is not supported: OPTION = 2 ties the nodes in every direction '// &
+              'until NFLS/SFLS fail them')
+        case default
+          call fail(who//': OPTION = '//itoa(option)//' is not supported: OPTION = 2 ties '// &
+              'the nodes until NFLS/SFLS fail them (the damage and cohesive responses 5-14 '// &
+              'and the negative ones are not computed)')
+        end select
+      end if
+    end select
+    if (card%bad) then
+      bad = .true.
+      return
+    end if
+    contact%fail_normal = real_field(f, normal)
+    contact%fail_shear = real_field(f, shear)
+    if (.not. contact%fail_normal > 0.0_wp) call fail(who//': field '//normal//' must be '// &
+        '> 0 (the tensile failure '//trim(merge('force ', 'stress', normal == 'NFLF'))//', got '// &
+        rtoa(contact%fail_normal)//'); a tie that never fails is *CONTACT_TIED_...')
+    if (.not. contact%fail_shear > 0.0_wp) call fail(who//': field '//shear//' must be '// &
+        '> 0 (the shear failure '//trim(merge('force ', 'stress', shear == 'SFLF'))//', got '// &
+        rtoa(contact%fail_shear)//')')
+    if (.not. (contact%fail_exponent_normal > 0.0_wp .and. &
+               contact%fail_exponent_shear > 0.0_wp)) call fail(who//': fields NEN and MES '// &
+        'must be > 0 (blank: 2)')
+  contains
+    !> Report and remember an error.
+    subroutine fail(message)
+      character(len=*), intent(in) :: message    !< what is wrong
+      call card_error(card, message)
+      bad = .true.
+    end subroutine fail
+  end subroutine read_tiebreak_card
 
   !> Values of cards 1-3 that mefem cannot honour or that make no sense.
   subroutine check_contact(card1, card2, card3, contact, nodes_a, transducer, who, saboxid, &
@@ -446,7 +565,7 @@ contains
     nsegs = 0                                    ! (NSEGS: segments for display, not used)
     wall = rigid_wall_t()
     wall%shape = shape
-    wall%keyword = rd%keyword
+    wall%keyword = trim(rd%keyword)
     call read_id_option(rd, options, wall%id, heading, ok)
     if (.not. ok) return
     who = 'rigid wall'

@@ -348,6 +348,12 @@ module mefem_model
     type(source_t) :: src
   end type box_t
 
+  !> How a tie fails (contact_t%tiebreak): never (*CONTACT_TIED_), when
+  !> (sigma_n/NFLS)^2 + (sigma_s/SFLS)^2 >= 1 with the tensile normal and the shear stress of
+  !> the node's tie force over its area (TIEBREAK_STRESS), or when (f_n/NFLF)^NEN +
+  !> (f_s/SFLF)^MES >= 1 with the forces themselves (TIEBREAK_FORCE).
+  integer, parameter, public :: TIEBREAK_NONE = 0, TIEBREAK_STRESS = 1, TIEBREAK_FORCE = 2
+
   !> *CONTACT_AUTOMATIC_SURFACE_TO_SURFACE(_MORTAR).
   type, public :: contact_t
     integer :: id = 0
@@ -369,6 +375,15 @@ module mefem_model
     real(wp) :: sfsat = 1.0_wp, sfsbt = 1.0_wp, fsf = 1.0_wp, vsf = 1.0_wp
     integer :: soft = 0, ignore = 0, igap = 1
     real(wp) :: sofscl = 0.1_wp, penmax = 0.0_wp
+    ! tiebreak (*CONTACT_..._TIEBREAK_...): a tie (model%ties) that fails node by node, and
+    ! its companion contact (model%contacts) that acts at the nodes once released
+    integer :: tiebreak = TIEBREAK_NONE      !< a tie: how it fails (TIEBREAK_*)
+    real(wp) :: fail_normal = 0.0_wp         !< NFLS (stress) or NFLF (force), tension
+    real(wp) :: fail_shear = 0.0_wp          !< SFLS (stress) or SFLF (force)
+    real(wp) :: fail_exponent_normal = 2.0_wp  !< NEN (forces; 2 for the stresses)
+    real(wp) :: fail_exponent_shear = 2.0_wp   !< MES (forces; 2 for the stresses)
+    integer :: companion = 0                 !< tie: its contact in model%contacts; contact:
+                                             !< the tie in model%ties it takes over from
     type(source_t) :: src
   end type contact_t
 

@@ -1169,41 +1169,6 @@ contains
     integer :: k, k2
     integer, allocatable :: parts(:)
     character(len=:), allocatable :: where, who
-    do k = 1, model%n_contacts
-      associate (contact => model%contacts(k))
-        if (contact%single_surface) then
-          where = where_is(contact%src, '*CONTACT_AUTOMATIC_SINGLE_SURFACE')
-        else
-          where = where_is(contact%src, '*CONTACT_AUTOMATIC_SURFACE_TO_SURFACE')
-        end if
-        who = 'contact: '
-        if (contact%id /= 0) who = 'contact '//itoa(contact%id)//': '
-        if (contact%surf_a_type /= SURFACE_ALL_PARTS) call resolve_target(look, &
-            surface_kind(contact%surf_a_type), contact%surf_a_id, contact%surf_a, where, &
-            who//'SURFA ')
-        if (.not. contact%single_surface) call resolve_target(look, &
-            surface_kind(contact%surf_b_type), contact%surf_b_id, contact%surf_b, where, &
-            who//'SURFB ')
-        call surface_a_parts(contact, parts)
-        if (contact%fs == FS_FROM_PARTS) call part_friction(contact, parts, where, who)
-        ! the penalty comes from SURFA's elements: a SURFA of rigid parts only has none
-        if (size(parts) > 0) then
-          if (all([(part_is_rigid(parts(k2)), k2 = 1, size(parts))])) then
-            if (contact%single_surface) then
-              call input_error(where, who//'SURFA holds *MAT_RIGID parts only; mefem takes '// &
-                  'the penalty from the deformable elements of the surface')
-            else
-              call input_error(where, who//'SURFA holds *MAT_RIGID parts only; mefem takes '// &
-                  'the penalty from SURFA''s elements, so SURFA must be the deformable body '// &
-                  '(swap SURFA and SURFB: the rigid tool is SURFB)')
-            end if
-          end if
-        else if (contact%surf_a_type == SURFACE_ALL_BUT_SET .and. contact%surf_a > 0) then
-          call input_error(where, who//'SURFATYP = 6: part set '//itoa(contact%surf_a_id)// &
-              ' holds every part, so no part is left for the contact')
-        end if
-      end associate
-    end do
     ! tied contacts: both sides deformable (a node tied to a rigid part moves with it:
     ! *CONSTRAINED_EXTRA_NODES)
     do k = 1, model%n_ties
@@ -1223,6 +1188,48 @@ contains
           if (any_rigid(surface_kind(tie%surf_b_type), tie%surf_b)) call input_error(where, &
               who//'SURFB holds a *MAT_RIGID part: a tied contact joins deformable bodies '// &
               '(tie nodes to a rigid part with *CONSTRAINED_EXTRA_NODES)')
+        end if
+        if (tie%companion > 0) then             ! a tiebreak's contact: the same surfaces
+          model%contacts(tie%companion)%surf_a = tie%surf_a
+          model%contacts(tie%companion)%surf_b = tie%surf_b
+        end if
+      end associate
+    end do
+    do k = 1, model%n_contacts
+      associate (contact => model%contacts(k))
+        if (contact%single_surface) then
+          where = where_is(contact%src, '*CONTACT_AUTOMATIC_SINGLE_SURFACE')
+        else
+          where = where_is(contact%src, '*CONTACT_AUTOMATIC_SURFACE_TO_SURFACE')
+        end if
+        who = 'contact: '
+        if (contact%id /= 0) who = 'contact '//itoa(contact%id)//': '
+        if (contact%companion == 0) then      ! (a tiebreak's: its tie's surfaces, above)
+          if (contact%surf_a_type /= SURFACE_ALL_PARTS) call resolve_target(look, &
+              surface_kind(contact%surf_a_type), contact%surf_a_id, contact%surf_a, where, &
+              who//'SURFA ')
+          if (.not. contact%single_surface) call resolve_target(look, &
+              surface_kind(contact%surf_b_type), contact%surf_b_id, contact%surf_b, where, &
+              who//'SURFB ')
+        end if
+        call surface_a_parts(contact, parts)
+        if (contact%fs == FS_FROM_PARTS) call part_friction(contact, parts, where, who)
+        ! the penalty comes from SURFA's elements: a SURFA of rigid parts only has none (a
+        ! tiebreak's SURFA: reported for its tie)
+        if (size(parts) > 0 .and. contact%companion == 0) then
+          if (all([(part_is_rigid(parts(k2)), k2 = 1, size(parts))])) then
+            if (contact%single_surface) then
+              call input_error(where, who//'SURFA holds *MAT_RIGID parts only; mefem takes '// &
+                  'the penalty from the deformable elements of the surface')
+            else
+              call input_error(where, who//'SURFA holds *MAT_RIGID parts only; mefem takes '// &
+                  'the penalty from SURFA''s elements, so SURFA must be the deformable body '// &
+                  '(swap SURFA and SURFB: the rigid tool is SURFB)')
+            end if
+          end if
+        else if (contact%surf_a_type == SURFACE_ALL_BUT_SET .and. contact%surf_a > 0) then
+          call input_error(where, who//'SURFATYP = 6: part set '//itoa(contact%surf_a_id)// &
+              ' holds every part, so no part is left for the contact')
         end if
       end associate
     end do

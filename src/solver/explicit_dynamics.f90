@@ -143,7 +143,7 @@ contains
     s%f_ext = s%f_ext_new
     call accelerations(s)
     if (s%nskew > 0) call skew_accelerations(model, s, 0.0_wp)
-    if (s%tied%n > 0) call tie_accelerations(s, s%contact%n > 0)
+    if (s%tied%n > 0) call tie_accelerations(s, s%contact%n > 0, t)
     if (s%bodies%n > 0) then
       call rigid_body_resultants(s)
       call rigid_body_loads(model, s, t)
@@ -187,7 +187,7 @@ contains
       clock = comm_wtime()
       call energies_and_accelerations(s, dt)
       if (s%nskew > 0) call skew_accelerations(model, s, t)
-      if (s%tied%n > 0) call tie_accelerations(s, s%contact%n > 0)
+      if (s%tied%n > 0) call tie_accelerations(s, s%contact%n > 0, t)
       if (s%bodies%n > 0) then
         call rigid_body_resultants(s)
         call rigid_body_loads(model, s, t)

@@ -82,6 +82,8 @@ module mefem_explicit_state
     real(wp), allocatable :: tie_buffer(:,:)     !< (4, tied nodes) their force and mass
     real(wp), allocatable :: tie_master_buffer(:,:) !< (3, master nodes) their accelerations
     logical, allocatable :: tied_node(:)         !< (nnode) a tied node (its SPCs overridden)
+    logical, allocatable :: tie_fixed(:,:)       !< (3, tied nodes) their own SPCs (back in
+                                                 !< force when a tiebreak releases the node)
     ! force transducers: the contact nodes of each (contact-node numbering, ascending)
     type(node_list_t), allocatable :: transducer_nodes(:)
     integer, allocatable :: transducer_id(:)     !< (transducers) its rcforc number

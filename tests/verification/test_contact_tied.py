@@ -13,9 +13,19 @@ node moves with the point of the SURFB facet it lies on (kinematic, doc/theory.m
    the gap kept.
 4. TIED_NODES_TO_SURFACE with a node set holding far nodes too: those are reported untied.
 5. The nonlinear implicit analysis refuses a tied contact when it starts.
+6. Tiebreak (*CONTACT_TIEBREAK_..., *CONTACT_AUTOMATIC_SURFACE_TO_SURFACE_TIEBREAK OPTION 2):
+   the tension patch test with NFLS = P/2: the nodes are released when the ramped traction
+   reaches NFLS (t = T/2 by the ramp's symmetry), all of them, and the blocks part; 2 ranks
+   give the same bits; the automatic form gives the same bits; the force form (NFLF = NFLS
+   times an interior node's area) releases the interior nodes first at the same time; with
+   NFLS above the load nothing is released and the run is the plain tie's, bit for bit.
+   Shear then contact: a block pressed onto the other and pushed sideways by a load below the
+   friction limit, SFLS below the shear it takes: the nodes are released in shear and the
+   companion contact then carries the pressure and, by friction, the side load.
 Units: mm, tonne, s, N, MPa.
 """
 import os
+import re
 import sys
 
 import numpy as np
@@ -199,9 +209,141 @@ def implicit_refused():
                  'implicit analysis refuses a tied contact when it starts', text[-400:])
 
 
+def released(text):
+    """[(time, count released, still tied)] of the log's tiebreak lines."""
+    out = []
+    for line in text.splitlines():
+        m = re.match(r'explicit: t = (\S+): tiebreak .*: (\d+) node\(s\) released .*, (\d+) still '
+                     r'tied', line)
+        if m:
+            out.append((float(m.group(1)), int(m.group(2)), int(m.group(3))))
+    return out
+
+
+def tiebreak_tension():
+    """The tension patch test with a tie that fails at NFLS = P/2."""
+    x, c1, c2, n1 = two_blocks(0.0)
+    loads = symmetry(x) + top_segments(x, c2, 2.0, 9) + ['*LOAD_SEGMENT_SET', f10(9, 1, -1.0)] \
+        + ramp(P)
+    n_tied = np.sum(abs(x[n1:, 2] - 1.0) < 1e-9)
+    h = 0.25                                    # the upper block's mesh size: interior area h^2
+    forms = {
+        'tiebreak': ['*CONTACT_TIEBREAK_SURFACE_TO_SURFACE_ID', f10(5), f10(2, 1, 3, 3), '', '',
+                     f10(0.5 * P, 0.5 * P)],
+        'tiebreak_auto': ['*CONTACT_AUTOMATIC_SURFACE_TO_SURFACE_TIEBREAK_ID', f10(5),
+                          f10(2, 1, 3, 3), '', '', f10(2, 0.5 * P, 0.5 * P)],
+        'tiebreak_nodes': ['*CONTACT_TIEBREAK_NODES_TO_SURFACE_ID', f10(5), f10(2, 1, 3, 3), '',
+                           '', f10(0.5 * P * h * h, 0.5 * P * h * h)],
+        'tiebreak_strong': ['*CONTACT_TIEBREAK_SURFACE_TO_SURFACE_ID', f10(5), f10(2, 1, 3, 3),
+                            '', '', f10(2.0 * P, 2.0 * P)],
+        'tied_reference': ['*CONTACT_TIED_SURFACE_TO_SURFACE_ID', f10(5), f10(2, 1, 3, 3), '',
+                           ''],
+    }
+    runs = {}
+    for name, tie in forms.items():
+        for ranks in ((1, 2) if name == 'tiebreak' else (1,)):
+            run_name = '%s_np%d' % (name, ranks)
+            rc, text, out = run_case(run_name, deck(x, c1, c2, tie, loads), ranks=ranks)
+            checks.check(rc == 0, '%s: run succeeds' % run_name, text[-600:])
+            if rc != 0:
+                return
+            runs[run_name] = (released(text), last_state(out, run_name, None)[0])
+    events, point = runs['tiebreak_np1']
+    t_first = events[0][0] if events else float('nan')
+    v = t_first / T
+    at_failure = P * (v - np.sin(2 * np.pi * v) / (2 * np.pi)) / (0.5 * P)
+    gap = np.min(point['displacement'][n1:, 2][abs(x[n1:, 2] - 1.0) < 1e-9]) - \
+        np.max(point['displacement'][:n1, 2][abs(x[:n1, 2] - 1.0) < 1e-9])
+    print('    tiebreak in tension: first release at t = %.4g s (%.4f T), the traction then %.4f '
+          'NFLS; %d events, %d of %d nodes released by %.4f T; interface open by %.3g mm at the '
+          'end' % (t_first, v, at_failure, len(events), sum(e[1] for e in events), n_tied,
+                   events[-1][0] / T if events else float('nan'), gap))
+    checks.check(abs(at_failure - 1.0) < 0.02, 'tiebreak: the nodes fail when the traction '
+                 'reaches NFLS (within 2 %)', '%.4f' % at_failure)
+    checks.check(events and events[-1][2] == 0 and sum(e[1] for e in events) == n_tied,
+                 'tiebreak: all %d tied nodes released' % n_tied, str(events))
+    checks.check(events and events[-1][0] < 0.55 * T, 'tiebreak: the last node is released '
+                 'within 0.05 T of the first', str(events[-1:]))
+    checks.check(gap > 0.1, 'tiebreak: the blocks part (interface open by more than 0.1 mm)',
+                 '%.3g' % gap)
+    same = lambda a, b: all(np.array_equal(a[k], b[k]) for k in a)
+    checks.check(same(point, runs['tiebreak_np2'][1]) and events == runs['tiebreak_np2'][0],
+                 'tiebreak: 2 ranks release the same nodes at the same steps and give the bits '
+                 'of 1 rank')
+    checks.check(same(point, runs['tiebreak_auto_np1'][1]), 'tiebreak: the automatic form '
+                 '(OPTION 2) gives the same bits')
+    nodes_events = runs['tiebreak_nodes_np1'][0]
+    n_interior = 9                              # (the 5 x 5 interface nodes' inner 3 x 3)
+    v = nodes_events[0][0] / T if nodes_events else float('nan')
+    at_failure = (v - np.sin(2 * np.pi * v) / (2 * np.pi)) / 0.5
+    checks.check(nodes_events and 0 < nodes_events[0][1] <= n_interior and
+                 abs(at_failure - 1.0) < 0.02, 'tiebreak, forces: interior nodes (the largest '
+                 'share, at most %d) fail first, when their force reaches NFLF (within 2 %%)'
+                 % n_interior,
+                 '%s %.4f' % (nodes_events[:1], at_failure))
+    strong = runs['tiebreak_strong_np1']
+    checks.check(not strong[0] and same(strong[1], runs['tied_reference_np1'][1]),
+                 'tiebreak: with NFLS above the load nothing is released, and the run is the '
+                 'plain tie\'s (the same bits)')
+
+
+def tiebreak_shear_then_contact():
+    """A block pressed (P) onto another and pushed sideways (S = P/5, friction 0.6): the tie
+    fails in shear (SFLS = P/10), then the companion contact holds the block."""
+    x, c1, c2, n1 = two_blocks(0.0)
+    upper = np.arange(n1, len(x))
+    shear_load = P / 5.0
+    s = np.linspace(0.0, 1.0, 41)
+    loads = node_set(1, np.nonzero(x[:, 2] < 1e-9)[0]) + ['*BOUNDARY_SPC_SET', f10(1, 0, 1, 1, 1)] \
+        + top_segments(x, c2, 2.0, 9) + ['*LOAD_SEGMENT_SET', f10(9, 1, 1.0)] + ramp(P) \
+        + node_set(5, upper) + ['*LOAD_NODE_SET', f10(5, 1, 2, 1.0 / len(upper))] \
+        + curve(2, [(T * v, shear_load * (v - np.sin(2 * np.pi * v) / (2 * np.pi))) for v in s]
+                + [(1.0, shear_load)])
+    tie = ['*CONTACT_TIEBREAK_SURFACE_TO_SURFACE_ID', f10(5), f10(2, 1, 3, 3), f10(0.6, 0.6),
+           '', f10(100.0 * P, 0.1 * P)]
+    blocks = deck(x, c1, c2, tie, loads, elform=10)
+    blocks[-1] = ['*CONTROL_TERMINATION', f10(2.5 * T), '*DATABASE_BINARY_D3PLOT', f10(0.5 * T),
+                  '*DATABASE_RCFORC', f10(T / 50)]
+    rc, text, out = run_case('tiebreak_shear', blocks)
+    checks.check(rc == 0, 'tiebreak_shear: run succeeds', text[-600:])
+    if rc != 0:
+        return
+    events = released(text)
+    rows = [line.split() for line in open(os.path.join(out, 'rcforc'))
+            if line.strip().startswith('slave')]
+    t = np.array([float(r[3]) for r in rows])
+    force = np.array([[float(r[5]), float(r[7]), float(r[9])] for r in rows])
+    late = t >= 1.5 * T                     # loads constant from T on
+    mean = force[late].mean(axis=0)
+    with h5py.File(os.path.join(out, 'tiebreak_shear.h5')) as f:
+        last = sorted(f['states'].keys())[-1]
+        order = np.argsort(f['mesh/node_ids'][()])
+        u = f['states/%s/point/displacement' % last][()][order]
+    on = abs(x[:, 2] - 1.0) < 1e-9
+    overlap = np.max(u[:n1][on[:n1], 2]) - np.min(u[n1:][on[n1:], 2])
+    v = events[0][0] / T if events else float('nan')
+    print('    tiebreak in shear: first release at %.4f T (mean shear then %.3f SFLS), %d nodes '
+          'released by %.4f T; contact force from 1.5 T on: mean (%.3f, %.3f, %.3f) N (loads '
+          '%.3f sideways, %.3f pressing); the interface overlaps by at most %.3g mm at the end'
+          % (v, shear_load * (v - np.sin(2 * np.pi * v) / (2 * np.pi)) / (0.1 * P),
+             sum(e[1] for e in events), events[-1][0] / T if events else float('nan'),
+             mean[0], mean[1], mean[2], shear_load, P, overlap))
+    checks.check(events and events[-1][2] == 0 and events[-1][0] < T, 'tiebreak in shear: '
+                 'every node released during the ramp', str(events[-1:]))
+    checks.check(abs(mean[2] / P - 1.0) < 0.05 and abs(-mean[0] / shear_load - 1.0) < 0.10,
+                 'tiebreak in shear: then the contact carries the pressure (5 %) and, by '
+                 'friction, the side load (10 %)', str(mean))
+    checks.check(overlap < 0.1, 'tiebreak in shear: the released block does not sink into '
+                 'the other (overlap below 0.1 mm: the penalty\'s static 0.016 mm and the '
+                 'rocking the release starts; without the contact it sinks through)',
+                 '%.3g' % overlap)
+
+
 patch(0.0, '*CONTACT_TIED_SURFACE_TO_SURFACE', '', ranks_list=(1, 2))
 patch(0.01, '*CONTACT_TIED_SURFACE_TO_SURFACE_OFFSET', f10(1.0, 1.0, -0.05))
 matching()
 untied_warning()
 implicit_refused()
+tiebreak_tension()
+tiebreak_shear_then_contact()
 checks.exit()
