@@ -21,7 +21,14 @@
 !> or PID, first_name); *LOAD_NODE_POINT/_SET; *DEFINE_CURVE (card 2: each point card);
 !> *INITIAL_VELOCITY (cards 1-3); the tiebreak contacts' card 4
 !> (*CONTACT_TIEBREAK_SURFACE_TO_SURFACE, _NODES_TO_SURFACE, *CONTACT_AUTOMATIC_(ONE_WAY_)
-!> SURFACE_TO_SURFACE_TIEBREAK).
+!> SURFACE_TO_SURFACE_TIEBREAK); *LOAD_SEGMENT, *LOAD_SEGMENT_SET, *LOAD_BODY_X/Y/Z (one
+!> layout, LOAD_BODY_X), *LOAD_BODY_PARTS; *CONSTRAINED_GLOBAL, _RIGID_BODIES,
+!> _EXTRA_NODES_NODE/_SET (NSID named by the form, form_name), _NODAL_RIGID_BODY and
+!> _SPOTWELD (its data card); *PART (card 2, the _CONTACT card 3) and *PART_INERTIA (cards
+!> 3-5); *DEFINE_BOX, *DEFINE_COORDINATE_SYSTEM (cards 1-2), *DEFINE_COORDINATE_VECTOR,
+!> *DEFINE_VECTOR, *DEFINE_VECTOR_NODES; *RIGIDWALL_PLANAR (cards 1-2) and
+!> *RIGIDWALL_GEOMETRIC_FLAT (cards 1-4: 3 the flat wall's, 4 the MOTION card), whose _PRISM,
+!> _CYLINDER and _SPHERE forms have their own card 3.
 module mefem_card_layouts
   use mefem_kinds, only: wp
   use mefem_cards, only: reader_t, card_t, split_card, get_int, get_real, MAX_FIELDS
@@ -53,12 +60,13 @@ module mefem_card_layouts
     real(wp) :: value(MAX_FIELDS) = 0.0_wp             !< their values (integers exactly)
   end type card_fields_t
 
-  integer, parameter :: N_LAYOUT_FIELDS = 267
+  integer, parameter :: N_LAYOUT_FIELDS = 428
 
   !> The table (doc/keywords.md has the same fields; tests/decks/test_card_layouts.py):
   !> keyword, card, field, first and last column, type, default, required, 0 = default; in
-  !> two parts (a statement has at most 255 continuation lines): the controls, output,
-  !> materials, sections and contacts, then the conditions and the rest.
+  !> three parts (a statement has at most 255 continuation lines): the controls, output,
+  !> materials, sections and contacts; the conditions, loads and constraints; the parts,
+  !> coordinate systems, vectors, boxes and rigid walls.
   type(field_layout_t), parameter :: LAYOUTS_MODEL(205) = [ &
     field_layout_t('CONTROL_TERMINATION', 1, 'ENDTIM', 1, 10, 'F', 0.0_wp, .false., .false.), &
     field_layout_t('CONTROL_TERMINATION', 1, 'ENDCYC', 11, 20, 'I', 0.0_wp, .false., .false.), &
@@ -265,7 +273,7 @@ module mefem_card_layouts
     field_layout_t('CONTACT_AUTOMATIC_SURFACE_TO_SURFACE', 102, 'PENMAX', 1, 10, 'F', 0.0_wp, .false., .false.), &
     field_layout_t('CONTACT_AUTOMATIC_SURFACE_TO_SURFACE', 103, 'IGAP', 1, 10, 'I', 1.0_wp, .false., .false.), &
     field_layout_t('CONTACT_AUTOMATIC_SURFACE_TO_SURFACE', 103, 'IGNORE', 11, 20, 'I', 0.0_wp, .false., .false.)]
-  type(field_layout_t), parameter :: LAYOUTS_CONDITIONS(62) = [ &
+  type(field_layout_t), parameter :: LAYOUTS_CONDITIONS(109) = [ &
     field_layout_t('BOUNDARY_SPC_NODE', 1, 'NID', 1, 10, 'I', 0.0_wp, .true., .false.), &
     field_layout_t('BOUNDARY_SPC_NODE', 1, 'CID', 11, 20, 'I', 0.0_wp, .false., .false.), &
     field_layout_t('BOUNDARY_SPC_NODE', 1, 'DOFX', 21, 30, 'I', 0.0_wp, .false., .false.), &
@@ -327,16 +335,179 @@ module mefem_card_layouts
     field_layout_t('INITIAL_VELOCITY', 2, 'VZR', 51, 60, 'F', 0.0_wp, .false., .false.), &
     field_layout_t('INITIAL_VELOCITY', 3, 'VXE', 1, 10, 'F', 0.0_wp, .false., .false.), &
     field_layout_t('INITIAL_VELOCITY', 3, 'VYE', 11, 20, 'F', 0.0_wp, .false., .false.), &
-    field_layout_t('INITIAL_VELOCITY', 3, 'VZE', 21, 30, 'F', 0.0_wp, .false., .false.)]
+    field_layout_t('INITIAL_VELOCITY', 3, 'VZE', 21, 30, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('LOAD_SEGMENT', 1, 'LCID', 1, 10, 'I', 0.0_wp, .true., .false.), &
+    field_layout_t('LOAD_SEGMENT', 1, 'SF', 11, 20, 'F', 1.0_wp, .false., .true.), &
+    field_layout_t('LOAD_SEGMENT', 1, 'AT', 21, 30, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('LOAD_SEGMENT', 1, 'N1', 31, 40, 'I', 0.0_wp, .false., .false.), &
+    field_layout_t('LOAD_SEGMENT', 1, 'N2', 41, 50, 'I', 0.0_wp, .false., .false.), &
+    field_layout_t('LOAD_SEGMENT', 1, 'N3', 51, 60, 'I', 0.0_wp, .false., .false.), &
+    field_layout_t('LOAD_SEGMENT', 1, 'N4', 61, 70, 'I', 0.0_wp, .false., .false.), &
+    field_layout_t('LOAD_SEGMENT', 1, 'N5', 71, 80, 'I', 0.0_wp, .false., .false.), &
+    field_layout_t('LOAD_SEGMENT_SET', 1, 'SSID', 1, 10, 'I', 0.0_wp, .true., .false.), &
+    field_layout_t('LOAD_SEGMENT_SET', 1, 'LCID', 11, 20, 'I', 0.0_wp, .true., .false.), &
+    field_layout_t('LOAD_SEGMENT_SET', 1, 'SF', 21, 30, 'F', 1.0_wp, .false., .true.), &
+    field_layout_t('LOAD_SEGMENT_SET', 1, 'AT', 31, 40, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('LOAD_BODY_X', 1, 'LCID', 1, 10, 'I', 0.0_wp, .true., .false.), &
+    field_layout_t('LOAD_BODY_X', 1, 'SF', 11, 20, 'F', 1.0_wp, .false., .true.), &
+    field_layout_t('LOAD_BODY_X', 1, 'LCIDDR', 21, 30, 'I', 0.0_wp, .false., .false.), &
+    field_layout_t('LOAD_BODY_X', 1, 'XC', 31, 40, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('LOAD_BODY_X', 1, 'YC', 41, 50, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('LOAD_BODY_X', 1, 'ZC', 51, 60, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('LOAD_BODY_X', 1, 'CID', 61, 70, 'I', 0.0_wp, .false., .false.), &
+    field_layout_t('LOAD_BODY_PARTS', 1, 'PSID', 1, 10, 'I', 0.0_wp, .true., .false.), &
+    field_layout_t('CONSTRAINED_GLOBAL', 1, 'TC', 1, 10, 'I', 0.0_wp, .false., .false.), &
+    field_layout_t('CONSTRAINED_GLOBAL', 1, 'RC', 11, 20, 'I', 0.0_wp, .false., .false.), &
+    field_layout_t('CONSTRAINED_GLOBAL', 1, 'DIR', 21, 30, 'I', 0.0_wp, .true., .false.), &
+    field_layout_t('CONSTRAINED_GLOBAL', 1, 'X', 31, 40, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('CONSTRAINED_GLOBAL', 1, 'Y', 41, 50, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('CONSTRAINED_GLOBAL', 1, 'Z', 51, 60, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('CONSTRAINED_GLOBAL', 1, 'TOL', 61, 70, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('CONSTRAINED_RIGID_BODIES', 1, 'PIDL', 1, 10, 'I', 0.0_wp, .true., .false.), &
+    field_layout_t('CONSTRAINED_RIGID_BODIES', 1, 'PIDC', 11, 20, 'I', 0.0_wp, .true., .false.), &
+    field_layout_t('CONSTRAINED_RIGID_BODIES', 1, 'IFLAG', 21, 30, 'I', 0.0_wp, .false., .false.), &
+    field_layout_t('CONSTRAINED_EXTRA_NODES_NODE', 1, 'PID', 1, 10, 'I', 0.0_wp, .true., .false.), &
+    field_layout_t('CONSTRAINED_EXTRA_NODES_NODE', 1, 'NID', 11, 20, 'I', 0.0_wp, .true., .false.), &
+    field_layout_t('CONSTRAINED_NODAL_RIGID_BODY', 1, 'PID', 1, 10, 'I', 0.0_wp, .false., .false.), &
+    field_layout_t('CONSTRAINED_NODAL_RIGID_BODY', 1, 'CID', 11, 20, 'I', 0.0_wp, .false., .false.), &
+    field_layout_t('CONSTRAINED_NODAL_RIGID_BODY', 1, 'NSID', 21, 30, 'I', 0.0_wp, .true., .false.), &
+    field_layout_t('CONSTRAINED_NODAL_RIGID_BODY', 1, 'PNODE', 31, 40, 'I', 0.0_wp, .false., .false.), &
+    field_layout_t('CONSTRAINED_NODAL_RIGID_BODY', 1, 'IPRT', 41, 50, 'I', 0.0_wp, .false., .false.), &
+    field_layout_t('CONSTRAINED_NODAL_RIGID_BODY', 1, 'DRFLAG', 51, 60, 'I', 0.0_wp, .false., .false.), &
+    field_layout_t('CONSTRAINED_NODAL_RIGID_BODY', 1, 'RRFLAG', 61, 70, 'I', 0.0_wp, .false., .false.), &
+    field_layout_t('CONSTRAINED_SPOTWELD', 1, 'N1', 1, 10, 'I', 0.0_wp, .true., .false.), &
+    field_layout_t('CONSTRAINED_SPOTWELD', 1, 'N2', 11, 20, 'I', 0.0_wp, .true., .false.), &
+    field_layout_t('CONSTRAINED_SPOTWELD', 1, 'SN', 21, 30, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('CONSTRAINED_SPOTWELD', 1, 'SS', 31, 40, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('CONSTRAINED_SPOTWELD', 1, 'N', 41, 50, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('CONSTRAINED_SPOTWELD', 1, 'M', 51, 60, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('CONSTRAINED_SPOTWELD', 1, 'TF', 61, 70, 'F', 1.0e20_wp, .false., .false.), &
+    field_layout_t('CONSTRAINED_SPOTWELD', 1, 'EP', 71, 80, 'F', 1.0e20_wp, .false., .false.)]
+  type(field_layout_t), parameter :: LAYOUTS_GEOMETRY(114) = [ &
+    field_layout_t('PART', 2, 'PID', 1, 10, 'I', 0.0_wp, .true., .false.), &
+    field_layout_t('PART', 2, 'SECID', 11, 20, 'I', 0.0_wp, .true., .false.), &
+    field_layout_t('PART', 2, 'MID', 21, 30, 'I', 0.0_wp, .true., .false.), &
+    field_layout_t('PART', 2, 'EOSID', 31, 40, 'I', 0.0_wp, .false., .false.), &
+    field_layout_t('PART', 2, 'HGID', 41, 50, 'I', 0.0_wp, .false., .false.), &
+    field_layout_t('PART', 3, 'FS', 1, 10, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('PART', 3, 'FD', 11, 20, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('PART', 3, 'DC', 21, 30, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('PART', 3, 'VC', 31, 40, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('PART', 3, 'OPTT', 41, 50, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('PART', 3, 'SFT', 51, 60, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('PART', 3, 'SSF', 61, 70, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('PART_INERTIA', 3, 'XC', 1, 10, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('PART_INERTIA', 3, 'YC', 11, 20, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('PART_INERTIA', 3, 'ZC', 21, 30, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('PART_INERTIA', 3, 'TM', 31, 40, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('PART_INERTIA', 3, 'IRCS', 41, 50, 'I', 0.0_wp, .false., .false.), &
+    field_layout_t('PART_INERTIA', 3, 'NODEID', 51, 60, 'I', 0.0_wp, .false., .false.), &
+    field_layout_t('PART_INERTIA', 4, 'IXX', 1, 10, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('PART_INERTIA', 4, 'IXY', 11, 20, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('PART_INERTIA', 4, 'IXZ', 21, 30, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('PART_INERTIA', 4, 'IYY', 31, 40, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('PART_INERTIA', 4, 'IYZ', 41, 50, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('PART_INERTIA', 4, 'IZZ', 51, 60, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('PART_INERTIA', 5, 'VTX', 1, 10, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('PART_INERTIA', 5, 'VTY', 11, 20, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('PART_INERTIA', 5, 'VTZ', 21, 30, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('PART_INERTIA', 5, 'VRX', 31, 40, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('PART_INERTIA', 5, 'VRY', 41, 50, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('PART_INERTIA', 5, 'VRZ', 51, 60, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('DEFINE_BOX', 1, 'BOXID', 1, 10, 'I', 0.0_wp, .true., .false.), &
+    field_layout_t('DEFINE_BOX', 1, 'XMN', 11, 20, 'F', 0.0_wp, .true., .false.), &
+    field_layout_t('DEFINE_BOX', 1, 'XMX', 21, 30, 'F', 0.0_wp, .true., .false.), &
+    field_layout_t('DEFINE_BOX', 1, 'YMN', 31, 40, 'F', 0.0_wp, .true., .false.), &
+    field_layout_t('DEFINE_BOX', 1, 'YMX', 41, 50, 'F', 0.0_wp, .true., .false.), &
+    field_layout_t('DEFINE_BOX', 1, 'ZMN', 51, 60, 'F', 0.0_wp, .true., .false.), &
+    field_layout_t('DEFINE_BOX', 1, 'ZMX', 61, 70, 'F', 0.0_wp, .true., .false.), &
+    field_layout_t('DEFINE_COORDINATE_SYSTEM', 1, 'CID', 1, 10, 'I', 0.0_wp, .true., .false.), &
+    field_layout_t('DEFINE_COORDINATE_SYSTEM', 1, 'XO', 11, 20, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('DEFINE_COORDINATE_SYSTEM', 1, 'YO', 21, 30, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('DEFINE_COORDINATE_SYSTEM', 1, 'ZO', 31, 40, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('DEFINE_COORDINATE_SYSTEM', 1, 'XL', 41, 50, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('DEFINE_COORDINATE_SYSTEM', 1, 'YL', 51, 60, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('DEFINE_COORDINATE_SYSTEM', 1, 'ZL', 61, 70, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('DEFINE_COORDINATE_SYSTEM', 1, 'CIDL', 71, 80, 'I', 0.0_wp, .false., .false.), &
+    field_layout_t('DEFINE_COORDINATE_SYSTEM', 2, 'XP', 1, 10, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('DEFINE_COORDINATE_SYSTEM', 2, 'YP', 11, 20, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('DEFINE_COORDINATE_SYSTEM', 2, 'ZP', 21, 30, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('DEFINE_COORDINATE_VECTOR', 1, 'CID', 1, 10, 'I', 0.0_wp, .true., .false.), &
+    field_layout_t('DEFINE_COORDINATE_VECTOR', 1, 'XX', 11, 20, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('DEFINE_COORDINATE_VECTOR', 1, 'YX', 21, 30, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('DEFINE_COORDINATE_VECTOR', 1, 'ZX', 31, 40, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('DEFINE_COORDINATE_VECTOR', 1, 'XV', 41, 50, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('DEFINE_COORDINATE_VECTOR', 1, 'YV', 51, 60, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('DEFINE_COORDINATE_VECTOR', 1, 'ZV', 61, 70, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('DEFINE_COORDINATE_VECTOR', 1, 'NID', 71, 80, 'I', 0.0_wp, .false., .false.), &
+    field_layout_t('DEFINE_VECTOR', 1, 'VID', 1, 10, 'I', 0.0_wp, .true., .false.), &
+    field_layout_t('DEFINE_VECTOR', 1, 'XT', 11, 20, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('DEFINE_VECTOR', 1, 'YT', 21, 30, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('DEFINE_VECTOR', 1, 'ZT', 31, 40, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('DEFINE_VECTOR', 1, 'XH', 41, 50, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('DEFINE_VECTOR', 1, 'YH', 51, 60, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('DEFINE_VECTOR', 1, 'ZH', 61, 70, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('DEFINE_VECTOR', 1, 'CID', 71, 80, 'I', 0.0_wp, .false., .false.), &
+    field_layout_t('DEFINE_VECTOR_NODES', 1, 'VID', 1, 10, 'I', 0.0_wp, .true., .false.), &
+    field_layout_t('DEFINE_VECTOR_NODES', 1, 'NODET', 11, 20, 'I', 0.0_wp, .true., .false.), &
+    field_layout_t('DEFINE_VECTOR_NODES', 1, 'NODEH', 21, 30, 'I', 0.0_wp, .true., .false.), &
+    field_layout_t('RIGIDWALL_PLANAR', 1, 'NSID', 1, 10, 'I', 0.0_wp, .false., .false.), &
+    field_layout_t('RIGIDWALL_PLANAR', 1, 'NSIDEX', 11, 20, 'I', 0.0_wp, .false., .false.), &
+    field_layout_t('RIGIDWALL_PLANAR', 1, 'BOXID', 21, 30, 'I', 0.0_wp, .false., .false.), &
+    field_layout_t('RIGIDWALL_PLANAR', 1, 'OFFSET', 31, 40, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('RIGIDWALL_PLANAR', 1, 'BIRTH', 41, 50, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('RIGIDWALL_PLANAR', 1, 'DEATH', 51, 60, 'F', 1.0e20_wp, .false., .true.), &
+    field_layout_t('RIGIDWALL_PLANAR', 1, 'RWKSF', 61, 70, 'F', 1.0_wp, .false., .true.), &
+    field_layout_t('RIGIDWALL_PLANAR', 2, 'XT', 1, 10, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('RIGIDWALL_PLANAR', 2, 'YT', 11, 20, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('RIGIDWALL_PLANAR', 2, 'ZT', 21, 30, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('RIGIDWALL_PLANAR', 2, 'XH', 31, 40, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('RIGIDWALL_PLANAR', 2, 'YH', 41, 50, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('RIGIDWALL_PLANAR', 2, 'ZH', 51, 60, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('RIGIDWALL_PLANAR', 2, 'FRIC', 61, 70, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('RIGIDWALL_PLANAR', 2, 'WVEL', 71, 80, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('RIGIDWALL_GEOMETRIC_FLAT', 1, 'NSID', 1, 10, 'I', 0.0_wp, .false., .false.), &
+    field_layout_t('RIGIDWALL_GEOMETRIC_FLAT', 1, 'NSIDEX', 11, 20, 'I', 0.0_wp, .false., .false.), &
+    field_layout_t('RIGIDWALL_GEOMETRIC_FLAT', 1, 'BOXID', 21, 30, 'I', 0.0_wp, .false., .false.), &
+    field_layout_t('RIGIDWALL_GEOMETRIC_FLAT', 1, 'BIRTH', 31, 40, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('RIGIDWALL_GEOMETRIC_FLAT', 1, 'DEATH', 41, 50, 'F', 1.0e20_wp, .false., .true.), &
+    field_layout_t('RIGIDWALL_GEOMETRIC_FLAT', 2, 'XT', 1, 10, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('RIGIDWALL_GEOMETRIC_FLAT', 2, 'YT', 11, 20, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('RIGIDWALL_GEOMETRIC_FLAT', 2, 'ZT', 21, 30, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('RIGIDWALL_GEOMETRIC_FLAT', 2, 'XH', 31, 40, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('RIGIDWALL_GEOMETRIC_FLAT', 2, 'YH', 41, 50, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('RIGIDWALL_GEOMETRIC_FLAT', 2, 'ZH', 51, 60, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('RIGIDWALL_GEOMETRIC_FLAT', 2, 'FRIC', 61, 70, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('RIGIDWALL_GEOMETRIC_FLAT', 3, 'XHEV', 1, 10, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('RIGIDWALL_GEOMETRIC_FLAT', 3, 'YHEV', 11, 20, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('RIGIDWALL_GEOMETRIC_FLAT', 3, 'ZHEV', 21, 30, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('RIGIDWALL_GEOMETRIC_FLAT', 3, 'LENL', 31, 40, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('RIGIDWALL_GEOMETRIC_FLAT', 3, 'LENM', 41, 50, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('RIGIDWALL_GEOMETRIC_FLAT', 4, 'LCID', 1, 10, 'I', 0.0_wp, .true., .false.), &
+    field_layout_t('RIGIDWALL_GEOMETRIC_FLAT', 4, 'OPT', 11, 20, 'I', 0.0_wp, .false., .false.), &
+    field_layout_t('RIGIDWALL_GEOMETRIC_FLAT', 4, 'VX', 21, 30, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('RIGIDWALL_GEOMETRIC_FLAT', 4, 'VY', 31, 40, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('RIGIDWALL_GEOMETRIC_FLAT', 4, 'VZ', 41, 50, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('RIGIDWALL_GEOMETRIC_PRISM', 3, 'XHEV', 1, 10, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('RIGIDWALL_GEOMETRIC_PRISM', 3, 'YHEV', 11, 20, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('RIGIDWALL_GEOMETRIC_PRISM', 3, 'ZHEV', 21, 30, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('RIGIDWALL_GEOMETRIC_PRISM', 3, 'LENL', 31, 40, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('RIGIDWALL_GEOMETRIC_PRISM', 3, 'LENM', 41, 50, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('RIGIDWALL_GEOMETRIC_PRISM', 3, 'LENP', 51, 60, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('RIGIDWALL_GEOMETRIC_CYLINDER', 3, 'RADCYL', 1, 10, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('RIGIDWALL_GEOMETRIC_CYLINDER', 3, 'LENCYL', 11, 20, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('RIGIDWALL_GEOMETRIC_CYLINDER', 3, 'NSEGS', 21, 30, 'I', 0.0_wp, .false., .false.), &
+    field_layout_t('RIGIDWALL_GEOMETRIC_SPHERE', 3, 'RADSPH', 1, 10, 'F', 0.0_wp, .false., .false.)]
   type(field_layout_t), parameter, public :: LAYOUTS(N_LAYOUT_FIELDS) = &
-    [LAYOUTS_MODEL, LAYOUTS_CONDITIONS]
+    [LAYOUTS_MODEL, LAYOUTS_CONDITIONS, LAYOUTS_GEOMETRY]
 
 contains
 
   !> Split card as card card_number of keyword's layout and read its fields (blank: the
   !> default; a blank required field, a bad number: the card's error, as get_int/get_real
   !> report them).
-  subroutine read_layout_card(rd, card, keyword, card_number, fields, optional_here, first_name)
+  subroutine read_layout_card(rd, card, keyword, card_number, fields, optional_here, first_name, &
+                              form_name)
     type(reader_t), intent(in) :: rd                   !< reading state (format)
     type(card_t), intent(inout) :: card                !< the card
     character(len=*), intent(in) :: keyword            !< keyword of the table, without '*'
@@ -346,6 +517,8 @@ contains
                                                        !< form of the keyword does not need
     character(len=*), intent(in), optional :: first_name !< the first field's name in this
                                                        !< form (NSID for NID of a _SET form)
+    character(len=*), intent(in), optional :: form_name(2) !< [table name, name in this form]:
+                                                       !< a later field named by the form
     integer :: rows(MAX_FIELDS), slot(MAX_FIELDS), widths(MAX_FIELDS), k, n, nslot, value
     integer :: column
     type(field_layout_t) :: f
@@ -378,6 +551,9 @@ contains
         if (any(optional_here == f%name)) f%required = .false.
       end if
       if (present(first_name) .and. k == 1) f%name = first_name
+      if (present(form_name)) then
+        if (f%name == form_name(1)) f%name = form_name(2)
+      end if
       fields%name(k) = f%name
       if (f%kind == 'I') then
         call get_int(card, slot(k), trim(f%name), value, default=nint(f%default), &

@@ -543,7 +543,9 @@ contains
     type(reader_t), intent(inout) :: rd          !< reading state
     character(len=*), intent(in) :: options      !< keyword options
     type(model_t), intent(inout) :: model        !< model appended to
+    character(len=2), parameter :: NODE_NAMES(4) = ['N1', 'N2', 'N3', 'N4']
     type(card_t) :: card
+    type(card_fields_t) :: f
     type(pressure_load_t) :: load
     logical :: got, ok
     integer :: i, n5, id
@@ -553,18 +555,17 @@ contains
     do
       call next_card(rd, card, got)
       if (.not. got) exit
-      call split_card(rd, card, W_10)
+      call read_layout_card(rd, card, 'LOAD_SEGMENT', 1, f)
       load = pressure_load_t()
-      call get_int(card, 1, 'LCID', load%curve_id, required=.true.)
-      call get_real(card, 2, 'SF', load%scale, default=1.0_wp)
-      call get_real(card, 3, 'AT', load%arrival)
+      load%curve_id = int_field(f, 'LCID')
+      load%scale = real_field(f, 'SF')
+      load%arrival = real_field(f, 'AT')
       do i = 1, 4
-        call get_int(card, 3 + i, 'N'//itoa(i), load%node_ids(i))
+        load%node_ids(i) = int_field(f, NODE_NAMES(i))
       end do
-      call get_int(card, 8, 'N5', n5)
+      n5 = int_field(f, 'N5')
       load%src = source_t(card%file, card%line)
       if (card%bad) cycle
-      if (load%scale == 0.0_wp) load%scale = 1.0_wp
       ! 2D line segment: N1 N2 with N3 (and N4) blank or repeating N2 -> N1 N2 N2 N2
       if (load%node_ids(3) == 0 .or. load%node_ids(3) == load%node_ids(2)) then
         if (all(load%node_ids(3:4) == 0 .or. load%node_ids(3:4) == load%node_ids(2))) &
@@ -591,6 +592,7 @@ contains
     character(len=*), intent(in) :: options      !< keyword options
     type(model_t), intent(inout) :: model        !< model appended to
     type(card_t) :: card
+    type(card_fields_t) :: f
     type(pressure_load_t) :: load
     logical :: got, ok
     integer :: id
@@ -600,15 +602,14 @@ contains
     do
       call next_card(rd, card, got)
       if (.not. got) exit
-      call split_card(rd, card, W_10)
+      call read_layout_card(rd, card, 'LOAD_SEGMENT_SET', 1, f)
       load = pressure_load_t()
-      call get_int(card, 1, 'SSID', load%set_id, required=.true.)
-      call get_int(card, 2, 'LCID', load%curve_id, required=.true.)
-      call get_real(card, 3, 'SF', load%scale, default=1.0_wp)
-      call get_real(card, 4, 'AT', load%arrival)
+      load%set_id = int_field(f, 'SSID')
+      load%curve_id = int_field(f, 'LCID')
+      load%scale = real_field(f, 'SF')
+      load%arrival = real_field(f, 'AT')
       load%src = source_t(card%file, card%line)
       if (card%bad) cycle
-      if (load%scale == 0.0_wp) load%scale = 1.0_wp
       if (load%set_id <= 0) then
         call card_error(card, 'field SSID must be a positive segment set id (got '// &
             itoa(load%set_id)//')')
@@ -630,6 +631,7 @@ contains
     integer, intent(in) :: direction             !< 1 x, 2 y, 3 z
     type(model_t), intent(inout) :: model        !< model appended to
     type(card_t) :: card
+    type(card_fields_t) :: f
     type(body_load_t) :: load
     logical :: got
     integer :: cid, k
@@ -638,19 +640,16 @@ contains
       call keyword_error(rd, 'missing card 1 (LCID SF LCIDDR XC YC ZC CID)')
       return
     end if
-    call split_card(rd, card, W_10)
+    call read_layout_card(rd, card, 'LOAD_BODY_X', 1, f)        ! (one layout: X, Y, Z)
     load%direction = direction
-    call get_int(card, 1, 'LCID', load%curve_id, required=.true.)
-    call get_real(card, 2, 'SF', load%scale, default=1.0_wp)
-    call get_int(card, 3, 'LCIDDR', load%dr_curve_id)
-    call get_real(card, 4, 'XC', load%centre(1))
-    call get_real(card, 5, 'YC', load%centre(2))
-    call get_real(card, 6, 'ZC', load%centre(3))
-    call get_int(card, 7, 'CID', cid)
+    load%curve_id = int_field(f, 'LCID')
+    load%scale = real_field(f, 'SF')
+    load%dr_curve_id = int_field(f, 'LCIDDR')
+    load%centre = [real_field(f, 'XC'), real_field(f, 'YC'), real_field(f, 'ZC')]
+    cid = int_field(f, 'CID')
     load%src = source_t(card%file, card%line)
     call reject_extra_cards(rd, 'the body load *LOAD_BODY_'//AXIS_NAMES(direction))
     if (card%bad) return
-    if (load%scale == 0.0_wp) load%scale = 1.0_wp
     if (load%curve_id <= 0) then
       call card_error(card, 'field LCID must be a positive curve id (got '// &
           itoa(load%curve_id)//')')
@@ -679,6 +678,7 @@ contains
     type(reader_t), intent(inout) :: rd          !< reading state
     type(model_t), intent(inout) :: model        !< model set
     type(card_t) :: card
+    type(card_fields_t) :: f
     logical :: got
     integer :: psid
     call next_card(rd, card, got)
@@ -686,8 +686,8 @@ contains
       call keyword_error(rd, 'missing card 1 (PSID)')
       return
     end if
-    call split_card(rd, card, W_10)
-    call get_int(card, 1, 'PSID', psid, required=.true.)
+    call read_layout_card(rd, card, 'LOAD_BODY_PARTS', 1, f)
+    psid = int_field(f, 'PSID')
     call reject_extra_cards(rd, 'the body load parts *LOAD_BODY_PARTS')
     if (card%bad) return
     if (psid <= 0) then
@@ -886,17 +886,16 @@ contains
     type(reader_t), intent(inout) :: rd          !< reading state
     type(model_t), intent(inout) :: model        !< model appended to
     type(card_t) :: card
+    type(card_fields_t) :: f
     type(rigid_constraint_t) :: item
     logical :: got
-    integer :: iflag
     do
       call next_card(rd, card, got)
       if (.not. got) exit
-      call split_card(rd, card, W_10)
+      call read_layout_card(rd, card, 'CONSTRAINED_RIGID_BODIES', 1, f)    ! (IFLAG not used)
       item = rigid_constraint_t(kind=RIGID_MERGE, target_kind=ON_PART)
-      call get_int(card, 1, 'PIDL', item%lead_id, required=.true.)
-      call get_int(card, 2, 'PIDC', item%target_id, required=.true.)
-      call get_int(card, 3, 'IFLAG', iflag)
+      item%lead_id = int_field(f, 'PIDL')
+      item%target_id = int_field(f, 'PIDC')
       item%src = source_t(card%file, card%line)
       if (card%bad) cycle
       if (item%lead_id == item%target_id) then
@@ -914,6 +913,7 @@ contains
     character(len=*), intent(in) :: options      !< keyword options (NODE or SET)
     type(model_t), intent(inout) :: model        !< model appended to
     type(card_t) :: card
+    type(card_fields_t) :: f
     type(rigid_constraint_t) :: item
     logical :: got, by_set
     by_set = has_option(options, 'SET')
@@ -927,11 +927,12 @@ contains
     do
       call next_card(rd, card, got)
       if (.not. got) exit
-      call split_card(rd, card, W_10)
+      call read_layout_card(rd, card, 'CONSTRAINED_EXTRA_NODES_NODE', 1, f, &
+                            form_name=[character(len=4) :: 'NID', merge('NSID', 'NID ', by_set)])
       item = rigid_constraint_t(kind=RIGID_EXTRA_NODES, &
                                 target_kind=merge(ON_NODE_SET, ON_NODE, by_set))
-      call get_int(card, 1, 'PID', item%lead_id, required=.true.)
-      call get_int(card, 2, trim(merge('NSID', 'NID ', by_set)), item%target_id, required=.true.)
+      item%lead_id = int_field(f, 'PID')
+      item%target_id = int_field(f, trim(merge('NSID', 'NID ', by_set)))
       item%src = source_t(card%file, card%line)
       if (card%bad) cycle
       call add_rigid_constraint(model, item)
@@ -945,21 +946,21 @@ contains
     type(reader_t), intent(inout) :: rd          !< reading state
     type(model_t), intent(inout) :: model        !< model appended to
     type(card_t) :: card
+    type(card_fields_t) :: f
     type(rigid_constraint_t) :: item
     logical :: got
-    integer :: cid, pnode, iprt, drflag, rrflag
+    integer :: cid, pnode, drflag, rrflag
     do
       call next_card(rd, card, got)
       if (.not. got) exit
-      call split_card(rd, card, W_10)
+      call read_layout_card(rd, card, 'CONSTRAINED_NODAL_RIGID_BODY', 1, f)   ! (IPRT not used)
       item = rigid_constraint_t(kind=RIGID_NODAL, target_kind=ON_NODE_SET)
-      call get_int(card, 1, 'PID', item%lead_id)
-      call get_int(card, 2, 'CID', cid)
-      call get_int(card, 3, 'NSID', item%target_id, required=.true.)
-      call get_int(card, 4, 'PNODE', pnode)
-      call get_int(card, 5, 'IPRT', iprt)
-      call get_int(card, 6, 'DRFLAG', drflag)
-      call get_int(card, 7, 'RRFLAG', rrflag)
+      item%lead_id = int_field(f, 'PID')
+      cid = int_field(f, 'CID')
+      item%target_id = int_field(f, 'NSID')
+      pnode = int_field(f, 'PNODE')
+      drflag = int_field(f, 'DRFLAG')
+      rrflag = int_field(f, 'RRFLAG')
       item%src = source_t(card%file, card%line)
       if (card%bad) cycle
       if (cid /= 0) then
@@ -984,10 +985,11 @@ contains
     character(len=*), intent(in) :: options      !< keyword options (ID)
     type(model_t), intent(inout) :: model        !< model appended to
     type(card_t) :: card
+    type(card_fields_t) :: f
     type(rigid_constraint_t) :: item
     logical :: got, ok
     integer :: id
-    real(wp) :: sn, ss, exponent_n, exponent_m, tf, ep
+    real(wp) :: sn, ss, tf, ep
     character(len=80) :: heading
     id = 0
     if (has_option(options, 'ID')) then
@@ -1004,16 +1006,14 @@ contains
     do
       call next_card(rd, card, got)
       if (.not. got) exit
-      call split_card(rd, card, W_10)
+      call read_layout_card(rd, card, 'CONSTRAINED_SPOTWELD', 1, f)    ! (N, M not used)
       item = rigid_constraint_t(kind=RIGID_NODAL, target_kind=ON_NODE, lead_id=id)
-      call get_int(card, 1, 'N1', item%target_id, required=.true.)
-      call get_int(card, 2, 'N2', item%second_id, required=.true.)
-      call get_real(card, 3, 'SN', sn)
-      call get_real(card, 4, 'SS', ss)
-      call get_real(card, 5, 'N', exponent_n)
-      call get_real(card, 6, 'M', exponent_m)
-      call get_real(card, 7, 'TF', tf, default=1.0e20_wp)
-      call get_real(card, 8, 'EP', ep, default=1.0e20_wp)
+      item%target_id = int_field(f, 'N1')
+      item%second_id = int_field(f, 'N2')
+      sn = real_field(f, 'SN')
+      ss = real_field(f, 'SS')
+      tf = real_field(f, 'TF')
+      ep = real_field(f, 'EP')
       item%src = source_t(card%file, card%line)
       if (card%bad) cycle
       if (item%target_id == item%second_id) then
@@ -1116,7 +1116,6 @@ contains
     model%body_loads(model%n_body_loads) = item
   end subroutine add_body_load
 
-  !> Append an initial velocity.
   !> *CONSTRAINED_GLOBAL: TC RC DIR X Y Z TOL, repeated: the nodes on the plane through (X, Y,
   !> Z) normal to axis DIR (1 x, 2 y, 3 z), within TOL, are held as TC says (a *NODE TC code);
   !> RC (rotations) must be 0: the nodes of solids have no rotations.
@@ -1124,6 +1123,7 @@ contains
     type(reader_t), intent(inout) :: rd          !< reading state
     type(model_t), intent(inout) :: model        !< model appended to
     type(card_t) :: card
+    type(card_fields_t) :: f
     type(global_constraint_t) :: gc
     type(global_constraint_t), allocatable :: grown(:)
     logical :: got
@@ -1131,15 +1131,13 @@ contains
     do
       call next_card(rd, card, got)
       if (.not. got) exit
-      call split_card(rd, card, W_10)
+      call read_layout_card(rd, card, 'CONSTRAINED_GLOBAL', 1, f)
       gc = global_constraint_t()
-      call get_int(card, 1, 'TC', gc%tc)
-      call get_int(card, 2, 'RC', rc)
-      call get_int(card, 3, 'DIR', gc%direction, required=.true.)
-      call get_real(card, 4, 'X', gc%point(1))
-      call get_real(card, 5, 'Y', gc%point(2))
-      call get_real(card, 6, 'Z', gc%point(3))
-      call get_real(card, 7, 'TOL', gc%tolerance)
+      gc%tc = int_field(f, 'TC')
+      rc = int_field(f, 'RC')
+      gc%direction = int_field(f, 'DIR')
+      gc%point = [real_field(f, 'X'), real_field(f, 'Y'), real_field(f, 'Z')]
+      gc%tolerance = real_field(f, 'TOL')
       gc%src = source_t(card%file, card%line)
       if (card%bad) cycle
       if (gc%tc < 0 .or. gc%tc > 7) then
@@ -1174,6 +1172,7 @@ contains
     type(model_t), intent(inout) :: model        !< model appended to
     character(len=2), parameter :: AXIS(3) = ['X ', 'Y ', 'Z ']
     type(card_t) :: card
+    type(card_fields_t) :: f
     type(box_t) :: box
     type(box_t), allocatable :: grown(:)
     character(len=80) :: title
@@ -1185,12 +1184,12 @@ contains
       call next_card(rd, card, got)
       if (.not. got) exit
       nread = nread + 1
-      call split_card(rd, card, W_10)
+      call read_layout_card(rd, card, 'DEFINE_BOX', 1, f)
       box = box_t()
-      call get_int(card, 1, 'BOXID', box%id, required=.true.)
+      box%id = int_field(f, 'BOXID')
       do k = 1, 3
-        call get_real(card, 2*k, trim(AXIS(k))//'MN', box%low(k), required=.true.)
-        call get_real(card, 2*k + 1, trim(AXIS(k))//'MX', box%high(k), required=.true.)
+        box%low(k) = real_field(f, trim(AXIS(k))//'MN')
+        box%high(k) = real_field(f, trim(AXIS(k))//'MX')
       end do
       box%src = source_t(card%file, card%line)
       if (card%bad) cycle
@@ -1216,6 +1215,7 @@ contains
     if (nread == 0) call keyword_error(rd, 'missing card 1 (BOXID XMN XMX YMN YMX ZMN ZMX)')
   end subroutine read_define_box
 
+  !> Append an initial velocity.
   subroutine add_initial_velocity(model, item)
     type(model_t), intent(inout) :: model            !< model appended to
     type(initial_velocity_t), intent(in) :: item     !< the record

@@ -13,7 +13,7 @@
 !> SOFSCL (A), PENMAX (B) and IGAP and IGNORE (C) are used.
 module mefem_read_contact
   use mefem_kinds, only: wp
-  use mefem_strings, only: itoa, rtoa
+  use mefem_strings, only: itoa, rtoa, to_upper
   use mefem_cards, only: reader_t, card_t, next_card, split_card, get_int, get_real, &
                          card_error, card_warning, keyword_error
   use mefem_card_layouts, only: read_layout_card, real_field, int_field, card_fields_t
@@ -483,8 +483,10 @@ contains
     type(reader_t), intent(inout) :: rd          !< reading state
     character(len=*), intent(in) :: options      !< keyword options
     type(model_t), intent(inout) :: model        !< model appended to
+    character(len=*), parameter :: KEY = 'RIGIDWALL_PLANAR'
     type(rigid_wall_t) :: wall
     type(card_t) :: card, card2
+    type(card_fields_t) :: f
     logical :: got, ok
     integer :: id
     character(len=80) :: heading
@@ -494,33 +496,27 @@ contains
     do
       call next_card(rd, card, got)
       if (.not. got) exit
-      call split_card(rd, card, W_10)
+      call read_layout_card(rd, card, KEY, 1, f)
       wall = rigid_wall_t()
       wall%id = id
-      call get_int(card, 1, 'NSID', wall%node_set_id)
-      call get_int(card, 2, 'NSIDEX', wall%exempt_set_id)
-      call get_int(card, 3, 'BOXID', wall%box_id)
-      call get_real(card, 4, 'OFFSET', wall%offset)
-      call get_real(card, 5, 'BIRTH', wall%birth)
-      call get_real(card, 6, 'DEATH', wall%death, default=1.0e20_wp)
-      call get_real(card, 7, 'RWKSF', wall%stiffness_scale, default=1.0_wp)
-      if (wall%death == 0.0_wp) wall%death = 1.0e20_wp
-      call zero_means_one(wall%stiffness_scale)
+      wall%node_set_id = int_field(f, 'NSID')
+      wall%exempt_set_id = int_field(f, 'NSIDEX')
+      wall%box_id = int_field(f, 'BOXID')
+      wall%offset = real_field(f, 'OFFSET')
+      wall%birth = real_field(f, 'BIRTH')
+      wall%death = real_field(f, 'DEATH')
+      wall%stiffness_scale = real_field(f, 'RWKSF')
       wall%src = source_t(card%file, card%line)
       call next_card(rd, card2, got, keep_blank=.true.)
       if (.not. got) then
         call card_error(card, 'missing card 2 (XT YT ZT XH YH ZH FRIC WVEL)')
         exit
       end if
-      call split_card(rd, card2, W_10)
-      call get_real(card2, 1, 'XT', wall%tail(1))
-      call get_real(card2, 2, 'YT', wall%tail(2))
-      call get_real(card2, 3, 'ZT', wall%tail(3))
-      call get_real(card2, 4, 'XH', wall%head(1))
-      call get_real(card2, 5, 'YH', wall%head(2))
-      call get_real(card2, 6, 'ZH', wall%head(3))
-      call get_real(card2, 7, 'FRIC', wall%friction)
-      call get_real(card2, 8, 'WVEL', wall%weld_velocity)
+      call read_layout_card(rd, card2, KEY, 2, f)
+      wall%tail = [real_field(f, 'XT'), real_field(f, 'YT'), real_field(f, 'ZT')]
+      wall%head = [real_field(f, 'XH'), real_field(f, 'YH'), real_field(f, 'ZH')]
+      wall%friction = real_field(f, 'FRIC')
+      wall%weld_velocity = real_field(f, 'WVEL')
       if (card%bad .or. card2%bad) cycle
       if (wall%node_set_id < 0 .or. wall%exempt_set_id < 0 .or. wall%box_id < 0) then
         call card_error(card, 'fields NSID/NSIDEX/BOXID must not be negative')
@@ -557,12 +553,12 @@ contains
     type(model_t), intent(inout) :: model        !< model appended to
     integer, intent(in) :: shape                 !< WALL_FLAT, _PRISM, _CYLINDER, _SPHERE
     type(rigid_wall_t) :: wall
+    character(len=*), parameter :: KEY = 'RIGIDWALL_GEOMETRIC_FLAT'   !< cards 1, 2, 4
     type(card_t) :: card, card2, card3, card4
+    type(card_fields_t) :: f
     logical :: got, ok, bad
-    integer :: nsegs
     character(len=80) :: heading
     character(len=:), allocatable :: who
-    nsegs = 0                                    ! (NSEGS: segments for display, not used)
     wall = rigid_wall_t()
     wall%shape = shape
     wall%keyword = trim(rd%keyword)
@@ -575,48 +571,42 @@ contains
       call keyword_error(rd, 'missing card 1 (NSID NSIDEX BOXID BIRTH DEATH)')
       return
     end if
-    call split_card(rd, card, W_10)
-    call get_int(card, 1, 'NSID', wall%node_set_id)
-    call get_int(card, 2, 'NSIDEX', wall%exempt_set_id)
-    call get_int(card, 3, 'BOXID', wall%box_id)
-    call get_real(card, 4, 'BIRTH', wall%birth)
-    call get_real(card, 5, 'DEATH', wall%death, default=1.0e20_wp)
-    if (wall%death == 0.0_wp) wall%death = 1.0e20_wp
+    call read_layout_card(rd, card, KEY, 1, f)
+    wall%node_set_id = int_field(f, 'NSID')
+    wall%exempt_set_id = int_field(f, 'NSIDEX')
+    wall%box_id = int_field(f, 'BOXID')
+    wall%birth = real_field(f, 'BIRTH')
+    wall%death = real_field(f, 'DEATH')
     wall%src = source_t(card%file, card%line)
     call next_card(rd, card2, got, keep_blank=.true.)
     if (.not. got) then
       call card_error(card, who//': missing card 2 (XT YT ZT XH YH ZH FRIC)')
       return
     end if
-    call split_card(rd, card2, W_10)
-    call get_real(card2, 1, 'XT', wall%tail(1))
-    call get_real(card2, 2, 'YT', wall%tail(2))
-    call get_real(card2, 3, 'ZT', wall%tail(3))
-    call get_real(card2, 4, 'XH', wall%head(1))
-    call get_real(card2, 5, 'YH', wall%head(2))
-    call get_real(card2, 6, 'ZH', wall%head(3))
-    call get_real(card2, 7, 'FRIC', wall%friction)
+    call read_layout_card(rd, card2, KEY, 2, f)
+    wall%tail = [real_field(f, 'XT'), real_field(f, 'YT'), real_field(f, 'ZT')]
+    wall%head = [real_field(f, 'XH'), real_field(f, 'YH'), real_field(f, 'ZH')]
+    wall%friction = real_field(f, 'FRIC')
     call next_card(rd, card3, got, keep_blank=.true.)
     if (.not. got) then
       call card_error(card2, who//': missing card 3 (the '//trim(shape_name(shape))// &
           ' wall''s dimensions)')
       return
     end if
-    call split_card(rd, card3, W_10)
+    ! card 3 by shape: the layout of *RIGIDWALL_GEOMETRIC_FLAT, _PRISM, _CYLINDER, _SPHERE
+    call read_layout_card(rd, card3, 'RIGIDWALL_GEOMETRIC_'//to_upper(trim(shape_name(shape))), &
+                          3, f)
     select case (shape)
     case (WALL_FLAT, WALL_PRISM)
-      call get_real(card3, 1, 'XHEV', wall%edge(1))
-      call get_real(card3, 2, 'YHEV', wall%edge(2))
-      call get_real(card3, 3, 'ZHEV', wall%edge(3))
-      call get_real(card3, 4, 'LENL', wall%length_l)
-      call get_real(card3, 5, 'LENM', wall%length_m)
-      if (shape == WALL_PRISM) call get_real(card3, 6, 'LENP', wall%length_p)
+      wall%edge = [real_field(f, 'XHEV'), real_field(f, 'YHEV'), real_field(f, 'ZHEV')]
+      wall%length_l = real_field(f, 'LENL')
+      wall%length_m = real_field(f, 'LENM')
+      if (shape == WALL_PRISM) wall%length_p = real_field(f, 'LENP')
     case (WALL_CYLINDER)
-      call get_real(card3, 1, 'RADCYL', wall%radius)
-      call get_real(card3, 2, 'LENCYL', wall%length)
-      call get_int(card3, 3, 'NSEGS', nsegs)
+      wall%radius = real_field(f, 'RADCYL')              ! (NSEGS: for display, not used)
+      wall%length = real_field(f, 'LENCYL')
     case (WALL_SPHERE)
-      call get_real(card3, 1, 'RADSPH', wall%radius)
+      wall%radius = real_field(f, 'RADSPH')
     end select
     if (has_option(options, 'MOTION')) then
       call next_card(rd, card4, got, keep_blank=.true.)
@@ -624,12 +614,10 @@ contains
         call card_error(card3, who//': missing the MOTION card (LCID OPT VX VY VZ)')
         return
       end if
-      call split_card(rd, card4, W_10)
-      call get_int(card4, 1, 'LCID', wall%motion_curve_id, required=.true.)
-      call get_int(card4, 2, 'OPT', wall%motion_option)
-      call get_real(card4, 3, 'VX', wall%motion_direction(1))
-      call get_real(card4, 4, 'VY', wall%motion_direction(2))
-      call get_real(card4, 5, 'VZ', wall%motion_direction(3))
+      call read_layout_card(rd, card4, KEY, 4, f)
+      wall%motion_curve_id = int_field(f, 'LCID')
+      wall%motion_option = int_field(f, 'OPT')
+      wall%motion_direction = [real_field(f, 'VX'), real_field(f, 'VY'), real_field(f, 'VZ')]
       if (.not. card4%bad) then
         if (.not. any(wall%motion_option == [0, 1])) then
           call card_error(card4, who//': field OPT must be 0 (LCID is the velocity) or 1 '// &
@@ -712,12 +700,6 @@ contains
       name = 'flat'
     end select
   end function shape_name
-
-  !> LS-DYNA reads a zero scale factor as its default, 1.
-  subroutine zero_means_one(x)
-    real(wp), intent(inout) :: x   !< the factor
-    if (x == 0.0_wp) x = 1.0_wp
-  end subroutine zero_means_one
 
   !> Return the card just read to the deck (it belongs to the next reader).
   subroutine push_back_card(rd)

@@ -6,8 +6,9 @@
 module mefem_read_coordinates
   use mefem_kinds, only: wp
   use mefem_strings, only: itoa, to_upper
-  use mefem_cards, only: reader_t, card_t, next_card, split_card, get_int, get_real, get_text, &
+  use mefem_cards, only: reader_t, card_t, next_card, split_card, get_int, get_text, &
                          card_error, keyword_error
+  use mefem_card_layouts, only: read_layout_card, real_field, int_field, card_fields_t
   use mefem_card_helpers, only: has_option, read_title_card
   use mefem_model, only: model_t, source_t, coordinate_system_t, vector_t, SYSTEM_BY_POINTS, &
                          SYSTEM_BY_VECTORS, SYSTEM_BY_NODES
@@ -16,7 +17,7 @@ module mefem_read_coordinates
 
   public :: read_define_coordinate, read_define_vector
 
-  integer, parameter :: W_10(8) = 10          !< standard 8 x 10 card
+  integer, parameter :: W_10(8) = 10          !< standard 8 x 10 card (*DEFINE_COORDINATE_NODES)
   character(len=1), parameter :: AXIS(3) = ['X', 'Y', 'Z']
 
 contains
@@ -39,35 +40,36 @@ contains
     character(len=80) :: title
     character(len=:), allocatable :: direction
     logical :: got, bad
-    integer :: k, nread, flag, node_id
+    type(card_fields_t) :: f
+    integer :: k, nread, flag
     call read_title_card(rd, options, title)
     nread = 0
     do
       call next_card(rd, card, got)
       if (.not. got) exit
       nread = nread + 1
-      call split_card(rd, card, W_10)
       system = coordinate_system_t()
       system%kind = kind
-      call get_int(card, 1, 'CID', system%id, required=.true.)
       system%src = source_t(card%file, card%line)
       bad = .false.
       select case (kind)
       case (SYSTEM_BY_POINTS)
+        call read_layout_card(rd, card, 'DEFINE_COORDINATE_SYSTEM', 1, f)
+        system%id = int_field(f, 'CID')
         do k = 1, 3
-          call get_real(card, 1 + k, AXIS(k)//'O', system%points(k, 1))
-          call get_real(card, 4 + k, AXIS(k)//'L', system%points(k, 2))
+          system%points(k, 1) = real_field(f, AXIS(k)//'O')
+          system%points(k, 2) = real_field(f, AXIS(k)//'L')
         end do
-        call get_int(card, 8, 'CIDL', system%reference_id)
+        system%reference_id = int_field(f, 'CIDL')
         call next_card(rd, card2, got)
         if (.not. got) then
           call card_error(card, 'coordinate system '//itoa(system%id)//': missing card 2 '// &
                           '(XP YP ZP)')
           exit
         end if
-        call split_card(rd, card2, W_10)
+        call read_layout_card(rd, card2, 'DEFINE_COORDINATE_SYSTEM', 2, f)
         do k = 1, 3
-          call get_real(card2, k, AXIS(k)//'P', system%points(k, 3))
+          system%points(k, 3) = real_field(f, AXIS(k)//'P')
         end do
         bad = card2%bad
         if (.not. bad .and. system%reference_id < 0) then
@@ -75,13 +77,16 @@ contains
                           'not be negative (got '//itoa(system%reference_id)//')')
           bad = .true.
         end if
-      case (SYSTEM_BY_VECTORS)
+      case (SYSTEM_BY_VECTORS)                   ! (NID read, not used: solid nodes do not turn)
+        call read_layout_card(rd, card, 'DEFINE_COORDINATE_VECTOR', 1, f)
+        system%id = int_field(f, 'CID')
         do k = 1, 3
-          call get_real(card, 1 + k, AXIS(k)//'X', system%points(k, 1))
-          call get_real(card, 4 + k, AXIS(k)//'V', system%points(k, 2))
+          system%points(k, 1) = real_field(f, AXIS(k)//'X')
+          system%points(k, 2) = real_field(f, AXIS(k)//'V')
         end do
-        call get_int(card, 8, 'NID', node_id)
-      case (SYSTEM_BY_NODES)
+      case (SYSTEM_BY_NODES)                     ! (DIR is text: not a card of the layout table)
+        call split_card(rd, card, W_10)
+        call get_int(card, 1, 'CID', system%id, required=.true.)
         do k = 1, 3
           call get_int(card, 1 + k, 'N'//itoa(k), system%node_ids(k), required=.true.)
         end do
@@ -123,6 +128,7 @@ contains
     character(len=*), intent(in) :: options      !< keyword options
     type(model_t), intent(inout) :: model        !< model appended to
     type(card_t) :: card
+    type(card_fields_t) :: f
     type(vector_t) :: vector
     type(vector_t), allocatable :: grown(:)
     character(len=80) :: title
@@ -135,18 +141,20 @@ contains
       call next_card(rd, card, got)
       if (.not. got) exit
       nread = nread + 1
-      call split_card(rd, card, W_10)
       vector = vector_t()
-      call get_int(card, 1, 'VID', vector%id, required=.true.)
       if (by_nodes) then
-        call get_int(card, 2, 'NODET', vector%tail_node, required=.true.)
-        call get_int(card, 3, 'NODEH', vector%head_node, required=.true.)
+        call read_layout_card(rd, card, 'DEFINE_VECTOR_NODES', 1, f)
+        vector%id = int_field(f, 'VID')
+        vector%tail_node = int_field(f, 'NODET')
+        vector%head_node = int_field(f, 'NODEH')
       else
+        call read_layout_card(rd, card, 'DEFINE_VECTOR', 1, f)
+        vector%id = int_field(f, 'VID')
         do k = 1, 3
-          call get_real(card, 1 + k, AXIS(k)//'T', vector%tail(k))
-          call get_real(card, 4 + k, AXIS(k)//'H', vector%head(k))
+          vector%tail(k) = real_field(f, AXIS(k)//'T')
+          vector%head(k) = real_field(f, AXIS(k)//'H')
         end do
-        call get_int(card, 8, 'CID', vector%system_id)
+        vector%system_id = int_field(f, 'CID')
       end if
       vector%src = source_t(card%file, card%line)
       if (card%bad) cycle

@@ -19,7 +19,6 @@ module mefem_read_mesh
 
   integer, parameter :: W_NODE(6) = [8, 16, 16, 16, 8, 8]    !< *NODE field widths
   integer, parameter :: W_I8(10) = 8                          !< element cards: I8 fields
-  integer, parameter :: W_10(8) = 10                          !< standard 8 x 10 card
   integer, parameter :: W_MASS(4) = [8, 8, 16, 8]             !< *ELEMENT_MASS: EID NID MASS PID
   integer, parameter :: W_MASS_PART(4) = [8, 16, 16, 16]      !< PID ADDMASS FINMASS LCID
   !> largest |coordinate| accepted: volumes (cubes of coordinate differences) stay far from
@@ -311,9 +310,9 @@ contains
     type(part_t), allocatable :: grown(:)
     character(len=:), allocatable :: title
     type(card_t) :: card3
+    type(card_fields_t) :: f
     logical :: got, contact_card, inertia_cards
     integer :: nread
-    real(wp) :: unused
     contact_card = has_option(options, 'CONTACT')
     inertia_cards = has_option(options, 'INERTIA')
     if (contact_card .and. inertia_cards) then
@@ -338,14 +337,14 @@ contains
         exit
       end if
       title = trim(adjustl(heading%text(1:min(heading%length, 80))))
-      call split_card(rd, card, W_10)
+      call read_layout_card(rd, card, 'PART', 2, f)
       part = part_t()
       part%title = title
-      call get_int(card, 1, 'PID', part%id, required=.true.)
-      call get_int(card, 2, 'SECID', part%section_id, required=.true.)
-      call get_int(card, 3, 'MID', part%material_id, required=.true.)
-      call get_int(card, 4, 'EOSID', part%eos_id)
-      call get_int(card, 5, 'HGID', part%hourglass_id)
+      part%id = int_field(f, 'PID')
+      part%section_id = int_field(f, 'SECID')
+      part%material_id = int_field(f, 'MID')
+      part%eos_id = int_field(f, 'EOSID')
+      part%hourglass_id = int_field(f, 'HGID')
       part%src = source_t(card%file, card%line)
       if (inertia_cards) then
         call read_inertia_cards(rd, card, part, got)
@@ -358,14 +357,10 @@ contains
                           'FS FD DC VC OPTT SFT SSF')
           exit
         end if
-        call split_card(rd, card3, W_10)
-        call get_real(card3, 1, 'FS', part%contact_fs)
-        call get_real(card3, 2, 'FD', part%contact_fd)
-        call get_real(card3, 3, 'DC', part%contact_dc)
-        call get_real(card3, 4, 'VC', unused)
-        call get_real(card3, 5, 'OPTT', unused)
-        call get_real(card3, 6, 'SFT', unused)
-        call get_real(card3, 7, 'SSF', unused)
+        call read_layout_card(rd, card3, 'PART', 3, f)   ! (VC OPTT SFT SSF read, not used)
+        part%contact_fs = real_field(f, 'FS')
+        part%contact_fd = real_field(f, 'FD')
+        part%contact_dc = real_field(f, 'DC')
         part%has_contact = .true.
         if (card3%bad) cycle
         if (part%contact_fs < 0.0_wp .or. part%contact_fd < 0.0_wp .or. &
@@ -396,7 +391,9 @@ contains
     type(card_t), intent(inout) :: card2         !< the part's card PID SECID MID
     type(part_t), intent(inout) :: part          !< the part being read
     logical, intent(out) :: got                  !< all three cards were there
+    character(len=*), parameter :: KEY = 'PART_INERTIA'
     type(card_t) :: card
+    type(card_fields_t) :: f
     character(len=4), parameter :: TENSOR(6) = ['IXX ', 'IXY ', 'IXZ ', 'IYY ', 'IYZ ', 'IZZ ']
     character(len=4), parameter :: SPEED(6) = ['VTX ', 'VTY ', 'VTZ ', 'VRX ', 'VRY ', 'VRZ ']
     integer :: ircs, k
@@ -406,13 +403,11 @@ contains
                       'YC ZC TM IRCS NODEID')
       return
     end if
-    call split_card(rd, card, W_10)
-    call get_real(card, 1, 'XC', part%inertia_centre(1))
-    call get_real(card, 2, 'YC', part%inertia_centre(2))
-    call get_real(card, 3, 'ZC', part%inertia_centre(3))
-    call get_real(card, 4, 'TM', part%inertia_mass)
-    call get_int(card, 5, 'IRCS', ircs)
-    call get_int(card, 6, 'NODEID', part%inertia_node_id)
+    call read_layout_card(rd, card, KEY, 3, f)
+    part%inertia_centre = [real_field(f, 'XC'), real_field(f, 'YC'), real_field(f, 'ZC')]
+    part%inertia_mass = real_field(f, 'TM')
+    ircs = int_field(f, 'IRCS')
+    part%inertia_node_id = int_field(f, 'NODEID')
     part%inertia_src = source_t(card%file, card%line)
     if (.not. card%bad) then
       if (.not. part%inertia_mass > 0.0_wp) then
@@ -432,9 +427,9 @@ contains
                       'IXY IXZ IYY IYZ IZZ')
       return
     end if
-    call split_card(rd, card, W_10)
+    call read_layout_card(rd, card, KEY, 4, f)
     do k = 1, 6
-      call get_real(card, k, trim(TENSOR(k)), part%inertia_tensor(k))
+      part%inertia_tensor(k) = real_field(f, trim(TENSOR(k)))
     end do
     if (.not. card%bad .and. any(part%inertia_tensor([1, 4, 6]) < 0.0_wp)) call card_error( &
         card, 'part '//itoa(part%id)//': fields IXX, IYY and IZZ must not be negative')
@@ -445,9 +440,9 @@ contains
                       'VTY VTZ VRX VRY VRZ')
       return
     end if
-    call split_card(rd, card, W_10)
+    call read_layout_card(rd, card, KEY, 5, f)
     do k = 1, 6
-      call get_real(card, k, trim(SPEED(k)), part%inertia_velocity(k))
+      part%inertia_velocity(k) = real_field(f, trim(SPEED(k)))
     end do
     if (card%bad) card2%bad = .true.
     part%has_inertia = .true.
