@@ -16,6 +16,7 @@ module mefem_read_materials
   use mefem_card_layouts, only: read_layout_card, real_field, int_field, card_fields_t, &
                                 layout_default
   use mefem_model, only: model_t, material_t, source_t, MAT_ELASTIC, MAT_PIECEWISE_LINEAR, &
+                         SPALL_PRINCIPAL, SPALL_PRESSURE_CUTOFF, SPALL_HYDROSTATIC, &
                          MAT_PLASTIC_KINEMATIC, MAT_JOHNSON_COOK, MAT_SIMPLIFIED_JOHNSON_COOK, &
                          MAT_POWER_LAW, MAT_RIGID, MAT_MOONEY_RIVLIN, add_erosion_t, &
                          EROSION_MXPRES, EROSION_MNEPS, EROSION_EFFEPS, EROSION_VOLEPS, &
@@ -504,9 +505,21 @@ contains
         'no failure)', bad)
     if (efmin < 0.0_wp) call fail_field(card4, who//'field EFMIN must not be negative '// &
         quoted_real(efmin), bad)
-    if (mat%jc_fails .and. erod /= 0.0_wp) call fail_field(card4, who//'EROD = '// &
-        trim(rtoa(erod))//' (failed points kept with their pressure) is not supported: 0 '// &
-        'erodes the elements whose points have failed', bad)
+    ! spall (SPALL 0 is 2; PC = 0, blank, is no cutoff and no spall) and EROD
+    select case (nint(spall))
+    case (0, 2)
+      if (pc < 0.0_wp) mat%spall = SPALL_PRINCIPAL
+    case (1)
+      if (pc < 0.0_wp) mat%spall = SPALL_PRESSURE_CUTOFF
+    case (3)
+      if (pc < 0.0_wp) mat%spall = SPALL_HYDROSTATIC
+    end select
+    if (spall /= real(nint(spall), wp) .or. spall < 0.0_wp .or. spall > 3.0_wp) &
+      call fail_field(card3, who//'field SPALL must be 0, 1, 2 or 3 '//quoted_real(spall), bad)
+    if (pc > 0.0_wp) call fail_field(card3, who//'field PC (the tensile pressure cutoff) must '// &
+        'be negative, or 0 for none '//quoted_real(pc), bad)
+    mat%pressure_cutoff = pc
+    mat%jc_keep_failed = mat%jc_fails .and. erod /= 0.0_wp
     if (bad) return
     ! read, not modelled: say so where LS-DYNA would compute something else
     if (mat%vp == 1.0_wp .and. mat%jc_c /= 0.0_wp) call card_warning(card, who//'VP = 1 '// &
@@ -514,8 +527,11 @@ contains
         'strain rate (doc/theory.md section 4)')
     if (dtf /= 0.0_wp) call card_warning(card, who//'DTF ignored: no element is eroded by '// &
         'its time step')
-    if (pc /= 0.0_wp .or. spall /= 0.0_wp) call card_warning(card3, who//'PC and SPALL '// &
-        'ignored: no pressure cutoff or spall (the pressure comes from the bulk modulus)')
+    if (pc == 0.0_wp .and. spall /= 0.0_wp) call card_warning(card3, who//'SPALL = '// &
+        trim(rtoa(spall))//' with PC = 0: no pressure cutoff and no spall (give PC < 0, the '// &
+        'tensile pressure limit)')
+    if (erod /= 0.0_wp .and. .not. mat%jc_fails) call card_warning(card4, who//'EROD ignored: '// &
+        'no failure model (D1 and D2 are 0)')
     call add_material(model, mat)
   end subroutine read_mat_johnson_cook
 

@@ -15,7 +15,10 @@
 !> - HIST_TEMPERATURE (= HIST_BACK: *MAT_JOHNSON_COOK has no back stress): the temperature
 !>   rise T - TR from the plastic work; initially 0;
 !> - HIST_DAMAGE (= HIST_BACK + 1, *MAT_JOHNSON_COOK): the damage sum of d alpha/eps_f of its
-!>   failure model (D1-D5); the point fails at 1; initially 0.
+!>   failure model (D1-D5); the point fails at 1; initially 0;
+!> - HIST_SPALL (= HIST_BACK + 2, *MAT_JOHNSON_COOK): POINT_INTACT (0), POINT_SPALLED (its
+!>   spall criterion was met: compression only) or POINT_FAILED_KEPT (failed with EROD /= 0:
+!>   pressure only); for good once set.
 !> The laws read hist_old and write hist_new; the driver keeps hist_old until the step is
 !> accepted (Newton converged), so a cut step simply discards hist_new.
 module mefem_material_state
@@ -29,6 +32,9 @@ module mefem_material_state
   integer, parameter, public :: HIST_BACK = 8     !< first of 6 entries: rotated back stress
   integer, parameter, public :: HIST_TEMPERATURE = HIST_BACK !< *MAT_015: T - TR
   integer, parameter, public :: HIST_DAMAGE = HIST_BACK + 1  !< *MAT_015: Johnson-Cook damage
+  integer, parameter, public :: HIST_SPALL = HIST_BACK + 2   !< *MAT_015: POINT_* below
+  real(wp), parameter, public :: POINT_INTACT = 0.0_wp, POINT_SPALLED = 1.0_wp, &
+                                 POINT_FAILED_KEPT = 2.0_wp
   integer, parameter, public :: NHIST = 13        !< length of a point's history
   !> Points (cells) per block of the block kernels of the explicit cell loop: the leading
   !> dimension of their structure-of-arrays arguments (entry i of every array is point i);

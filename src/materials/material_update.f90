@@ -33,10 +33,13 @@ module mefem_material_update
                          EROSION_EFFEPS, EROSION_VOLEPS, EROSION_MNPRES, EROSION_SIGP1, &
                          EROSION_SIGVM, EROSION_MXEPS, EROSION_FAILTM, MAT_ELASTIC, MAT_PIECEWISE_LINEAR, MAT_POWER_LAW, &
                          MAT_PLASTIC_KINEMATIC, MAT_RIGID, MAT_MOONEY_RIVLIN, &
-                         MAT_JOHNSON_COOK, MAT_SIMPLIFIED_JOHNSON_COOK
+                         MAT_JOHNSON_COOK, MAT_SIMPLIFIED_JOHNSON_COOK, SPALL_NONE, &
+                         SPALL_PRESSURE_CUTOFF, SPALL_PRINCIPAL, SPALL_HYDROSTATIC
   use mefem_errors, only: status_t
   use mefem_strings, only: itoa
-  use mefem_material_state, only: NHIST, BLOCK_POINTS, HIST_ALPHA, HIST_TEMPERATURE, HIST_DAMAGE
+  use mefem_material_state, only: NHIST, BLOCK_POINTS, HIST_ALPHA, HIST_TEMPERATURE, &
+                                  HIST_DAMAGE, HIST_SPALL, POINT_INTACT, POINT_SPALLED, &
+                                  POINT_FAILED_KEPT
   use mefem_hardening, only: HARDENING_POWER_LAW, HARDENING_JOHNSON_COOK, HARDENING_LINEAR, &
                              piecewise_linear_law, hardening_rate_factor, rate_dependent, &
                              rate_table_material, HARDENING_CURVE, viscoplastic, &
@@ -44,13 +47,13 @@ module mefem_material_update
   use mefem_mat_elastic, only: mat_elastic_update, lame_constants
   use mefem_mat_j2_plasticity, only: mat_j2_update, mat_j2_update_block, mat_j2_kinematic_update
   use mefem_mat_mooney_rivlin, only: mat_mooney_rivlin_update
-  use mefem_tensor_algebra, only: symmetric_eigenvalues
+  use mefem_tensor_algebra, only: symmetric_eigenvalues, determinant
   implicit none
   private
 
   public :: material_update, material_update_block, material_elastic_moduli, rate_dependent
   public :: material_fails, failed_point_energy, erosion_criteria_met, point_fails
-  public :: johnson_cook_failure_strain
+  public :: johnson_cook_failure_strain, spall_active
 
   !> Intervals of Simpson's rule for the plastic work of a failed point
   integer, parameter :: PLASTIC_WORK_INTERVALS = 8
@@ -60,7 +63,7 @@ contains
   !> Update one material point to F_{n+1}: new history, Kirchhoff stress, wave speed and
   !> optionally the spatial tangent (contract in the module header).
   pure subroutine material_update(mat, curves, f_new, hist_old, hist_new, tau, c_tau, &
-                                  sound_speed, status, strain_rate, committed, dt)
+                                  sound_speed, status, strain_rate, committed, dt, spall)
     type(material_t), intent(in) :: mat                !< the material card
     type(curve_t), intent(in) :: curves(:)              !< the model's curves (LCSS)
     real(wp), intent(in) :: f_new(3,3)                  !< deformation gradient F_{n+1}
@@ -76,7 +79,10 @@ contains
                                                         !< the committed stress, no yield check
     real(wp), intent(in), optional :: dt                !< the step (VP = 1: the plastic rate
                                                         !< (alpha - alpha_n)/dt; 0 if absent)
-    real(wp) :: factor, rate
+    logical, intent(in), optional :: spall              !< apply *MAT_015's spall and kept
+                                                        !< failure (spall_stress; the explicit
+                                                        !< analysis); no if absent
+    real(wp) :: factor, rate, voigt(6)
     logical :: output
     factor = 1.0_wp
     if (present(strain_rate)) factor = hardening_rate_factor(mat, curves, strain_rate)
@@ -95,6 +101,14 @@ contains
         call accumulate_damage(mat, rate, hist_old(HIST_ALPHA), hist_new(HIST_ALPHA), &
             hist_new(HIST_TEMPERATURE), [tau(1,1), tau(2,2), tau(3,3), tau(1,2), tau(2,3), &
             tau(3,1)], hist_new(HIST_DAMAGE))
+      end if
+      if (present(spall)) then
+        if (spall .and. status%ok .and. spall_active(mat)) then
+          voigt = [tau(1,1), tau(2,2), tau(3,3), tau(1,2), tau(2,3), tau(3,1)]
+          call spall_stress(mat, determinant(f_new), hist_old, hist_new, voigt)
+          tau = reshape([voigt(1), voigt(4), voigt(6), voigt(4), voigt(2), voigt(5), voigt(6), &
+                         voigt(5), voigt(3)], [3, 3])
+        end if
       end if
     case (MAT_ELASTIC)
       call mat_elastic_update(mat, f_new, hist_old, hist_new, tau, sound_speed, status, c_tau)
@@ -167,8 +181,9 @@ contains
     real(wp), intent(in), optional :: strain_rate(ld)   !< effective strain rates (0 if absent)
     real(wp), intent(in), optional :: dt                !< the step (VP = 1)
     real(wp) :: f_point(3, 3), tau_point(3, 3), hist_new(NHIST), sound, rate(ld), factor(ld)
-    real(wp) :: alpha_old(ld)
+    real(wp) :: alpha_old(ld), hist_old(ld, NHIST)
     type(status_t) :: status
+    logical :: spalling
     integer :: i
     rate(1:n) = 0.0_wp
     if (present(strain_rate)) rate(1:n) = strain_rate(1:n)
@@ -179,6 +194,8 @@ contains
                     thermal_factor(mat, hist(i, HIST_TEMPERATURE))
         alpha_old(i) = hist(i, HIST_ALPHA)
       end do
+      spalling = spall_active(mat)
+      if (spalling) hist_old(1:n, :) = hist(1:n, :)
       call mat_j2_update_block(mat, curves, HARDENING_JOHNSON_COOK, n, f, j, hist, tau, ok, &
                                factor)
       do i = 1, n
@@ -187,6 +204,11 @@ contains
                                     hist(i, HIST_TEMPERATURE))
         call accumulate_damage(mat, rate(i), alpha_old(i), hist(i, HIST_ALPHA), &
                                hist(i, HIST_TEMPERATURE), tau(i, :), hist(i, HIST_DAMAGE))
+        if (spalling) then
+          hist_new = hist(i, :)
+          call spall_stress(mat, j(i), hist_old(i, :), hist_new, tau(i, :))
+          hist(i, :) = hist_new
+        end if
       end do
     case (MAT_PIECEWISE_LINEAR, MAT_POWER_LAW)
       if (mat%lcss_table > 0 .or. viscoplastic(mat)) then   ! a law per point: one by one
@@ -280,10 +302,61 @@ contains
     real(wp), intent(in) :: time                       !< the time of the state
     point_fails = .false.
     if (mat%failure_strain > 0.0_wp) point_fails = alpha >= mat%failure_strain
-    if (.not. point_fails .and. mat%jc_fails) point_fails = damage >= 1.0_wp
+    if (.not. point_fails .and. mat%jc_fails .and. .not. mat%jc_keep_failed) &
+      point_fails = damage >= 1.0_wp
     if (.not. point_fails .and. mat%add_erosion) point_fails = erosion_criteria_met(mat, f, &
                                                                    tau, j, time)
   end function point_fails
+
+  !> The material limits its points' tension (*MAT_015 PC with SPALL) or keeps its failed
+  !> points (EROD /= 0): spall_stress applies after its update (explicit analysis).
+  pure logical function spall_active(mat)
+    type(material_t), intent(in) :: mat                !< the material card
+    spall_active = mat%kind == MAT_JOHNSON_COOK .and. (mat%spall /= SPALL_NONE .or. &
+                                                       mat%jc_keep_failed)
+  end function spall_active
+
+  !> *MAT_015 spall and kept failure on a point's updated stress (Kirchhoff tau = J sigma,
+  !> Voigt XX YY ZZ XY YZ ZX) and history, with p = -tr(sigma)/3 (positive in compression):
+  !>  - SPALL 1 (pressure cutoff): p >= PC, the mean stress capped, nothing remembered;
+  !>  - SPALL 2: the point spalls when its largest principal stress reaches -PC; SPALL 3: when
+  !>    p < PC; a spalled point (HIST_SPALL = POINT_SPALLED) carries compression only:
+  !>    sigma = -max(p, 0) I;
+  !>  - EROD /= 0: a point whose Johnson-Cook damage reached 1 is kept, not eroded
+  !>    (POINT_FAILED_KEPT): sigma = -p I (with SPALL 1's cutoff).
+  !> A point marked before this step keeps its history of then (no more plastic strain,
+  !> heating or damage: it has no deviatoric stress to do plastic work).
+  pure subroutine spall_stress(mat, j, hist_old, hist_new, tau)
+    type(material_t), intent(in) :: mat                !< *MAT_015
+    real(wp), intent(in) :: j                          !< J of the stress
+    real(wp), intent(in) :: hist_old(NHIST)            !< history at t_n
+    real(wp), intent(inout) :: hist_new(NHIST)         !< history at t_{n+1}
+    real(wp), intent(inout) :: tau(6)                  !< Kirchhoff stress (Voigt)
+    real(wp) :: mean, pressure, principal(3)
+    mean = (tau(1) + tau(2) + tau(3))/3.0_wp
+    pressure = -mean/j
+    if (hist_old(HIST_SPALL) /= POINT_INTACT) then
+      hist_new = hist_old
+    else
+      select case (mat%spall)
+      case (SPALL_PRINCIPAL)
+        principal = symmetric_eigenvalues(tau/j)
+        if (maxval(principal) >= -mat%pressure_cutoff) hist_new(HIST_SPALL) = POINT_SPALLED
+      case (SPALL_HYDROSTATIC)
+        if (pressure < mat%pressure_cutoff) hist_new(HIST_SPALL) = POINT_SPALLED
+      end select
+      if (hist_new(HIST_SPALL) == POINT_INTACT .and. mat%jc_keep_failed .and. &
+          hist_new(HIST_DAMAGE) >= 1.0_wp) hist_new(HIST_SPALL) = POINT_FAILED_KEPT
+    end if
+    if (mat%spall == SPALL_PRESSURE_CUTOFF) pressure = max(pressure, mat%pressure_cutoff)
+    if (hist_new(HIST_SPALL) == POINT_SPALLED) then
+      tau = [-j*max(pressure, 0.0_wp)*[1.0_wp, 1.0_wp, 1.0_wp], 0.0_wp, 0.0_wp, 0.0_wp]
+    else if (hist_new(HIST_SPALL) == POINT_FAILED_KEPT) then
+      tau = [-j*pressure*[1.0_wp, 1.0_wp, 1.0_wp], 0.0_wp, 0.0_wp, 0.0_wp]
+    else if (mat%spall == SPALL_PRESSURE_CUTOFF) then
+      tau(1:3) = tau(1:3) - mean - j*pressure
+    end if
+  end subroutine spall_stress
 
   !> Johnson-Cook failure strain eps_f = max([D1 + D2 exp(D3 s*)][1 + D4 ln r*][1 + D5 T*],
   !> EFMIN) at the triaxiality s* = sigma_m/sigma_vm (mean stress, positive in tension, over

@@ -126,6 +126,10 @@ module mefem_model
     type(source_t) :: src
   end type section_t
 
+  !> Spall models of *MAT_JOHNSON_COOK (material_t%spall; SPALL 1, 2, 3 of the deck).
+  integer, parameter, public :: SPALL_NONE = 0, SPALL_PRESSURE_CUTOFF = 1, SPALL_PRINCIPAL = 2, &
+                                SPALL_HYDROSTATIC = 3
+
   !> A material card; the fields used depend on kind.
   type, public :: material_t
     integer :: id = 0
@@ -176,6 +180,13 @@ module mefem_model
     logical :: jc_fails = .false.           !< D1 or D2 given: damage accumulates (erosion)
     real(wp) :: jc_damage(5) = 0.0_wp       !< D1 .. D5
     real(wp) :: jc_min_failure_strain = 0.0_wp   !< EFMIN: the least eps_f
+    logical :: jc_keep_failed = .false.     !< EROD /= 0: a failed point is not eroded; it
+                                            !< keeps its pressure, no deviatoric stress
+    ! spall (MAT_015 PC, SPALL; explicit): SPALL_NONE, SPALL_PRESSURE_CUTOFF (p >= PC),
+    ! SPALL_PRINCIPAL (spalls when sigma_max >= -PC), SPALL_HYDROSTATIC (spalls when p < PC);
+    ! a spalled point carries compression only, no deviatoric stress
+    integer :: spall = SPALL_NONE
+    real(wp) :: pressure_cutoff = 0.0_wp    !< PC (< 0: a tensile pressure)
     ! Mooney-Rivlin (MAT_027)
     real(wp) :: mr_a = 0.0_wp, mr_b = 0.0_wp
     ! rigid (MAT_020)

@@ -379,7 +379,7 @@ contains
       fbar = f*volume_scale(jbar, det)
       call material_update(model%materials(s%material(l)), model%curves, fbar, hist_old, &
                            hist_new, tau, sound_speed=sound, status=status, strain_rate=rate, &
-                           dt=s%dt_step)
+                           dt=s%dt_step, spall=.true.)
       if (status%ok) then
         call split_pressure(tau(1, 1), tau(2, 2), tau(3, 3), jbar, s%np_pressure(l))
         s%np_jbar(l) = jbar
@@ -391,7 +391,7 @@ contains
     else
       call material_update(model%materials(s%material(l)), model%curves, f, hist_old, &
                            hist_new, tau, sound_speed=sound, status=status, strain_rate=rate, &
-                           dt=s%dt_step)
+                           dt=s%dt_step, spall=.true.)
     end if
     if (.not. status%ok) then
       s%cell_force(:, :, l) = 0.0_wp

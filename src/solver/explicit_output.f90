@@ -154,7 +154,8 @@ contains
         call inverse_3x3(f, finv, det)
         fbar = f*volume_scale(s%np_jbar(l), det)
         call material_update(model%materials(s%material(l)), model%curves, fbar, hist, &
-                             scratch, tau, sound_speed=sound, status=status, committed=.true.)
+                             scratch, tau, sound_speed=sound, status=status, committed=.true., &
+                             spall=.true.)
         if (.not. status%ok) cycle
         mean = (tau(1, 1) + tau(2, 2) + tau(3, 3))/3.0_wp
         do k = 1, 3
@@ -162,7 +163,8 @@ contains
         end do
       else
         call material_update(model%materials(s%material(l)), model%curves, f, hist, &
-                             scratch, tau, sound_speed=sound, status=status, committed=.true.)
+                             scratch, tau, sound_speed=sound, status=status, committed=.true., &
+                             spall=.true.)
         if (.not. status%ok) cycle
         call inverse_3x3(f, finv, det)
       end if

@@ -28,7 +28,8 @@ module mefem_implicit_static
                                       cell_tangent, inverse_3x3
   use mefem_hexahedron, only: hourglass_stiffness_cell
   use mefem_material_state, only: NHIST, HIST_ALPHA, material_state_init
-  use mefem_material_update, only: material_update, rate_dependent, material_fails
+  use mefem_material_update, only: material_update, rate_dependent, material_fails, &
+                                   spall_active
   use mefem_boundary_conditions, only: fixed_dofs, prescribed_displacements, external_forces
   use mefem_sparse_assembly, only: coo_matrix_t, coo_init, coo_add_block, coo_reset_values, &
                                    coo_free, coo_add_rectangle
@@ -188,6 +189,9 @@ contains
       if (material_fails(model%materials(k))) call warn('implicit: material '// &
           itoa(model%materials(k)%id)//': its failure criteria are not used: the implicit '// &
           'analysis erodes no elements (the explicit analysis does)')
+      if (spall_active(model%materials(k))) call warn('implicit: material '// &
+          itoa(model%materials(k)%id)//': PC/SPALL and EROD are not used: the implicit '// &
+          'analysis neither limits tension nor keeps failed points (the explicit analysis does)')
     end do
     if (n_equations == 0) call fatal('implicit: nothing to solve: every degree of freedom is '// &
         'fixed or belongs to a rigid part (the analysis needs deformable elements with free '// &

@@ -18,10 +18,12 @@ program test_materials
                          MAT_MOONEY_RIVLIN, MAT_RIGID, MAT_JOHNSON_COOK, MAT_PLASTIC_KINEMATIC, &
                          EROSION_MXPRES, EROSION_MNEPS, &
                          EROSION_EFFEPS, EROSION_VOLEPS, EROSION_MNPRES, EROSION_SIGP1, &
-                         EROSION_SIGVM, EROSION_MXEPS, EROSION_FAILTM
-  use mefem_material_state, only: NHIST, HIST_ALPHA, HIST_DAMAGE, material_state_init, &
+                         EROSION_SIGVM, EROSION_MXEPS, EROSION_FAILTM, SPALL_PRESSURE_CUTOFF, &
+                         SPALL_PRINCIPAL, SPALL_HYDROSTATIC
+  use mefem_material_state, only: NHIST, HIST_ALPHA, HIST_DAMAGE, HIST_SPALL, POINT_SPALLED, &
+                                  POINT_FAILED_KEPT, POINT_INTACT, material_state_init, &
                                   state_elastic_strain, state_plastic_metric
-  use mefem_material_update, only: material_update, erosion_criteria_met
+  use mefem_material_update, only: material_update, erosion_criteria_met, point_fails
   use mefem_hardening, only: hardening_yield, hardening_yield_block, piecewise_linear_law, power_law_strain_offset, &
                              plastic_modulus, HARDENING_POWER_LAW, HARDENING_LINEAR, &
                              HARDENING_TABLE, HARDENING_CURVE
@@ -48,6 +50,7 @@ program test_materials
   call test_failures()
   call test_erosion_criteria()
   call test_johnson_cook_damage()
+  call test_johnson_cook_spall()
   call test_viscoplastic()
   call test_finish()
 
@@ -950,6 +953,119 @@ contains
     call check(ok .and. hist_new(HIST_DAMAGE) == 0.0_wp .and. hist_new(HIST_ALPHA) == 0.0_wp, &
                'Johnson-Cook damage: none in an elastic step')
   end subroutine test_johnson_cook_damage
+
+  !> *MAT_015 spall and kept failure (spall_stress), one point, PC = -100 MPa, against the same
+  !> update without them: SPALL 1 caps the tension at p = PC and leaves the deviator (and any
+  !> compression) alone; SPALL 3 marks a point whose p < PC, which then carries no tension and,
+  !> compressed again, only the pressure of the plain update (no deviator); SPALL 2 marks at
+  !> sigma_max >= -PC, not below; EROD /= 0 keeps a point whose damage reached 1 (not eroded:
+  !> point_fails is false) with the plain update's pressure, tension included, and no deviator;
+  !> a marked point's history is frozen.
+  subroutine test_johnson_cook_spall()
+    type(material_t) :: mat
+    real(wp) :: hist0(NHIST), hist1(NHIST), hist2(NHIST), hist3(NHIST), tau(3,3), plain(3,3), j
+    real(wp) :: f_tension(3,3), f_compression(3,3), f_small(3,3)
+    mat%id = 15
+    mat%kind = MAT_JOHNSON_COOK
+    mat%density = 7.85e-9_wp
+    mat%young = 200000.0_wp
+    mat%poisson = 0.3_wp
+    mat%jc_a = 300.0_wp
+    mat%n_exponent = 1.0_wp
+    mat%reference_rate = 1.0_wp
+    mat%pressure_cutoff = -100.0_wp
+    call material_state_init(hist0)
+    f_tension = IDENTITY
+    f_tension(1, 1) = 1.002_wp                  ! plain p = -333 MPa < PC
+    f_compression = IDENTITY
+    f_compression(1, 1) = 0.995_wp
+    f_small = IDENTITY
+    f_small(1, 1) = 1.0003_wp                   ! uniaxial strain: sigma_xx 81, p -50 MPa
+    ! SPALL 1: the cutoff
+    mat%spall = SPALL_PRESSURE_CUTOFF
+    call spall_update(mat, f_tension, hist0, hist1, plain, .false.)
+    call spall_update(mat, f_tension, hist0, hist1, tau, .true.)
+    j = determinant(f_tension)
+    call check(mean_pressure(plain, j) < mat%pressure_cutoff, 'spall 1: the plain tension is beyond'// &
+               ' PC (p = '//rtoa(mean_pressure(plain, j))//')')
+    call check_close(mean_pressure(tau, j), mat%pressure_cutoff, 1.0e-12_wp*100.0_wp, &
+                     'spall 1: p = PC under tension beyond it')
+    call check(maxval(abs(deviator(tau) - deviator(plain))) <= 1.0e-12_wp*maxval(abs(plain)), &
+               'spall 1: the deviatoric stress untouched')
+    call check(hist1(HIST_SPALL) == POINT_INTACT, 'spall 1: nothing remembered')
+    call spall_update(mat, f_compression, hist0, hist1, plain, .false.)
+    call spall_update(mat, f_compression, hist0, hist1, tau, .true.)
+    call check(all(tau == plain), 'spall 1: compression untouched')
+    ! SPALL 3: hydrostatic spall, then compression only
+    mat%spall = SPALL_HYDROSTATIC
+    call spall_update(mat, f_small, hist0, hist1, tau, .true.)
+    call check(hist1(HIST_SPALL) == POINT_INTACT, 'spall 3: no spall while p > PC')
+    call spall_update(mat, f_tension, hist0, hist1, tau, .true.)
+    call check(hist1(HIST_SPALL) == POINT_SPALLED .and. all(tau == 0.0_wp), &
+               'spall 3: spalled at p < PC, no tension left')
+    call spall_update(mat, f_compression, hist1, hist2, tau, .true.)
+    call spall_update(mat, f_compression, hist0, hist3, plain, .false.)
+    j = determinant(f_compression)
+    call check(maxval(abs(deviator(tau))) == 0.0_wp .and. abs(mean_pressure(tau, j) - &
+               mean_pressure(plain, j)) <= 1.0e-12_wp*abs(mean_pressure(plain, j)) .and. &
+               mean_pressure(tau, j) > 0.0_wp, 'spall 3: compressed again, the plain pressure '// &
+               rtoa(mean_pressure(plain, j))//' and no deviator')
+    call check(all(hist2 == hist1), 'spall 3: the spalled point''s history frozen')
+    ! SPALL 2: the largest principal stress
+    mat%spall = SPALL_PRINCIPAL
+    call spall_update(mat, f_small, hist0, hist1, plain, .false.)
+    j = determinant(f_small)
+    call check(maxval(symmetric_eigenvalues(voigt(plain)/j)) < 100.0_wp .and. &
+               maxval(symmetric_eigenvalues(voigt(plain)/j)) > 50.0_wp, 'spall 2: the small '// &
+               'step''s sigma_max '//rtoa(maxval(symmetric_eigenvalues(voigt(plain)/j)))// &
+               ' below -PC')
+    call spall_update(mat, f_small, hist0, hist1, tau, .true.)
+    call check(hist1(HIST_SPALL) == POINT_INTACT .and. all(tau == plain), &
+               'spall 2: not spalled below -PC, stress untouched')
+    f_small(1, 1) = 1.0005_wp                   ! sigma_xx 135 MPa, p -83 MPa > PC
+    call spall_update(mat, f_small, hist0, hist1, tau, .true.)
+    call check(hist1(HIST_SPALL) == POINT_SPALLED .and. all(tau == 0.0_wp), &
+               'spall 2: spalled at sigma_max >= -PC (while p > PC), no tension left')
+    ! EROD /= 0: failed points kept with their pressure
+    mat%spall = 0
+    mat%jc_fails = .true.
+    mat%jc_keep_failed = .true.
+    mat%jc_damage = [0.01_wp, 0.0_wp, 0.0_wp, 0.0_wp, 0.0_wp]
+    hist0(HIST_DAMAGE) = 1.0_wp
+    call spall_update(mat, f_tension, hist0, hist1, plain, .false.)
+    call spall_update(mat, f_tension, hist0, hist1, tau, .true.)
+    j = determinant(f_tension)
+    call check(hist1(HIST_SPALL) == POINT_FAILED_KEPT .and. &
+               maxval(abs(deviator(tau))) == 0.0_wp .and. &
+               abs(mean_pressure(tau, j) - mean_pressure(plain, j)) <= 1.0e-12_wp*abs(mean_pressure(plain, j)), &
+               'EROD: a failed point kept with its pressure '//rtoa(mean_pressure(tau, j))// &
+               ' (tension too), no deviator')
+    call check(.not. point_fails(mat, hist1(HIST_ALPHA), hist1(HIST_DAMAGE), &
+                                 reshape(f_tension, [9]), [tau(1,1), tau(2,2), tau(3,3), &
+                                 tau(1,2), tau(2,3), tau(3,1)], j, 0.0_wp), &
+               'EROD: the failed point is not eroded')
+  end subroutine test_johnson_cook_spall
+
+  !> One update of mat from hist_a, with or without the spall treatment (test_johnson_cook_spall).
+  subroutine spall_update(mat, f, hist_a, hist_b, tau_out, with_spall)
+    type(material_t), intent(in) :: mat         !< the material
+    real(wp), intent(in) :: f(3,3)              !< F_{n+1}
+    real(wp), intent(in) :: hist_a(NHIST)       !< history at t_n
+    real(wp), intent(out) :: hist_b(NHIST)      !< history at t_{n+1}
+    real(wp), intent(out) :: tau_out(3,3)       !< Kirchhoff stress
+    logical, intent(in) :: with_spall           !< spall=
+    type(status_t) :: status
+    real(wp) :: sound
+    call material_update(mat, curves, f, hist_a, hist_b, tau_out, sound_speed=sound, &
+                         status=status, spall=with_spall)
+    call check(status%ok, 'spall: update succeeds')
+  end subroutine spall_update
+
+  !> p = -tr(tau)/(3 J).
+  pure real(wp) function mean_pressure(t, jac)
+    real(wp), intent(in) :: t(3,3), jac         !< Kirchhoff stress, J
+    mean_pressure = -(t(1,1) + t(2,2) + t(3,3))/(3.0_wp*jac)
+  end function mean_pressure
 
   ! ---------------------------------------------------------------- 11 VP = 1
 

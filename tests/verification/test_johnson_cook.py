@@ -10,7 +10,13 @@ effective strain rate sqrt(d : d) is known exactly. The von Mises Kirchhoff stre
   heats at the end of each step);
 - MAT_098 with SIGMAX: the hardening capped at SIGMAX, times the rate term, to 1e-6;
 - implicit (the element in uniaxial stress, the top driven at 1000 /s): within 1 % of the
-  isothermal law at the element's plastic strain and rate.
+  isothermal law at the element's plastic strain and rate;
+- spall (explicit; PC = -500 MPa, a bar in uniaxial strain whose halves start apart at
+  +-v, elastic, the tension rho c v at the mid-plane beyond -PC): SPALL 3 and 2 part the bar
+  (its ends fly apart: extension above 0.8 x 2 v t), the plain bar holds (extension below
+  0.2 x 2 v t: it rings); SPALL 1 caps the tension: every cell's
+  p >= PC in every state, while the plain bar's reaches 1.5 PC; PC = 0 is the plain bar, bit
+  for bit.
 Units: mm, s, tonne, N, MPa; temperatures in K, CP in mJ/(t K) = mm^2/(s^2 K).
 """
 import os
@@ -176,5 +182,61 @@ def uniaxial_implicit(axial_rate, strain):
                  '%.3f vs %.3f' % (sigma, want))
 
 
+def spall_bar():
+    """A 1 x 1 x 10 mm bar of tets in uniaxial strain (x, y fixed), its halves given +-v along
+    z: a tension wave rho c v starts at the mid-plane. Returns per run (z-momentum of the upper
+    half in the last state over its initial one, least cell pressure over the states)."""
+    from explicit_cases import box_tets
+    xb, cb = box_tets(1.0, 1.0, 10.0, 1, 1, 20)
+    rho, young, nu, v = 7.85e-9, 200000.0, 0.3, 2.0e4          # v = 20 m/s
+    c = np.sqrt(young * (1 - nu) / ((1 + nu) * (1 - 2 * nu)) / rho)
+    upper = np.nonzero(xb[:, 2] > 5.0 + 1e-9)[0]
+    lower = np.nonzero(xb[:, 2] < 5.0 - 1e-9)[0]
+    results = {}
+    for name, pc, spall in (('plain', 0.0, 0.0), ('pc0', 0.0, 3.0), ('spall3', -500.0, 3.0),
+                            ('spall2', -500.0, 2.0), ('spall1', -500.0, 1.0)):
+        blocks = [nodes_card(xb), elements_card('ELEMENT_SOLID', cb),
+                  ['*PART', 'bar', f10(1, 1, 1), '*SECTION_SOLID', f10(1, 10),
+                   '*MAT_JOHNSON_COOK', free(1, rho, young / (2 * (1 + nu)), 0.0, nu),
+                   free(1.0e5, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0), free(0.0, pc, spall, 0)],
+                  node_set(1, range(len(xb))), ['*BOUNDARY_SPC_SET', f10(1, 0, 1, 1, 0)],
+                  node_set(2, upper), ['*INITIAL_VELOCITY', f10(2), free(0.0, 0.0, v)],
+                  node_set(3, lower), ['*INITIAL_VELOCITY', f10(3), free(0.0, 0.0, -v)],
+                  ['*CONTROL_TERMINATION', f10(6.0e-6), '*DATABASE_BINARY_D3PLOT', f10(2.0e-7)]]
+        rc, text, out = run_case('jc_spall_' + name, blocks)
+        checks.check(rc == 0, 'spall bar %s: run succeeds' % name, text[-500:])
+        if rc != 0:
+            return
+        with h5py.File(os.path.join(out, 'jc_spall_%s.h5' % name)) as h:
+            keys = sorted(h['states'].keys())
+            order = np.argsort(h['mesh/node_ids'][()])
+            vz = h['states/%s/point/velocity' % keys[-1]][()][order][:, 2]
+            least = min(float((-h['states/%s/cell/stress' % k][()][:, 0:3].sum(axis=1) / 3).min())
+                        for k in keys[1:])
+            u = h['states/%s/point/displacement' % keys[-1]][()][order]
+        above = abs(xb[:, 2] - 10.0) < 1e-9        # the bar's ends
+        below = abs(xb[:, 2]) < 1e-9
+        opening = (u[above, 2].mean() - u[below, 2].mean()) / (2 * v * 6.0e-6)
+        results[name] = (opening, least, u)
+    sigma = rho * c * v
+    print('    spall bar: tension rho c v = %.0f MPa (p = %.0f MPa) at the mid-plane; the bar\'s '
+          'extension at 6 us over 2 v t: %s; least cell pressure: %s' % (
+              sigma, -sigma * (1 + 2 * nu / (1 - nu)) / 3,
+              ', '.join('%s %.3f' % (k, r[0]) for k, r in results.items()),
+              ', '.join('%s %.0f' % (k, r[1]) for k, r in results.items())))
+    for name in ('spall3', 'spall2'):
+        checks.check(results[name][0] > 0.8, 'spall bar, SPALL %s: the bar parts (its ends '
+                     'fly apart: extension over 2 v t above 0.8)' % name[-1],
+                     '%.4f' % results[name][0])
+    checks.check(results['plain'][0] < 0.2, 'spall bar: the plain bar holds (extension over '
+                 '2 v t below 0.2)', '%.4f' % results['plain'][0])
+    checks.check(results['spall1'][1] >= -500.0 * (1 + 1e-9) and results['plain'][1] < -750.0,
+                 'spall bar, SPALL 1: p >= PC everywhere, always (the plain bar reaches %.0f)'
+                 % results['plain'][1], '%.3f' % results['spall1'][1])
+    checks.check(np.array_equal(results['pc0'][2], results['plain'][2]), 'spall bar: PC = 0 '
+                 '(blank) is no spall, the plain bar bit for bit')
+
+
 uniaxial_implicit(1000.0, 0.05)
+spall_bar()
 checks.exit()
