@@ -28,7 +28,7 @@ contains
   !> plane; NID: the system turns with that node, which for solid nodes never turns);
   !> *DEFINE_COORDINATE_NODES: CID N1 N2 N3 FLAG DIR (N1 the origin, N2 on the axis DIR, X by
   !> default, N3 in the plane of that axis and the next (x-y, y-z, z-x), at their reference
-  !> positions; FLAG 1, a system that moves with the nodes, is not supported). Each card
+  !> positions; FLAG 1: the system moves with the nodes, for the SPCs given in it). Each card
   !> (pair, _SYSTEM) defines a system; with _TITLE, one system after its title.
   subroutine read_define_coordinate(rd, kind, options, model)
     type(reader_t), intent(inout) :: rd          !< reading state
@@ -93,10 +93,11 @@ contains
         call get_int(card, 5, 'FLAG', flag)
         call get_text(card, 6, direction)
         if (.not. card%bad) then
-          if (flag /= 0) then
-            call card_error(card, 'coordinate system '//itoa(system%id)//': FLAG = '// &
-                itoa(flag)//' (a system that moves with its nodes) is not supported: 0, the '// &
-                'system of the nodes'' reference positions, is')
+          system%moving = flag == 1
+          if (flag /= 0 .and. flag /= 1) then
+            call card_error(card, 'coordinate system '//itoa(system%id)//': field FLAG must '// &
+                'be 0 (the system of the nodes'' reference positions) or 1 (it moves with '// &
+                'them) (got '//itoa(flag)//')')
             bad = .true.
           else if (len_trim(direction) > 0) then
             system%first_axis = index('XYZ', to_upper(trim(adjustl(direction))))

@@ -239,6 +239,9 @@ module mefem_model
                                              !< global ones)
     integer :: n_skew = 0                    !< (resolve) fixed local axes that are not
     real(wp) :: skew(3, 3) = 0.0_wp          !< global axes: their directions (columns)
+    integer :: skew_axis(3) = 0              !< (resolve) their local axes (1 x, 2 y, 3 z)
+    integer :: moving_system = 0             !< (resolve) CID's index when it moves (FLAG 1):
+                                             !< every fixed local axis is then skew
     real(wp) :: birth = 0.0_wp, death = 1.0e20_wp
     type(source_t) :: src
   end type spc_t
@@ -325,7 +328,7 @@ module mefem_model
 
   !> *DEFINE_BOX: an axis-aligned box of the reference configuration.
   !> *DEFINE_COORDINATE_SYSTEM / _VECTOR / _NODES: a Cartesian system fixed in the reference
-  !> configuration.
+  !> configuration (_NODES with FLAG 1: moving with its nodes, for the SPCs in it).
   type, public :: coordinate_system_t
     integer :: id = 0
     integer :: kind = 0                      !< SYSTEM_BY_POINTS, _BY_VECTORS, _BY_NODES
@@ -334,6 +337,9 @@ module mefem_model
     integer :: node_ids(3) = 0               !< by nodes: origin, on x, in x-y (DIR: on the
                                              !< first axis, in its plane with the next)
     integer :: first_axis = 1                !< by nodes, DIR: 1 X, 2 Y, 3 Z, the axis of N1 N2
+    logical :: moving = .false.              !< by nodes, FLAG 1: the system follows its nodes
+                                             !< (the SPCs in it; explicit)
+    integer :: nodes(3) = 0                  !< (resolve) by nodes: N1 N2 N3's mesh indices
     integer :: reference_id = 0              !< CIDL (by points): the system of the points
     real(wp) :: origin(3) = 0.0_wp           !< (resolve) global origin
     real(wp) :: axes(3, 3) = 0.0_wp          !< (resolve) global unit axes (columns x, y, z)

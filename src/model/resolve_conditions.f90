@@ -12,6 +12,7 @@ module mefem_resolve_conditions
   use mefem_strings, only: itoa
   use mefem_deck_source, only: location
   use mefem_id_map, only: id_map_t, id_map_build, id_map_find, sort_with_index
+  use mefem_vector_math, only: frame_from_vectors
   use mefem_model, only: model_t, source_t, SURFACE_SEGMENT_SET, SURFACE_PART, &
                          SURFACE_PART_SET, SURFACE_NODE_SET, SURFACE_ALL_PARTS, &
                          SURFACE_ALL_BUT_SET, &
@@ -366,7 +367,8 @@ contains
                                  itoa(system%node_ids(j))//' (N'//itoa(j)//') is not defined')
               else
                 n_node = n_node + 1
-                p(:, j) = model%nodes%x(:, id_map_find(look%nodes, system%node_ids(j)))
+                system%nodes(j) = id_map_find(look%nodes, system%node_ids(j))
+                p(:, j) = model%nodes%x(:, system%nodes(j))
               end if
             end do
             if (n_node == 3) call set_axes(system, p(:, 1), p(:, 2) - p(:, 1), &
@@ -418,43 +420,24 @@ contains
     end do
   end subroutine resolve_coordinate_systems
 
-  !> Axes of a system from its origin, its x direction and a vector in its x-y plane:
-  !> x = along/|along|, z = x cross in_plane normalised, y = z cross x; a degenerate
-  !> definition (zero x, or in_plane parallel to it) is reported.
+  !> Axes of a system from its origin, its first axis' direction and a vector in the plane of
+  !> that axis and the next (mefem_vector_math frame_from_vectors); a degenerate definition
+  !> (zero axis, or the in-plane vector parallel to it) is reported.
   subroutine set_axes(system, origin, along, in_plane, where)
     type(coordinate_system_t), intent(inout) :: system   !< the system
     real(wp), intent(in) :: origin(3), along(3), in_plane(3)  !< global
     character(len=*), intent(in) :: where                !< "file:line: *KEYWORD"
-    !> sin of the least angle between the x axis and the in-plane vector
-    real(wp), parameter :: PARALLEL_SINE = 1.0e-10_wp
-    real(wp) :: x(3), z(3)
+    logical :: ok
     system%origin = origin
     if (.not. norm2(along) > 0.0_wp .or. .not. norm2(in_plane) > 0.0_wp) then
       call input_error(where, 'coordinate system '//itoa(system%id)//': its x axis or its '// &
                        'in-plane vector has length 0')
       return
     end if
-    x = along/norm2(along)
-    z = cross(x, in_plane)
-    if (norm2(z) <= PARALLEL_SINE*norm2(in_plane)) then
-      call input_error(where, 'coordinate system '//itoa(system%id)//': the point (or '// &
-          'vector) of the x-y plane lies on the x axis: the plane is undefined')
-      return
-    end if
-    z = z/norm2(z)
-    ! the first axis along, the next in the plane, the third their cross product: x y z, or
-    ! for DIR Y and Z (by nodes) y z x and z x y
-    system%axes(:, system%first_axis) = x
-    system%axes(:, modulo(system%first_axis + 1, 3) + 1) = z
-    system%axes(:, modulo(system%first_axis, 3) + 1) = cross(z, x)
+    call frame_from_vectors(system%first_axis, along, in_plane, system%axes, ok)
+    if (.not. ok) call input_error(where, 'coordinate system '//itoa(system%id)//': the '// &
+        'point (or vector) of the x-y plane lies on the x axis: the plane is undefined')
   end subroutine set_axes
-
-  !> Cross product.
-  pure function cross(a, b) result(c)
-    real(wp), intent(in) :: a(3), b(3)        !< the vectors
-    real(wp) :: c(3)
-    c = [a(2)*b(3) - a(3)*b(2), a(3)*b(1) - a(1)*b(3), a(1)*b(2) - a(2)*b(1)]
-  end function cross
 
   !> Index of coordinate system id (resolved); reported and 0 when undefined.
   integer function find_system(look, id, where, field)
@@ -469,7 +452,8 @@ contains
 
   !> An SPC in a local system: each fixed local translation whose axis is a global axis
   !> (to round-off) fixes that global dof; the others become skew constraints (their
-  !> directions kept); all three fixed fix all three global dofs.
+  !> directions and local axes kept; in a moving system every fixed axis does); all three
+  !> fixed fix all three global dofs.
   subroutine local_spc(spc, axes)
     type(spc_t), intent(inout) :: spc               !< the SPC (dof: local flags)
     real(wp), intent(in) :: axes(3, 3)              !< the system's global axes
@@ -487,11 +471,12 @@ contains
     do k = 1, 3
       if (.not. local(k)) cycle
       j = maxloc(abs(axes(:, k)), dim=1)
-      if (abs(axes(j, k)) >= ALIGNED) then
+      if (abs(axes(j, k)) >= ALIGNED .and. spc%moving_system == 0) then
         spc%dof(j) = .true.
-      else
+      else                                        ! (a moving system's axes turn: skew)
         spc%n_skew = spc%n_skew + 1
         spc%skew(:, spc%n_skew) = axes(:, k)
+        spc%skew_axis(spc%n_skew) = k
       end if
     end do
   end subroutine local_spc
@@ -1039,7 +1024,10 @@ contains
         call resolve_target(look, spc%target_kind, spc%target_id, spc%target, where)
         if (spc%cid > 0) then
           m = find_system(look, spc%cid, where, 'CID: ')
-          if (m > 0) call local_spc(spc, model%systems(m)%axes)
+          if (m > 0) then
+            if (model%systems(m)%moving) spc%moving_system = m
+            call local_spc(spc, model%systems(m)%axes)
+          end if
         end if
       end associate
     end do

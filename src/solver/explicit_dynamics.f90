@@ -65,7 +65,8 @@ module mefem_explicit_dynamics
   use mefem_mortar_contact, only: mortar_contact_setup, mortar_contact_forces, &
                                   mortar_contact_erode, mortar_contact_set_masses
   use mefem_explicit_ties, only: explicit_ties_set_up, tie_accelerations
-  use mefem_explicit_skew, only: skew_conditions_set_up, apply_skew_conditions, skew_accelerations
+  use mefem_explicit_skew, only: skew_conditions_set_up, apply_skew_conditions, &
+                                 skew_accelerations, update_moving_frames
   use mefem_explicit_state, only: explicit_state_t, set_to_zero, state_arena_create
   use mefem_explicit_cell_forces, only: explicit_cells_set_up, explicit_cell_loop, &
                                         explicit_mass_split, explicit_blocks_group, &
@@ -142,6 +143,7 @@ contains
     s%f_int = s%f_int_new
     s%f_ext = s%f_ext_new
     call accelerations(s)
+    if (s%n_moving > 0) call update_moving_frames(model, s, 0.0_wp)
     if (s%nskew > 0) call skew_accelerations(model, s, 0.0_wp)
     if (s%tied%n > 0) call tie_accelerations(s, s%contact%n > 0, t)
     if (s%bodies%n > 0) then
@@ -589,6 +591,8 @@ contains
         s%skew_source = pack(s%skew_source, keep)
         s%skew_whole = pack(s%skew_whole, keep)
         s%skew_dir = s%skew_dir(:, pack([(k, k = 1, s%nskew)], keep))
+        s%skew_system = pack(s%skew_system, keep)
+        s%skew_axis = pack(s%skew_axis, keep)
         s%nskew = count(keep)
       end block
       do k = 1, s%nrigid
@@ -751,6 +755,8 @@ contains
             0.5_wp*(dt_old*s%prescribed_v_old(k) + dt*s%v(i, n))
       end associate
     end do
+    ! SPCs in moving systems: the frame at t^{n+1/2}, x^n + v^{n+1/2} dt/2 (the free velocities)
+    if (s%n_moving > 0) call update_moving_frames(model, s, 0.5_wp*dt)
     if (s%nskew > 0) call apply_skew_conditions(model, s, t, dt_old, dt, work)
     s%external_work = s%external_work + work
   end subroutine update_velocities

@@ -115,6 +115,17 @@ module mefem_explicit_state
     real(wp), allocatable :: skew_dir(:,:)     !< (3, nskew)
     logical, allocatable :: skew_whole(:)      !< (nskew)
     real(wp), allocatable :: skew_v_old(:,:)   !< (dim, nskew) v^{n-1/2} of the node
+    ! SPCs in moving systems (*DEFINE_COORDINATE_NODES FLAG 1): their directions follow the
+    ! systems' nodes (mefem_explicit_skew update_moving_frames)
+    integer, allocatable :: skew_system(:)     !< (nskew) the moving system, or 0
+    integer, allocatable :: skew_axis(:)       !< (nskew) its local axis (moving)
+    integer, allocatable :: skew_earlier(:)    !< (nskew) the node's entry before, or 0
+    integer :: n_moving = 0                    !< moving systems with SPCs (every rank alike)
+    integer, allocatable :: moving_system(:)   !< (n_moving) their model indices
+    integer, allocatable :: moving_first_axis(:) !< (n_moving) DIR: the axis of N1 N2
+    integer, allocatable :: moving_local(:,:)  !< (3, n_moving) N1 N2 N3 as local nodes, or 0
+    real(wp), allocatable :: moving_x(:,:)     !< (3, 3 n_moving) their current positions
+                                               !< (N1 N2 N3 of system k: 3 k - 2 .. 3 k)
     ! cells
     ! blocks of the 3D cell loop: the cells grouped by (material, number of nodes) in
     ! ascending cell order and cut into at most BLOCK_CELLS

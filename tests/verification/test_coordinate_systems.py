@@ -18,7 +18,14 @@ against the closed forms:
 4. *LOAD_NODE_SET CID (a _SYSTEM system given by points in another system, CIDL): one
    hexahedron (8 equal nodal masses m), a constant force F on every node along the local x
    axis: u = F T^2/(2 m) e1 (1e-6: the last step's landing on ENDTIM);
-5. the implicit analysis refuses an SPC whose local axes are not global ones, naming it.
+5. the implicit analysis refuses an SPC whose local axes are not global ones, naming it;
+6. a moving system (*DEFINE_COORDINATE_NODES FLAG 1 on three nodes of the block): the block
+   spins freely about z a quarter turn; an SPC of its local x axis (radial, at start) at a node
+   on that axis stays radial as the block turns, so it does no work: the run departs from the
+   free spin by 5.7e-5 of the displacements (below 1e-4), and by half that at half the step
+   (the condition is consistent: first order in dt), on 1 and 2 ranks alike (the same bits);
+   the same SPC in the fixed system (FLAG 0) stops the node's global x velocity, which is its
+   whole velocity after the quarter turn: the block's motion departs by 0.54.
 """
 import os
 import sys
@@ -162,4 +169,44 @@ rc, text, out = run_case('cs_spc_implicit', deck(xs, conn, spc[:-3], implicit=Tr
 checks.check(rc != 0 and 'implicit analysis takes SPCs along the global axes only' in text and
              'CID 7' in text, 'implicit: an SPC in a turned system is refused, naming CID and '
              'line', text[-400:])
+
+# 6. a moving system: N1 N2 N3 on the block (its centre of the base, along x, along y)
+xm = x - [0.5, 0.5, 0.0]
+find = lambda p: int(np.nonzero(np.all(abs(xm - p) < 1e-9, axis=1))[0][0]) + 1  # noqa: E731
+omega = 0.5 * np.pi / T                       # a quarter turn
+n1, n2, n3, held = find([0, 0, 0]), find([0.5, 0, 0]), find([0, 0.5, 0]), find([0.5, 0, 1])
+spin = ['*INITIAL_VELOCITY_GENERATION', f10(1, 2, omega, 0.0, 0.0, 0.0),
+        f10(0.0, 0.0, 0.0, 0.0, 0.0, 1.0)]
+runs = {}
+for label, flag, ranks in (('free', None, 1), ('moving', 1, 1), ('moving_2ranks', 1, 2),
+                           ('fixed', 0, 1), ('free_half', None, 1), ('moving_half', 1, 1)):
+    cards = list(spin)
+    if label.endswith('_half'):
+        cards += ['*CONTROL_TIMESTEP', f10(0.0, 0.45)]
+    if flag is not None:
+        cards += ['*DEFINE_COORDINATE_NODES', f10(8, n1, n2, n3, flag),
+                  '*BOUNDARY_SPC_NODE', f10(held, 8, 1, 0, 0)]
+    name = 'cs_moving_' + label
+    rc, text, out = run_case(name, deck(xm, conn, cards), ranks=ranks)
+    checks.check(rc == 0, '%s: run succeeds' % name, text[-600:])
+    if rc == 0:
+        runs[label] = final_displacement(out, name)
+if len(runs) == 6:
+    scale = np.max(np.abs(runs['free']))
+    moving = np.max(np.abs(runs['moving'] - runs['free'])) / scale
+    half = np.max(np.abs(runs['moving_half'] - runs['free_half'])) / scale
+    fixed = np.max(np.abs(runs['fixed'] - runs['free'])) / scale
+    turned = np.degrees(np.arctan2(xm[n2 - 1, 1] + runs['free'][n2 - 1, 1],
+                                   xm[n2 - 1, 0] + runs['free'][n2 - 1, 0]))
+    print('    moving system: the free block turned %.2f deg; the SPC in the moving system departs '
+          'from it by %.2e (%.2e at half the step), in the fixed one by %.2f (of the largest '
+          'displacement, %.3f mm)' % (turned, moving, half, fixed, scale))
+    checks.check(abs(turned - 90.0) < 0.5, 'moving system: the free block turns a quarter turn')
+    checks.check(moving < 1e-4 and moving / half > 1.8, 'moving system (FLAG 1): the radial '
+                 'SPC turns with the block: the free spin within 1e-4, the departure halved with '
+                 'the step (consistent)', '%.2e %.2e' % (moving, half))
+    checks.check(np.array_equal(runs['moving'], runs['moving_2ranks']), 'moving system: 1 and 2 '
+                 'ranks give the same bits')
+    checks.check(fixed > 0.1, 'fixed system (FLAG 0): the same SPC holds the node\'s global x '
+                 'velocity, and the motion departs (by more than 0.1)', '%.3f' % fixed)
 checks.exit()
