@@ -3,11 +3,13 @@
 module mefem_test_fixtures
   use mefem_kinds, only: wp
   use mefem_model, only: material_t, MAT_ELASTIC, MAT_PIECEWISE_LINEAR, MAT_POWER_LAW, &
+                         MAT_JOHNSON_COOK, &
                          MAT_MOONEY_RIVLIN
   implicit none
   private
 
   public :: linear_steel, power_law_steel, table_steel, curve_steel, elastic_steel, rubber
+  public :: johnson_cook_steel
 
 contains
 
@@ -33,6 +35,18 @@ contains
     mat%n_exponent = 0.26_wp
     mat%yield_stress = 250.0_wp
   end function power_law_steel
+
+  !> *MAT_015 with A = 300 MPa, B = 0, N = 1, EPSO = 1 /s (no thermal or failure terms).
+  type(material_t) function johnson_cook_steel() result(mat)
+    mat%id = 15
+    mat%kind = MAT_JOHNSON_COOK
+    mat%density = 7.85e-9_wp
+    mat%young = 200000.0_wp
+    mat%poisson = 0.3_wp
+    mat%jc_a = 300.0_wp
+    mat%n_exponent = 1.0_wp
+    mat%reference_rate = 1.0_wp
+  end function johnson_cook_steel
 
   !> *MAT_024 with an EPS/ES table.
   type(material_t) function table_steel() result(mat)

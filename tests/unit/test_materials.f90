@@ -15,7 +15,7 @@ program test_materials
   use mefem_errors, only: status_t
   use mefem_strings, only: rtoa, itoa
   use mefem_model, only: material_t, curve_t, MAT_ELASTIC, MAT_PIECEWISE_LINEAR, MAT_POWER_LAW, &
-                         MAT_MOONEY_RIVLIN, MAT_RIGID, MAT_JOHNSON_COOK, MAT_PLASTIC_KINEMATIC, &
+                         MAT_MOONEY_RIVLIN, MAT_RIGID, MAT_PLASTIC_KINEMATIC, &
                          EROSION_MXPRES, EROSION_MNEPS, &
                          EROSION_EFFEPS, EROSION_VOLEPS, EROSION_MNPRES, EROSION_SIGP1, &
                          EROSION_SIGVM, EROSION_MXEPS, EROSION_FAILTM, SPALL_PRESSURE_CUTOFF, &
@@ -30,7 +30,7 @@ program test_materials
   use mefem_tensor_algebra, only: IDENTITY, determinant, deviator, frobenius_norm, &
                                   symmetric_eigenvalues
   use mefem_test_fixtures, only: linear_steel, power_law_steel, table_steel, curve_steel, &
-                                 elastic_steel, rubber
+                                 elastic_steel, rubber, johnson_cook_steel
   implicit none
 
   type(curve_t), allocatable :: curves(:)
@@ -898,18 +898,11 @@ contains
     real(wp) :: expected, alpha
     integer :: step
     logical :: ok, all_ok
-    mat%id = 15
-    mat%kind = MAT_JOHNSON_COOK
-    mat%density = 7.85e-9_wp
-    mat%young = 200000.0_wp
-    mat%poisson = 0.3_wp
-    mat%jc_a = 300.0_wp
-    mat%n_exponent = 1.0_wp
+    mat = johnson_cook_steel()
     mat%jc_m = 50.0_wp
     mat%melt_temperature = 1800.0_wp
     mat%room_temperature = 300.0_wp
     mat%heat_capacity = 4.77e7_wp
-    mat%reference_rate = 1.0_wp
     mat%jc_fails = .true.
     mat%jc_damage = [0.05_wp, 0.5_wp, -1.5_wp, 0.01_wp, 1.0_wp]
     mat%jc_min_failure_strain = 1.0e-6_wp
@@ -965,14 +958,7 @@ contains
     type(material_t) :: mat
     real(wp) :: hist0(NHIST), hist1(NHIST), hist2(NHIST), hist3(NHIST), tau(3,3), plain(3,3), j
     real(wp) :: f_tension(3,3), f_compression(3,3), f_small(3,3)
-    mat%id = 15
-    mat%kind = MAT_JOHNSON_COOK
-    mat%density = 7.85e-9_wp
-    mat%young = 200000.0_wp
-    mat%poisson = 0.3_wp
-    mat%jc_a = 300.0_wp
-    mat%n_exponent = 1.0_wp
-    mat%reference_rate = 1.0_wp
+    mat = johnson_cook_steel()
     mat%pressure_cutoff = -100.0_wp
     call material_state_init(hist0)
     f_tension = IDENTITY
