@@ -8,27 +8,31 @@
 !> order (mefem_cards' split_card).
 !>
 !> Keywords read through the table: *CONTROL_TERMINATION, *CONTROL_SOLUTION,
-!> *CONTROL_HOURGLASS, *CONTROL_TIMESTEP (card 1), *CONTROL_IMPLICIT_GENERAL,
+!> *CONTROL_HOURGLASS, *CONTROL_TIMESTEP (cards 1, 2), *CONTROL_IMPLICIT_GENERAL,
 !> *CONTROL_IMPLICIT_SOLUTION (cards 1, 2), *CONTROL_IMPLICIT_AUTO, *DATABASE_BINARY_D3PLOT
-!> and *DATABASE_GLSTAT (whose card *DATABASE_RCFORC and *DATABASE_NODOUT share); the
-!> materials *MAT_ELASTIC, *MAT_PIECEWISE_LINEAR_PLASTICITY (cards 1-4),
+!> and *DATABASE_GLSTAT (whose card *DATABASE_RCFORC and *DATABASE_NODOUT share),
+!> *MEFEM_ENRICHMENT; the materials *MAT_ELASTIC, *MAT_PIECEWISE_LINEAR_PLASTICITY (cards 1-4),
 !> *MAT_POWER_LAW_PLASTICITY and *MAT_PLASTIC_KINEMATIC (cards 1-2), *MAT_JOHNSON_COOK
-!> (cards 1-4), *MAT_MOONEY-RIVLIN_RUBBER and *MAT_RIGID (cards 1-2); *SECTION_SOLID,
-!> *SECTION_SHELL and *HOURGLASS; the cards of the contacts (CONTACT_AUTOMATIC_SURFACE_TO_
+!> (cards 1-4), *MAT_SIMPLIFIED_JOHNSON_COOK (cards 1-2), *MAT_MOONEY-RIVLIN_RUBBER and
+!> *MAT_RIGID (cards 1-2), *MAT_ADD_EROSION (cards 1-2); *SECTION_SOLID, *SECTION_SHELL and
+!> *HOURGLASS; the cards of the contacts (CONTACT_AUTOMATIC_SURFACE_TO_
 !> SURFACE: cards 1-3, the eroding contacts' card 4, and the optional cards A, B, C as cards
 !> 101, 102, 103), which all *CONTACT_ keywords read share; *BOUNDARY_SPC_NODE/_SET and
 !> *BOUNDARY_PRESCRIBED_MOTION_NODE/_SET/_RIGID (their first field named by the form: NID, NSID
-!> or PID, first_name); *LOAD_NODE_POINT/_SET; *DEFINE_CURVE (card 2: each point card);
-!> *INITIAL_VELOCITY (cards 1-3); the tiebreak contacts' card 4
-!> (*CONTACT_TIEBREAK_SURFACE_TO_SURFACE, _NODES_TO_SURFACE, *CONTACT_AUTOMATIC_(ONE_WAY_)
-!> SURFACE_TO_SURFACE_TIEBREAK); *LOAD_SEGMENT, *LOAD_SEGMENT_SET, *LOAD_BODY_X/Y/Z (one
-!> layout, LOAD_BODY_X), *LOAD_BODY_PARTS; *CONSTRAINED_GLOBAL, _RIGID_BODIES,
-!> _EXTRA_NODES_NODE/_SET (NSID named by the form, form_name), _NODAL_RIGID_BODY and
-!> _SPOTWELD (its data card); *PART (card 2, the _CONTACT card 3) and *PART_INERTIA (cards
-!> 3-5); *DEFINE_BOX, *DEFINE_COORDINATE_SYSTEM (cards 1-2), *DEFINE_COORDINATE_VECTOR,
-!> *DEFINE_VECTOR, *DEFINE_VECTOR_NODES; *RIGIDWALL_PLANAR (cards 1-2) and
-!> *RIGIDWALL_GEOMETRIC_FLAT (cards 1-4: 3 the flat wall's, 4 the MOTION card), whose _PRISM,
-!> _CYLINDER and _SPHERE forms have their own card 3.
+!> or PID, first_name); *LOAD_NODE_POINT/_SET; *DEFINE_CURVE (card 2: each point card),
+!> *DEFINE_TABLE (card 2: each value card), *DEFINE_CURVE_SMOOTH; *INITIAL_VELOCITY (cards
+!> 1-3), *INITIAL_VELOCITY_NODE, *INITIAL_VELOCITY_GENERATION (cards 1-2); the tiebreak
+!> contacts' card 4 (*CONTACT_TIEBREAK_SURFACE_TO_SURFACE, _NODES_TO_SURFACE,
+!> *CONTACT_AUTOMATIC_(ONE_WAY_)SURFACE_TO_SURFACE_TIEBREAK); *LOAD_SEGMENT, *LOAD_SEGMENT_SET,
+!> *LOAD_BODY_X/Y/Z (one layout, LOAD_BODY_X), *LOAD_BODY_PARTS; *CONSTRAINED_GLOBAL,
+!> _RIGID_BODIES, _EXTRA_NODES_NODE/_SET (NSID named by the form, form_name),
+!> _NODAL_RIGID_BODY and _SPOTWELD (its data card); card 1 of every set (SID DA1-DA4, one
+!> layout, SET_NODE; its text field SOLVER: text_after); *ELEMENT_MASS(_NODE_SET) and
+!> *ELEMENT_MASS_PART(_SET) (8- and 16-column fields); *PART (card 2, the _CONTACT card 3) and
+!> *PART_INERTIA (cards 3-5); *DEFINE_BOX, *DEFINE_COORDINATE_SYSTEM (cards 1-2),
+!> *DEFINE_COORDINATE_VECTOR, *DEFINE_VECTOR, *DEFINE_VECTOR_NODES; *RIGIDWALL_PLANAR (cards
+!> 1-2) and *RIGIDWALL_GEOMETRIC_FLAT (cards 1-4: 3 the flat wall's, 4 the MOTION card), whose
+!> _PRISM, _CYLINDER and _SPHERE forms have their own card 3.
 module mefem_card_layouts
   use mefem_kinds, only: wp
   use mefem_cards, only: reader_t, card_t, split_card, get_int, get_real, MAX_FIELDS
@@ -60,14 +64,24 @@ module mefem_card_layouts
     real(wp) :: value(MAX_FIELDS) = 0.0_wp             !< their values (integers exactly)
   end type card_fields_t
 
-  integer, parameter :: N_LAYOUT_FIELDS = 428
+  !> The layout of the card read last (read_layout_card): a keyword's repeated cards (a list
+  !> of initial velocities, of table values) find their fields without a scan of the table.
+  type :: layout_cache_t
+    character(len=48) :: keyword = ''
+    integer :: card = -1
+    integer :: n = 0, nslot = 0
+    integer :: rows(MAX_FIELDS) = 0, slot(MAX_FIELDS) = 0, widths(MAX_FIELDS) = 0
+  end type layout_cache_t
+  type(layout_cache_t) :: last
+
+  integer, parameter :: N_LAYOUT_FIELDS = 513
 
   !> The table (doc/keywords.md has the same fields; tests/decks/test_card_layouts.py):
   !> keyword, card, field, first and last column, type, default, required, 0 = default; in
-  !> three parts (a statement has at most 255 continuation lines): the controls, output,
-  !> materials, sections and contacts; the conditions, loads and constraints; the parts,
-  !> coordinate systems, vectors, boxes and rigid walls.
-  type(field_layout_t), parameter :: LAYOUTS_MODEL(205) = [ &
+  !> four parts (a statement has at most 255 continuation lines): the controls, output,
+  !> sections and contacts; the materials; the conditions, curves, loads and constraints; the
+  !> sets, masses, parts, coordinate systems, vectors, boxes and rigid walls.
+  type(field_layout_t), parameter :: LAYOUTS_MODEL(113) = [ &
     field_layout_t('CONTROL_TERMINATION', 1, 'ENDTIM', 1, 10, 'F', 0.0_wp, .false., .false.), &
     field_layout_t('CONTROL_TERMINATION', 1, 'ENDCYC', 11, 20, 'I', 0.0_wp, .false., .false.), &
     field_layout_t('CONTROL_TERMINATION', 1, 'DTMIN', 21, 30, 'F', 0.0_wp, .false., .false.), &
@@ -90,6 +104,10 @@ module mefem_card_layouts
     field_layout_t('CONTROL_TIMESTEP', 1, 'LCTM', 51, 60, 'I', 0.0_wp, .false., .false.), &
     field_layout_t('CONTROL_TIMESTEP', 1, 'ERODE', 61, 70, 'I', 0.0_wp, .false., .false.), &
     field_layout_t('CONTROL_TIMESTEP', 1, 'MS1ST', 71, 80, 'I', 0.0_wp, .false., .false.), &
+    field_layout_t('CONTROL_TIMESTEP', 2, 'DT2MSF', 1, 10, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('CONTROL_TIMESTEP', 2, 'DT2MSLC', 11, 20, 'I', 0.0_wp, .false., .false.), &
+    field_layout_t('CONTROL_TIMESTEP', 2, 'IMSCL', 21, 30, 'I', 0.0_wp, .false., .false.), &
+    field_layout_t('CONTROL_TIMESTEP', 2, 'RMSCL', 51, 60, 'F', 0.0_wp, .false., .false.), &
     field_layout_t('CONTROL_IMPLICIT_GENERAL', 1, 'IMFLAG', 1, 10, 'I', 0.0_wp, .false., .false.), &
     field_layout_t('CONTROL_IMPLICIT_GENERAL', 1, 'DT0', 11, 20, 'F', 0.0_wp, .false., .false.), &
     field_layout_t('CONTROL_IMPLICIT_GENERAL', 1, 'IMFORM', 21, 30, 'I', 2.0_wp, .false., .true.), &
@@ -122,6 +140,62 @@ module mefem_card_layouts
     field_layout_t('DATABASE_BINARY_D3PLOT', 1, 'NPLTC', 31, 40, 'I', 0.0_wp, .false., .false.), &
     field_layout_t('DATABASE_BINARY_D3PLOT', 1, 'PSETID', 41, 50, 'I', 0.0_wp, .false., .false.), &
     field_layout_t('DATABASE_GLSTAT', 1, 'DT', 1, 10, 'F', 0.0_wp, .true., .false.), &
+    field_layout_t('MEFEM_ENRICHMENT', 1, 'SUPPORT', 1, 10, 'F', 1.5_wp, .false., .true.), &
+    field_layout_t('MEFEM_ENRICHMENT', 1, 'BASIS', 11, 20, 'I', 1.0_wp, .false., .true.), &
+    field_layout_t('MEFEM_ENRICHMENT', 1, 'BMASS', 21, 30, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('HOURGLASS', 1, 'HGID', 1, 10, 'I', 0.0_wp, .true., .false.), &
+    field_layout_t('HOURGLASS', 1, 'IHQ', 11, 20, 'I', 0.0_wp, .false., .false.), &
+    field_layout_t('HOURGLASS', 1, 'QM', 21, 30, 'F', 0.1_wp, .false., .true.), &
+    field_layout_t('HOURGLASS', 1, 'IBQ', 31, 40, 'I', 0.0_wp, .false., .false.), &
+    field_layout_t('HOURGLASS', 1, 'Q1', 41, 50, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('HOURGLASS', 1, 'Q2', 51, 60, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('HOURGLASS', 1, 'QB', 61, 70, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('HOURGLASS', 1, 'QW', 71, 80, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('SECTION_SOLID', 1, 'SECID', 1, 10, 'I', 0.0_wp, .true., .false.), &
+    field_layout_t('SECTION_SOLID', 1, 'ELFORM', 11, 20, 'I', 1.0_wp, .false., .false.), &
+    field_layout_t('SECTION_SOLID', 1, 'AET', 21, 30, 'I', 0.0_wp, .false., .false.), &
+    field_layout_t('SECTION_SHELL', 1, 'SECID', 1, 10, 'I', 0.0_wp, .true., .false.), &
+    field_layout_t('SECTION_SHELL', 1, 'ELFORM', 11, 20, 'I', 2.0_wp, .false., .false.), &
+    field_layout_t('SECTION_SHELL', 1, 'SHRF', 21, 30, 'F', 1.0_wp, .false., .false.), &
+    field_layout_t('SECTION_SHELL', 1, 'NIP', 31, 40, 'I', 2.0_wp, .false., .false.), &
+    field_layout_t('SECTION_SHELL', 1, 'ICOMP', 61, 70, 'I', 0.0_wp, .false., .false.), &
+    field_layout_t('SECTION_SHELL', 2, 'T1', 1, 10, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('SECTION_SHELL', 2, 'T2', 11, 20, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('SECTION_SHELL', 2, 'T3', 21, 30, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('SECTION_SHELL', 2, 'T4', 31, 40, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('CONTACT_AUTOMATIC_SURFACE_TO_SURFACE', 1, 'SURFA', 1, 10, 'I', 0.0_wp, .true., .false.), &
+    field_layout_t('CONTACT_AUTOMATIC_SURFACE_TO_SURFACE', 1, 'SURFB', 11, 20, 'I', 0.0_wp, .true., .false.), &
+    field_layout_t('CONTACT_AUTOMATIC_SURFACE_TO_SURFACE', 1, 'SURFATYP', 21, 30, 'I', 0.0_wp, .false., .false.), &
+    field_layout_t('CONTACT_AUTOMATIC_SURFACE_TO_SURFACE', 1, 'SURFBTYP', 31, 40, 'I', 0.0_wp, .false., .false.), &
+    field_layout_t('CONTACT_AUTOMATIC_SURFACE_TO_SURFACE', 1, 'SABOXID', 41, 50, 'I', 0.0_wp, .false., .false.), &
+    field_layout_t('CONTACT_AUTOMATIC_SURFACE_TO_SURFACE', 1, 'SBBOXID', 51, 60, 'I', 0.0_wp, .false., .false.), &
+    field_layout_t('CONTACT_AUTOMATIC_SURFACE_TO_SURFACE', 1, 'SAPR', 61, 70, 'I', 0.0_wp, .false., .false.), &
+    field_layout_t('CONTACT_AUTOMATIC_SURFACE_TO_SURFACE', 1, 'SBPR', 71, 80, 'I', 0.0_wp, .false., .false.), &
+    field_layout_t('CONTACT_AUTOMATIC_SURFACE_TO_SURFACE', 2, 'FS', 1, 10, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('CONTACT_AUTOMATIC_SURFACE_TO_SURFACE', 2, 'FD', 11, 20, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('CONTACT_AUTOMATIC_SURFACE_TO_SURFACE', 2, 'DC', 21, 30, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('CONTACT_AUTOMATIC_SURFACE_TO_SURFACE', 2, 'VC', 31, 40, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('CONTACT_AUTOMATIC_SURFACE_TO_SURFACE', 2, 'VDC', 41, 50, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('CONTACT_AUTOMATIC_SURFACE_TO_SURFACE', 2, 'PENCHK', 51, 60, 'I', 0.0_wp, .false., .false.), &
+    field_layout_t('CONTACT_AUTOMATIC_SURFACE_TO_SURFACE', 2, 'BT', 61, 70, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('CONTACT_AUTOMATIC_SURFACE_TO_SURFACE', 2, 'DT', 71, 80, 'F', 1.0e20_wp, .false., .true.), &
+    field_layout_t('CONTACT_AUTOMATIC_SURFACE_TO_SURFACE', 3, 'SFSA', 1, 10, 'F', 1.0_wp, .false., .true.), &
+    field_layout_t('CONTACT_AUTOMATIC_SURFACE_TO_SURFACE', 3, 'SFSB', 11, 20, 'F', 1.0_wp, .false., .true.), &
+    field_layout_t('CONTACT_AUTOMATIC_SURFACE_TO_SURFACE', 3, 'SAST', 21, 30, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('CONTACT_AUTOMATIC_SURFACE_TO_SURFACE', 3, 'SBST', 31, 40, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('CONTACT_AUTOMATIC_SURFACE_TO_SURFACE', 3, 'SFSAT', 41, 50, 'F', 1.0_wp, .false., .true.), &
+    field_layout_t('CONTACT_AUTOMATIC_SURFACE_TO_SURFACE', 3, 'SFSBT', 51, 60, 'F', 1.0_wp, .false., .true.), &
+    field_layout_t('CONTACT_AUTOMATIC_SURFACE_TO_SURFACE', 3, 'FSF', 61, 70, 'F', 1.0_wp, .false., .true.), &
+    field_layout_t('CONTACT_AUTOMATIC_SURFACE_TO_SURFACE', 3, 'VSF', 71, 80, 'F', 1.0_wp, .false., .true.), &
+    field_layout_t('CONTACT_AUTOMATIC_SURFACE_TO_SURFACE', 4, 'ISYM', 1, 10, 'I', 0.0_wp, .false., .false.), &
+    field_layout_t('CONTACT_AUTOMATIC_SURFACE_TO_SURFACE', 4, 'EROSOP', 11, 20, 'I', 0.0_wp, .false., .false.), &
+    field_layout_t('CONTACT_AUTOMATIC_SURFACE_TO_SURFACE', 4, 'IADJ', 21, 30, 'I', 0.0_wp, .false., .false.), &
+    field_layout_t('CONTACT_AUTOMATIC_SURFACE_TO_SURFACE', 101, 'SOFT', 1, 10, 'I', 0.0_wp, .false., .false.), &
+    field_layout_t('CONTACT_AUTOMATIC_SURFACE_TO_SURFACE', 101, 'SOFSCL', 11, 20, 'F', 0.1_wp, .false., .true.), &
+    field_layout_t('CONTACT_AUTOMATIC_SURFACE_TO_SURFACE', 102, 'PENMAX', 1, 10, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('CONTACT_AUTOMATIC_SURFACE_TO_SURFACE', 103, 'IGAP', 1, 10, 'I', 1.0_wp, .false., .false.), &
+    field_layout_t('CONTACT_AUTOMATIC_SURFACE_TO_SURFACE', 103, 'IGNORE', 11, 20, 'I', 0.0_wp, .false., .false.)]
+  type(field_layout_t), parameter :: LAYOUTS_MATERIALS(128) = [ &
     field_layout_t('MAT_ELASTIC', 1, 'MID', 1, 10, 'I', 0.0_wp, .true., .false.), &
     field_layout_t('MAT_ELASTIC', 1, 'RO', 11, 20, 'F', 0.0_wp, .true., .false.), &
     field_layout_t('MAT_ELASTIC', 1, 'E', 21, 30, 'F', 0.0_wp, .true., .false.), &
@@ -221,59 +295,36 @@ module mefem_card_layouts
     field_layout_t('MAT_RIGID', 2, 'CMO', 1, 10, 'F', 0.0_wp, .false., .false.), &
     field_layout_t('MAT_RIGID', 2, 'CON1', 11, 20, 'I', 0.0_wp, .false., .false.), &
     field_layout_t('MAT_RIGID', 2, 'CON2', 21, 30, 'I', 0.0_wp, .false., .false.), &
-    field_layout_t('HOURGLASS', 1, 'HGID', 1, 10, 'I', 0.0_wp, .true., .false.), &
-    field_layout_t('HOURGLASS', 1, 'IHQ', 11, 20, 'I', 0.0_wp, .false., .false.), &
-    field_layout_t('HOURGLASS', 1, 'QM', 21, 30, 'F', 0.1_wp, .false., .true.), &
-    field_layout_t('HOURGLASS', 1, 'IBQ', 31, 40, 'I', 0.0_wp, .false., .false.), &
-    field_layout_t('HOURGLASS', 1, 'Q1', 41, 50, 'F', 0.0_wp, .false., .false.), &
-    field_layout_t('HOURGLASS', 1, 'Q2', 51, 60, 'F', 0.0_wp, .false., .false.), &
-    field_layout_t('HOURGLASS', 1, 'QB', 61, 70, 'F', 0.0_wp, .false., .false.), &
-    field_layout_t('HOURGLASS', 1, 'QW', 71, 80, 'F', 0.0_wp, .false., .false.), &
-    field_layout_t('SECTION_SOLID', 1, 'SECID', 1, 10, 'I', 0.0_wp, .true., .false.), &
-    field_layout_t('SECTION_SOLID', 1, 'ELFORM', 11, 20, 'I', 1.0_wp, .false., .false.), &
-    field_layout_t('SECTION_SOLID', 1, 'AET', 21, 30, 'I', 0.0_wp, .false., .false.), &
-    field_layout_t('SECTION_SHELL', 1, 'SECID', 1, 10, 'I', 0.0_wp, .true., .false.), &
-    field_layout_t('SECTION_SHELL', 1, 'ELFORM', 11, 20, 'I', 2.0_wp, .false., .false.), &
-    field_layout_t('SECTION_SHELL', 1, 'SHRF', 21, 30, 'F', 1.0_wp, .false., .false.), &
-    field_layout_t('SECTION_SHELL', 1, 'NIP', 31, 40, 'I', 2.0_wp, .false., .false.), &
-    field_layout_t('SECTION_SHELL', 1, 'ICOMP', 61, 70, 'I', 0.0_wp, .false., .false.), &
-    field_layout_t('SECTION_SHELL', 2, 'T1', 1, 10, 'F', 0.0_wp, .false., .false.), &
-    field_layout_t('SECTION_SHELL', 2, 'T2', 11, 20, 'F', 0.0_wp, .false., .false.), &
-    field_layout_t('SECTION_SHELL', 2, 'T3', 21, 30, 'F', 0.0_wp, .false., .false.), &
-    field_layout_t('SECTION_SHELL', 2, 'T4', 31, 40, 'F', 0.0_wp, .false., .false.), &
-    field_layout_t('CONTACT_AUTOMATIC_SURFACE_TO_SURFACE', 1, 'SURFA', 1, 10, 'I', 0.0_wp, .true., .false.), &
-    field_layout_t('CONTACT_AUTOMATIC_SURFACE_TO_SURFACE', 1, 'SURFB', 11, 20, 'I', 0.0_wp, .true., .false.), &
-    field_layout_t('CONTACT_AUTOMATIC_SURFACE_TO_SURFACE', 1, 'SURFATYP', 21, 30, 'I', 0.0_wp, .false., .false.), &
-    field_layout_t('CONTACT_AUTOMATIC_SURFACE_TO_SURFACE', 1, 'SURFBTYP', 31, 40, 'I', 0.0_wp, .false., .false.), &
-    field_layout_t('CONTACT_AUTOMATIC_SURFACE_TO_SURFACE', 1, 'SABOXID', 41, 50, 'I', 0.0_wp, .false., .false.), &
-    field_layout_t('CONTACT_AUTOMATIC_SURFACE_TO_SURFACE', 1, 'SBBOXID', 51, 60, 'I', 0.0_wp, .false., .false.), &
-    field_layout_t('CONTACT_AUTOMATIC_SURFACE_TO_SURFACE', 1, 'SAPR', 61, 70, 'I', 0.0_wp, .false., .false.), &
-    field_layout_t('CONTACT_AUTOMATIC_SURFACE_TO_SURFACE', 1, 'SBPR', 71, 80, 'I', 0.0_wp, .false., .false.), &
-    field_layout_t('CONTACT_AUTOMATIC_SURFACE_TO_SURFACE', 2, 'FS', 1, 10, 'F', 0.0_wp, .false., .false.), &
-    field_layout_t('CONTACT_AUTOMATIC_SURFACE_TO_SURFACE', 2, 'FD', 11, 20, 'F', 0.0_wp, .false., .false.), &
-    field_layout_t('CONTACT_AUTOMATIC_SURFACE_TO_SURFACE', 2, 'DC', 21, 30, 'F', 0.0_wp, .false., .false.), &
-    field_layout_t('CONTACT_AUTOMATIC_SURFACE_TO_SURFACE', 2, 'VC', 31, 40, 'F', 0.0_wp, .false., .false.), &
-    field_layout_t('CONTACT_AUTOMATIC_SURFACE_TO_SURFACE', 2, 'VDC', 41, 50, 'F', 0.0_wp, .false., .false.), &
-    field_layout_t('CONTACT_AUTOMATIC_SURFACE_TO_SURFACE', 2, 'PENCHK', 51, 60, 'I', 0.0_wp, .false., .false.), &
-    field_layout_t('CONTACT_AUTOMATIC_SURFACE_TO_SURFACE', 2, 'BT', 61, 70, 'F', 0.0_wp, .false., .false.), &
-    field_layout_t('CONTACT_AUTOMATIC_SURFACE_TO_SURFACE', 2, 'DT', 71, 80, 'F', 1.0e20_wp, .false., .true.), &
-    field_layout_t('CONTACT_AUTOMATIC_SURFACE_TO_SURFACE', 3, 'SFSA', 1, 10, 'F', 1.0_wp, .false., .true.), &
-    field_layout_t('CONTACT_AUTOMATIC_SURFACE_TO_SURFACE', 3, 'SFSB', 11, 20, 'F', 1.0_wp, .false., .true.), &
-    field_layout_t('CONTACT_AUTOMATIC_SURFACE_TO_SURFACE', 3, 'SAST', 21, 30, 'F', 0.0_wp, .false., .false.), &
-    field_layout_t('CONTACT_AUTOMATIC_SURFACE_TO_SURFACE', 3, 'SBST', 31, 40, 'F', 0.0_wp, .false., .false.), &
-    field_layout_t('CONTACT_AUTOMATIC_SURFACE_TO_SURFACE', 3, 'SFSAT', 41, 50, 'F', 1.0_wp, .false., .true.), &
-    field_layout_t('CONTACT_AUTOMATIC_SURFACE_TO_SURFACE', 3, 'SFSBT', 51, 60, 'F', 1.0_wp, .false., .true.), &
-    field_layout_t('CONTACT_AUTOMATIC_SURFACE_TO_SURFACE', 3, 'FSF', 61, 70, 'F', 1.0_wp, .false., .true.), &
-    field_layout_t('CONTACT_AUTOMATIC_SURFACE_TO_SURFACE', 3, 'VSF', 71, 80, 'F', 1.0_wp, .false., .true.), &
-    field_layout_t('CONTACT_AUTOMATIC_SURFACE_TO_SURFACE', 4, 'ISYM', 1, 10, 'I', 0.0_wp, .false., .false.), &
-    field_layout_t('CONTACT_AUTOMATIC_SURFACE_TO_SURFACE', 4, 'EROSOP', 11, 20, 'I', 0.0_wp, .false., .false.), &
-    field_layout_t('CONTACT_AUTOMATIC_SURFACE_TO_SURFACE', 4, 'IADJ', 21, 30, 'I', 0.0_wp, .false., .false.), &
-    field_layout_t('CONTACT_AUTOMATIC_SURFACE_TO_SURFACE', 101, 'SOFT', 1, 10, 'I', 0.0_wp, .false., .false.), &
-    field_layout_t('CONTACT_AUTOMATIC_SURFACE_TO_SURFACE', 101, 'SOFSCL', 11, 20, 'F', 0.1_wp, .false., .true.), &
-    field_layout_t('CONTACT_AUTOMATIC_SURFACE_TO_SURFACE', 102, 'PENMAX', 1, 10, 'F', 0.0_wp, .false., .false.), &
-    field_layout_t('CONTACT_AUTOMATIC_SURFACE_TO_SURFACE', 103, 'IGAP', 1, 10, 'I', 1.0_wp, .false., .false.), &
-    field_layout_t('CONTACT_AUTOMATIC_SURFACE_TO_SURFACE', 103, 'IGNORE', 11, 20, 'I', 0.0_wp, .false., .false.)]
-  type(field_layout_t), parameter :: LAYOUTS_CONDITIONS(109) = [ &
+    field_layout_t('MAT_SIMPLIFIED_JOHNSON_COOK', 1, 'MID', 1, 10, 'I', 0.0_wp, .true., .false.), &
+    field_layout_t('MAT_SIMPLIFIED_JOHNSON_COOK', 1, 'RO', 11, 20, 'F', 0.0_wp, .true., .false.), &
+    field_layout_t('MAT_SIMPLIFIED_JOHNSON_COOK', 1, 'E', 21, 30, 'F', 0.0_wp, .true., .false.), &
+    field_layout_t('MAT_SIMPLIFIED_JOHNSON_COOK', 1, 'PR', 31, 40, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('MAT_SIMPLIFIED_JOHNSON_COOK', 1, 'VP', 41, 50, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('MAT_SIMPLIFIED_JOHNSON_COOK', 2, 'A', 1, 10, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('MAT_SIMPLIFIED_JOHNSON_COOK', 2, 'B', 11, 20, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('MAT_SIMPLIFIED_JOHNSON_COOK', 2, 'N', 21, 30, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('MAT_SIMPLIFIED_JOHNSON_COOK', 2, 'C', 31, 40, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('MAT_SIMPLIFIED_JOHNSON_COOK', 2, 'PSFAIL', 41, 50, 'F', 1.0e28_wp, .false., .false.), &
+    field_layout_t('MAT_SIMPLIFIED_JOHNSON_COOK', 2, 'SIGMAX', 51, 60, 'F', 1.0e28_wp, .false., .false.), &
+    field_layout_t('MAT_SIMPLIFIED_JOHNSON_COOK', 2, 'SIGSAT', 61, 70, 'F', 1.0e28_wp, .false., .false.), &
+    field_layout_t('MAT_SIMPLIFIED_JOHNSON_COOK', 2, 'EPSO', 71, 80, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('MAT_ADD_EROSION', 1, 'MID', 1, 10, 'I', 0.0_wp, .true., .false.), &
+    field_layout_t('MAT_ADD_EROSION', 1, 'EXCL', 11, 20, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('MAT_ADD_EROSION', 1, 'MXPRES', 21, 30, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('MAT_ADD_EROSION', 1, 'MNEPS', 31, 40, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('MAT_ADD_EROSION', 1, 'EFFEPS', 41, 50, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('MAT_ADD_EROSION', 1, 'VOLEPS', 51, 60, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('MAT_ADD_EROSION', 1, 'NUMFIP', 61, 70, 'F', 1.0_wp, .false., .false.), &
+    field_layout_t('MAT_ADD_EROSION', 1, 'NCS', 71, 80, 'I', 1.0_wp, .false., .false.), &
+    field_layout_t('MAT_ADD_EROSION', 2, 'MNPRES', 1, 10, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('MAT_ADD_EROSION', 2, 'SIGP1', 11, 20, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('MAT_ADD_EROSION', 2, 'SIGVM', 21, 30, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('MAT_ADD_EROSION', 2, 'MXEPS', 31, 40, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('MAT_ADD_EROSION', 2, 'EPSSH', 41, 50, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('MAT_ADD_EROSION', 2, 'SIGTH', 51, 60, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('MAT_ADD_EROSION', 2, 'IMPULSE', 61, 70, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('MAT_ADD_EROSION', 2, 'FAILTM', 71, 80, 'F', 0.0_wp, .false., .false.)]
+  type(field_layout_t), parameter :: LAYOUTS_CONDITIONS(145) = [ &
     field_layout_t('BOUNDARY_SPC_NODE', 1, 'NID', 1, 10, 'I', 0.0_wp, .true., .false.), &
     field_layout_t('BOUNDARY_SPC_NODE', 1, 'CID', 11, 20, 'I', 0.0_wp, .false., .false.), &
     field_layout_t('BOUNDARY_SPC_NODE', 1, 'DOFX', 21, 30, 'I', 0.0_wp, .false., .false.), &
@@ -306,6 +357,18 @@ module mefem_card_layouts
     field_layout_t('DEFINE_CURVE', 1, 'DATTYP', 61, 70, 'I', 0.0_wp, .false., .false.), &
     field_layout_t('DEFINE_CURVE', 2, 'A', 1, 20, 'F', 0.0_wp, .true., .false.), &
     field_layout_t('DEFINE_CURVE', 2, 'O', 21, 40, 'F', 0.0_wp, .true., .false.), &
+    field_layout_t('DEFINE_TABLE', 1, 'TBID', 1, 10, 'I', 0.0_wp, .true., .false.), &
+    field_layout_t('DEFINE_TABLE', 1, 'SFA', 11, 20, 'F', 1.0_wp, .false., .true.), &
+    field_layout_t('DEFINE_TABLE', 1, 'OFFA', 21, 30, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('DEFINE_TABLE', 2, 'VALUE', 1, 20, 'F', 0.0_wp, .true., .false.), &
+    field_layout_t('DEFINE_TABLE', 2, 'LCID', 21, 40, 'I', 0.0_wp, .false., .false.), &
+    field_layout_t('DEFINE_CURVE_SMOOTH', 1, 'LCID', 1, 10, 'I', 0.0_wp, .true., .false.), &
+    field_layout_t('DEFINE_CURVE_SMOOTH', 1, 'SIDR', 11, 20, 'I', 0.0_wp, .false., .false.), &
+    field_layout_t('DEFINE_CURVE_SMOOTH', 1, 'DIST', 21, 30, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('DEFINE_CURVE_SMOOTH', 1, 'TSTART', 31, 40, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('DEFINE_CURVE_SMOOTH', 1, 'TEND', 41, 50, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('DEFINE_CURVE_SMOOTH', 1, 'TRISE', 51, 60, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('DEFINE_CURVE_SMOOTH', 1, 'V0', 61, 70, 'F', 0.0_wp, .false., .false.), &
     field_layout_t('CONTACT_TIEBREAK_SURFACE_TO_SURFACE', 4, 'NFLS', 1, 10, 'F', 0.0_wp, .true., .false.), &
     field_layout_t('CONTACT_TIEBREAK_SURFACE_TO_SURFACE', 4, 'SFLS', 11, 20, 'F', 0.0_wp, .true., .false.), &
     field_layout_t('CONTACT_TIEBREAK_SURFACE_TO_SURFACE', 4, 'TBLCID', 21, 30, 'I', 0.0_wp, .false., .false.), &
@@ -336,6 +399,30 @@ module mefem_card_layouts
     field_layout_t('INITIAL_VELOCITY', 3, 'VXE', 1, 10, 'F', 0.0_wp, .false., .false.), &
     field_layout_t('INITIAL_VELOCITY', 3, 'VYE', 11, 20, 'F', 0.0_wp, .false., .false.), &
     field_layout_t('INITIAL_VELOCITY', 3, 'VZE', 21, 30, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('INITIAL_VELOCITY_NODE', 1, 'NID', 1, 10, 'I', 0.0_wp, .true., .false.), &
+    field_layout_t('INITIAL_VELOCITY_NODE', 1, 'VX', 11, 20, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('INITIAL_VELOCITY_NODE', 1, 'VY', 21, 30, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('INITIAL_VELOCITY_NODE', 1, 'VZ', 31, 40, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('INITIAL_VELOCITY_NODE', 1, 'VXR', 41, 50, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('INITIAL_VELOCITY_NODE', 1, 'VYR', 51, 60, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('INITIAL_VELOCITY_NODE', 1, 'VZR', 61, 70, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('INITIAL_VELOCITY_NODE', 1, 'ICID', 71, 80, 'I', 0.0_wp, .false., .false.), &
+    field_layout_t('INITIAL_VELOCITY_GENERATION', 1, 'ID', 1, 10, 'I', 0.0_wp, .true., .false.), &
+    field_layout_t('INITIAL_VELOCITY_GENERATION', 1, 'STYP', 11, 20, 'I', 0.0_wp, .true., .false.), &
+    field_layout_t('INITIAL_VELOCITY_GENERATION', 1, 'OMEGA', 21, 30, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('INITIAL_VELOCITY_GENERATION', 1, 'VX', 31, 40, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('INITIAL_VELOCITY_GENERATION', 1, 'VY', 41, 50, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('INITIAL_VELOCITY_GENERATION', 1, 'VZ', 51, 60, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('INITIAL_VELOCITY_GENERATION', 1, 'IVATN', 61, 70, 'I', 0.0_wp, .false., .false.), &
+    field_layout_t('INITIAL_VELOCITY_GENERATION', 1, 'ICID', 71, 80, 'I', 0.0_wp, .false., .false.), &
+    field_layout_t('INITIAL_VELOCITY_GENERATION', 2, 'XC', 1, 10, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('INITIAL_VELOCITY_GENERATION', 2, 'YC', 11, 20, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('INITIAL_VELOCITY_GENERATION', 2, 'ZC', 21, 30, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('INITIAL_VELOCITY_GENERATION', 2, 'NX', 31, 40, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('INITIAL_VELOCITY_GENERATION', 2, 'NY', 41, 50, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('INITIAL_VELOCITY_GENERATION', 2, 'NZ', 51, 60, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('INITIAL_VELOCITY_GENERATION', 2, 'PHASE', 61, 70, 'I', 0.0_wp, .false., .false.), &
+    field_layout_t('INITIAL_VELOCITY_GENERATION', 2, 'IRIGID', 71, 80, 'I', 0.0_wp, .false., .false.), &
     field_layout_t('LOAD_SEGMENT', 1, 'LCID', 1, 10, 'I', 0.0_wp, .true., .false.), &
     field_layout_t('LOAD_SEGMENT', 1, 'SF', 11, 20, 'F', 1.0_wp, .false., .true.), &
     field_layout_t('LOAD_SEGMENT', 1, 'AT', 21, 30, 'F', 0.0_wp, .false., .false.), &
@@ -383,7 +470,20 @@ module mefem_card_layouts
     field_layout_t('CONSTRAINED_SPOTWELD', 1, 'M', 51, 60, 'F', 0.0_wp, .false., .false.), &
     field_layout_t('CONSTRAINED_SPOTWELD', 1, 'TF', 61, 70, 'F', 1.0e20_wp, .false., .false.), &
     field_layout_t('CONSTRAINED_SPOTWELD', 1, 'EP', 71, 80, 'F', 1.0e20_wp, .false., .false.)]
-  type(field_layout_t), parameter :: LAYOUTS_GEOMETRY(114) = [ &
+  type(field_layout_t), parameter :: LAYOUTS_GEOMETRY(127) = [ &
+    field_layout_t('SET_NODE', 1, 'SID', 1, 10, 'I', 0.0_wp, .true., .false.), &
+    field_layout_t('SET_NODE', 1, 'DA1', 11, 20, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('SET_NODE', 1, 'DA2', 21, 30, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('SET_NODE', 1, 'DA3', 31, 40, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('SET_NODE', 1, 'DA4', 41, 50, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('ELEMENT_MASS', 1, 'EID', 1, 8, 'I', 0.0_wp, .false., .false.), &
+    field_layout_t('ELEMENT_MASS', 1, 'NID', 9, 16, 'I', 0.0_wp, .true., .false.), &
+    field_layout_t('ELEMENT_MASS', 1, 'MASS', 17, 32, 'F', 0.0_wp, .true., .false.), &
+    field_layout_t('ELEMENT_MASS', 1, 'PID', 33, 40, 'I', 0.0_wp, .false., .false.), &
+    field_layout_t('ELEMENT_MASS_PART', 1, 'PID', 1, 8, 'I', 0.0_wp, .true., .false.), &
+    field_layout_t('ELEMENT_MASS_PART', 1, 'ADDMASS', 9, 24, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('ELEMENT_MASS_PART', 1, 'FINMASS', 25, 40, 'F', 0.0_wp, .false., .false.), &
+    field_layout_t('ELEMENT_MASS_PART', 1, 'LCID', 41, 56, 'I', 0.0_wp, .false., .false.), &
     field_layout_t('PART', 2, 'PID', 1, 10, 'I', 0.0_wp, .true., .false.), &
     field_layout_t('PART', 2, 'SECID', 11, 20, 'I', 0.0_wp, .true., .false.), &
     field_layout_t('PART', 2, 'MID', 21, 30, 'I', 0.0_wp, .true., .false.), &
@@ -499,15 +599,18 @@ module mefem_card_layouts
     field_layout_t('RIGIDWALL_GEOMETRIC_CYLINDER', 3, 'NSEGS', 21, 30, 'I', 0.0_wp, .false., .false.), &
     field_layout_t('RIGIDWALL_GEOMETRIC_SPHERE', 3, 'RADSPH', 1, 10, 'F', 0.0_wp, .false., .false.)]
   type(field_layout_t), parameter, public :: LAYOUTS(N_LAYOUT_FIELDS) = &
-    [LAYOUTS_MODEL, LAYOUTS_CONDITIONS, LAYOUTS_GEOMETRY]
+    [LAYOUTS_MODEL, LAYOUTS_MATERIALS, LAYOUTS_CONDITIONS, LAYOUTS_GEOMETRY]
 
 contains
 
   !> Split card as card card_number of keyword's layout and read its fields (blank: the
   !> default; a blank required field, a bad number: the card's error, as get_int/get_real
-  !> report them).
+  !> report them). Columns between two fields of the layout are skipped as fields of 10
+  !> columns (the standard width), so that the free and long formats count them. Text fields
+  !> after the layout's last field (text_after: their standard widths) are laid out too: the
+  !> caller reads them with get_text as the card's last fields (card%nfields).
   subroutine read_layout_card(rd, card, keyword, card_number, fields, optional_here, first_name, &
-                              form_name)
+                              form_name, text_after)
     type(reader_t), intent(in) :: rd                   !< reading state (format)
     type(card_t), intent(inout) :: card                !< the card
     character(len=*), intent(in) :: keyword            !< keyword of the table, without '*'
@@ -519,29 +622,42 @@ contains
                                                        !< form (NSID for NID of a _SET form)
     character(len=*), intent(in), optional :: form_name(2) !< [table name, name in this form]:
                                                        !< a later field named by the form
+    integer, intent(in), optional :: text_after(:)     !< widths of text fields after the last
     integer :: rows(MAX_FIELDS), slot(MAX_FIELDS), widths(MAX_FIELDS), k, n, nslot, value
     integer :: column
     type(field_layout_t) :: f
-    ! the card's fields in column order; columns between them that are not read become
-    ! fields of their own, skipped (as fields not read at the end simply are)
-    n = 0
-    nslot = 0
-    column = 1
-    do k = 1, N_LAYOUT_FIELDS
-      if (LAYOUTS(k)%keyword /= keyword .or. LAYOUTS(k)%card /= card_number) cycle
-      if (LAYOUTS(k)%first_column < column .or. nslot + 2 > MAX_FIELDS) call fatal_local( &
-          'card_layouts: '//keyword//': the fields of a card must be in column order')
-      if (LAYOUTS(k)%first_column > column) then
-        nslot = nslot + 1
-        widths(nslot) = LAYOUTS(k)%first_column - column
-      end if
-      n = n + 1
-      nslot = nslot + 1
-      rows(n) = k
-      slot(n) = nslot
-      widths(nslot) = LAYOUTS(k)%last_column - LAYOUTS(k)%first_column + 1
-      column = LAYOUTS(k)%last_column + 1
-    end do
+    if (keyword == last%keyword .and. card_number == last%card) then
+      ! the same card as the last call (a keyword's repeated cards): its layout again
+      n = last%n
+      nslot = last%nslot
+      rows(1:n) = last%rows(1:n)
+      slot(1:n) = last%slot(1:n)
+      widths(1:nslot) = last%widths(1:nslot)
+    else
+      ! the card's fields in column order; columns between them that are not read become
+      ! fields of their own (10 columns each), skipped (as fields not read at the end are)
+      n = 0
+      nslot = 0
+      column = 1
+      do k = 1, N_LAYOUT_FIELDS
+        if (LAYOUTS(k)%keyword /= keyword .or. LAYOUTS(k)%card /= card_number) cycle
+        if (LAYOUTS(k)%first_column < column) call fatal_local( &
+            'card_layouts: '//keyword//': the fields of a card must be in column order')
+        do while (LAYOUTS(k)%first_column > column)
+          call add_slot(min(10, LAYOUTS(k)%first_column - column))
+        end do
+        n = n + 1
+        rows(n) = k
+        call add_slot(LAYOUTS(k)%last_column - LAYOUTS(k)%first_column + 1)
+        slot(n) = nslot
+      end do
+      last = layout_cache_t(keyword, card_number, n, nslot, rows, slot, widths)
+    end if
+    if (present(text_after)) then
+      do k = 1, size(text_after)
+        call add_slot(text_after(k))
+      end do
+    end if
     if (n == 0) call fatal_local('card_layouts: no layout for '//keyword)
     call split_card(rd, card, widths(1:nslot))
     fields%n = n
@@ -565,6 +681,19 @@ contains
       end if
       if (f%zero_is_default .and. fields%value(k) == 0.0_wp) fields%value(k) = f%default
     end do
+
+  contains
+
+    !> Append a field of width columns to the card's layout.
+    subroutine add_slot(width)
+      integer, intent(in) :: width                     !< its standard width
+      if (nslot == MAX_FIELDS) call fatal_local('card_layouts: '//keyword// &
+          ': more fields than a card holds')
+      nslot = nslot + 1
+      widths(nslot) = width
+      column = column + width
+    end subroutine add_slot
+
   end subroutine read_layout_card
 
   !> The default of field name of card card_number of keyword (what a blank field gives; for

@@ -9,7 +9,7 @@
 module mefem_read_conditions
   use mefem_kinds, only: wp
   use mefem_strings, only: itoa, rtoa
-  use mefem_cards, only: reader_t, card_t, next_card, split_card, get_int, get_real, &
+  use mefem_cards, only: reader_t, card_t, next_card, split_card, get_int, &
                          card_error, card_warning, keyword_error
   use mefem_card_layouts, only: read_layout_card, real_field, int_field, card_fields_t
   use mefem_card_helpers, only: has_option, read_title_card, read_id_card, quoted_real, &
@@ -30,8 +30,7 @@ module mefem_read_conditions
             read_constrained_nodal_rigid_body, read_constrained_spotweld, read_define_box, &
             read_constrained_global
 
-  integer, parameter :: W_10(8) = 10          !< standard 8 x 10 card
-  integer, parameter :: W_POINT(2) = 20       !< *DEFINE_CURVE point: 2 x E20
+  integer, parameter :: W_10(8) = 10          !< standard 8 x 10 card (the _ID card of a spot weld)
   character(len=1), parameter :: AXIS_NAMES(3) = ['X', 'Y', 'Z']   !< axis names: *LOAD_BODY_ suffixes, velocity fields
 
 contains
@@ -326,6 +325,7 @@ contains
     character(len=*), intent(in) :: options      !< keyword options
     type(model_t), intent(inout) :: model        !< model appended to
     type(card_t) :: card, entry
+    type(card_fields_t) :: f
     type(curve_t) :: table
     logical :: got, bad
     real(wp) :: sfa, offa, value
@@ -338,14 +338,13 @@ contains
       call keyword_error(rd, 'missing card 1 (TBID SFA OFFA)')
       return
     end if
-    call split_card(rd, card, W_10)
-    call get_int(card, 1, 'TBID', table%id, required=.true.)
-    call get_real(card, 2, 'SFA', sfa, default=1.0_wp)
-    call get_real(card, 3, 'OFFA', offa)
+    call read_layout_card(rd, card, 'DEFINE_TABLE', 1, f)
+    table%id = int_field(f, 'TBID')
+    sfa = real_field(f, 'SFA')
+    offa = real_field(f, 'OFFA')
     table%src = source_t(card%file, card%line)
     table%is_table = .true.
     bad = card%bad
-    if (sfa == 0.0_wp) sfa = 1.0_wp
     if (.not. bad .and. table%id <= 0) then
       call card_error(card, 'field TBID: table id must be positive (got '//itoa(table%id)//')')
       bad = .true.
@@ -359,9 +358,9 @@ contains
     do
       call next_card(rd, entry, got)
       if (.not. got) exit
-      call split_card(rd, entry, W_POINT)
-      call get_real(entry, 1, 'VALUE', value, required=.true.)
-      call get_int(entry, 2, 'LCID', lcid)
+      call read_layout_card(rd, entry, 'DEFINE_TABLE', 2, f)
+      value = real_field(f, 'VALUE')
+      lcid = int_field(f, 'LCID')
       if (entry%bad) then
         bad = .true.
         cycle
@@ -409,6 +408,7 @@ contains
     integer, parameter :: SMOOTH_RAMP_INTERVALS = 16
     real(wp), parameter :: PI = 3.14159265358979323846_wp
     type(card_t) :: card
+    type(card_fields_t) :: f
     type(curve_t) :: curve
     logical :: got
     real(wp) :: dist, t_start, t_end, t_rise, v_max, s, span
@@ -420,14 +420,14 @@ contains
       call keyword_error(rd, 'missing card 1 (LCID SIDR DIST TSTART TEND TRISE V0)')
       return
     end if
-    call split_card(rd, card, W_10)
-    call get_int(card, 1, 'LCID', curve%id, required=.true.)
-    call get_int(card, 2, 'SIDR', curve%sidr)
-    call get_real(card, 3, 'DIST', dist)
-    call get_real(card, 4, 'TSTART', t_start)
-    call get_real(card, 5, 'TEND', t_end)
-    call get_real(card, 6, 'TRISE', t_rise)
-    call get_real(card, 7, 'V0', v_max)
+    call read_layout_card(rd, card, 'DEFINE_CURVE_SMOOTH', 1, f)
+    curve%id = int_field(f, 'LCID')
+    curve%sidr = int_field(f, 'SIDR')
+    dist = real_field(f, 'DIST')
+    t_start = real_field(f, 'TSTART')
+    t_end = real_field(f, 'TEND')
+    t_rise = real_field(f, 'TRISE')
+    v_max = real_field(f, 'V0')
     curve%src = source_t(card%file, card%line)
     call reject_extra_cards(rd, 'curve '//itoa(curve%id))
     if (card%bad) return
@@ -764,24 +764,22 @@ contains
     type(reader_t), intent(inout) :: rd          !< reading state
     type(model_t), intent(inout) :: model        !< model appended to
     type(card_t) :: card
+    type(card_fields_t) :: f
     type(initial_velocity_t) :: iv
     logical :: got
-    integer :: i, icid
-    character(len=3), parameter :: NAMES(6) = ['VX ', 'VY ', 'VZ ', 'VXR', 'VYR', 'VZR']
-    real(wp) :: values(6)
+    integer :: k, icid
     do
       call next_card(rd, card, got)
       if (.not. got) exit
-      call split_card(rd, card, W_10)
+      call read_layout_card(rd, card, 'INITIAL_VELOCITY_NODE', 1, f)
       iv = initial_velocity_t()
       iv%target_kind = ON_NODE
-      call get_int(card, 1, 'NID', iv%target_id, required=.true.)
-      do i = 1, 6
-        call get_real(card, 1 + i, trim(NAMES(i)), values(i))
+      iv%target_id = int_field(f, 'NID')
+      do k = 1, 3
+        iv%v(k) = real_field(f, 'V'//AXIS_NAMES(k))
+        iv%omega_vector(k) = real_field(f, 'V'//AXIS_NAMES(k)//'R')
       end do
-      call get_int(card, 8, 'ICID', icid)
-      iv%v = values(1:3)
-      iv%omega_vector = values(4:6)
+      icid = int_field(f, 'ICID')
       iv%src = source_t(card%file, card%line)
       if (card%bad) cycle
       if (iv%target_id <= 0) then
@@ -801,39 +799,37 @@ contains
   subroutine read_initial_velocity_generation(rd, model)
     type(reader_t), intent(inout) :: rd          !< reading state
     type(model_t), intent(inout) :: model        !< model appended to
+    character(len=*), parameter :: KEY = 'INITIAL_VELOCITY_GENERATION'
     type(card_t) :: card, card2
+    type(card_fields_t) :: f
     type(initial_velocity_t) :: iv
     logical :: got
-    integer :: styp, ivatn, icid, phase, irigid
+    integer :: styp, icid, phase, k
     do
       call next_card(rd, card, got)
       if (.not. got) exit
-      call split_card(rd, card, W_10)
+      call read_layout_card(rd, card, KEY, 1, f)           ! (IVATN not used)
       iv = initial_velocity_t()
       iv%generation = .true.
-      call get_int(card, 1, 'ID', iv%target_id, required=.true.)
-      call get_int(card, 2, 'STYP', styp, required=.true.)
-      call get_real(card, 3, 'OMEGA', iv%omega)
-      call get_real(card, 4, 'VX', iv%v(1))
-      call get_real(card, 5, 'VY', iv%v(2))
-      call get_real(card, 6, 'VZ', iv%v(3))
-      call get_int(card, 7, 'IVATN', ivatn)
-      call get_int(card, 8, 'ICID', icid)
+      iv%target_id = int_field(f, 'ID')
+      styp = int_field(f, 'STYP')
+      iv%omega = real_field(f, 'OMEGA')
+      do k = 1, 3
+        iv%v(k) = real_field(f, 'V'//AXIS_NAMES(k))
+      end do
+      icid = int_field(f, 'ICID')
       iv%src = source_t(card%file, card%line)
       call next_card(rd, card2, got, keep_blank=.true.)
       if (.not. got) then
         call card_error(card, 'missing card 2 (XC YC ZC NX NY NZ PHASE IRIGID)')
         exit
       end if
-      call split_card(rd, card2, W_10)
-      call get_real(card2, 1, 'XC', iv%center(1))
-      call get_real(card2, 2, 'YC', iv%center(2))
-      call get_real(card2, 3, 'ZC', iv%center(3))
-      call get_real(card2, 4, 'NX', iv%axis(1))
-      call get_real(card2, 5, 'NY', iv%axis(2))
-      call get_real(card2, 6, 'NZ', iv%axis(3))
-      call get_int(card2, 7, 'PHASE', phase)
-      call get_int(card2, 8, 'IRIGID', irigid)
+      call read_layout_card(rd, card2, KEY, 2, f)          ! (IRIGID not used)
+      do k = 1, 3
+        iv%center(k) = real_field(f, AXIS_NAMES(k)//'C')
+        iv%axis(k) = real_field(f, 'N'//AXIS_NAMES(k))
+      end do
+      phase = int_field(f, 'PHASE')
       if (card%bad .or. card2%bad) cycle
       select case (styp)
       case (1)

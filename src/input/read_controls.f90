@@ -6,7 +6,7 @@ module mefem_read_controls
   use mefem_parameters, only: parameter_define, split_parameter_spec
   use mefem_expressions, only: evaluate_expression
   use mefem_numbers, only: parse_real, parse_int
-  use mefem_cards, only: reader_t, card_t, next_card, split_card, get_int, get_real, get_text, &
+  use mefem_cards, only: reader_t, card_t, next_card, split_card, get_int, get_text, &
                          card_error, card_warning, keyword_error
   use mefem_errors, only: warn
   use mefem_deck_source, only: location
@@ -342,11 +342,11 @@ contains
       block
         real(wp) :: dt2msf, rmscl
         integer :: dt2mslc, imscl
-        call split_card(rd, card, W_10)
-        call get_real(card, 1, 'DT2MSF', dt2msf)
-        call get_int(card, 2, 'DT2MSLC', dt2mslc)
-        call get_int(card, 3, 'IMSCL', imscl)
-        call get_real(card, 6, 'RMSCL', rmscl)
+        call read_layout_card(rd, card, 'CONTROL_TIMESTEP', 2, f)
+        dt2msf = real_field(f, 'DT2MSF')
+        dt2mslc = int_field(f, 'DT2MSLC')
+        imscl = int_field(f, 'IMSCL')
+        rmscl = real_field(f, 'RMSCL')
         if (.not. card%bad .and. (dt2msf /= 0.0_wp .or. dt2mslc /= 0 .or. imscl /= 0 .or. &
                                   rmscl /= 0.0_wp)) &
           call card_warning(card, 'card 2 (DT2MSF, DT2MSLC, IMSCL, RMSCL) ignored: mass '// &
@@ -621,19 +621,18 @@ contains
     type(reader_t), intent(inout) :: rd      !< reading state
     type(model_t), intent(inout) :: model    !< model receiving the controls
     type(card_t) :: card
+    type(card_fields_t) :: f
     logical :: got
     call next_card(rd, card, got, keep_blank=.true.)
     if (.not. got) then
       call keyword_error(rd, 'missing card 1 (SUPPORT BASIS)')
       return
     end if
-    call split_card(rd, card, W_10)
+    call read_layout_card(rd, card, 'MEFEM_ENRICHMENT', 1, f)
     associate (c => model%controls)
-      call get_real(card, 1, 'SUPPORT', c%support_radius, default=1.5_wp)
-      call get_int(card, 2, 'BASIS', c%gmf_basis, default=1)
-      call get_real(card, 3, 'BMASS', c%bubble_mass, default=0.0_wp)
-      if (c%support_radius == 0.0_wp) c%support_radius = 1.5_wp
-      if (c%gmf_basis == 0) c%gmf_basis = 1
+      c%support_radius = real_field(f, 'SUPPORT')
+      c%gmf_basis = int_field(f, 'BASIS')
+      c%bubble_mass = real_field(f, 'BMASS')
       if (.not. card%bad) then
         if (c%support_radius <= 1.0_wp .or. c%support_radius > 3.0_wp) call card_error(card, &
             'field SUPPORT (a/L) must be > 1.0 and <= 3.0: the support must reach beyond '// &

@@ -10,7 +10,7 @@
 module mefem_read_materials
   use mefem_kinds, only: wp
   use mefem_strings, only: itoa, rtoa
-  use mefem_cards, only: reader_t, card_t, next_card, split_card, get_int, get_real, &
+  use mefem_cards, only: reader_t, card_t, next_card, split_card, get_real, &
                          card_error, card_warning, keyword_error
   use mefem_card_helpers, only: read_title_card, reject_extra_cards, quoted_real
   use mefem_card_layouts, only: read_layout_card, real_field, int_field, card_fields_t, &
@@ -323,25 +323,30 @@ contains
     type(reader_t), intent(inout) :: rd          !< reading state
     character(len=*), intent(in) :: options      !< keyword options
     type(model_t), intent(inout) :: model        !< model appended to
+    character(len=*), parameter :: KEY = 'MAT_ADD_EROSION'
     type(card_t) :: card, card2, card3
+    type(card_fields_t) :: f
     type(add_erosion_t) :: item
     type(add_erosion_t), allocatable :: grown(:)
     character(len=80) :: title
     character(len=:), allocatable :: who
     logical :: got, bad
-    real(wp) :: numfip, epssh, sigth, impulse
+    real(wp) :: damage, epssh, sigth, impulse
     integer :: k
     call read_title_card(rd, options, title)
-    call first_card(rd, card, got, 'MID EXCL MXPRES MNEPS EFFEPS VOLEPS NUMFIP NCS')
-    if (.not. got) return
-    call get_int(card, 1, 'MID', item%material_id, required=.true.)
-    call get_real(card, 2, 'EXCL', item%exclusion)
-    call get_real(card, 3, 'MXPRES', item%limit(EROSION_MXPRES))
-    call get_real(card, 4, 'MNEPS', item%limit(EROSION_MNEPS))
-    call get_real(card, 5, 'EFFEPS', item%limit(EROSION_EFFEPS))
-    call get_real(card, 6, 'VOLEPS', item%limit(EROSION_VOLEPS))
-    call get_real(card, 7, 'NUMFIP', numfip)
-    call get_int(card, 8, 'NCS', item%conditions, default=1)
+    call next_card(rd, card, got)
+    if (.not. got) then
+      call keyword_error(rd, 'missing card 1 (MID EXCL MXPRES MNEPS EFFEPS VOLEPS NUMFIP NCS)')
+      return
+    end if
+    call read_layout_card(rd, card, KEY, 1, f)
+    item%material_id = int_field(f, 'MID')
+    item%exclusion = real_field(f, 'EXCL')
+    item%limit(EROSION_MXPRES) = real_field(f, 'MXPRES')
+    item%limit(EROSION_MNEPS) = real_field(f, 'MNEPS')
+    item%limit(EROSION_EFFEPS) = real_field(f, 'EFFEPS')
+    item%limit(EROSION_VOLEPS) = real_field(f, 'VOLEPS')
+    item%conditions = int_field(f, 'NCS')
     item%src = source_t(card%file, card%line)
     bad = card%bad
     who = 'material '//itoa(item%material_id)//': '
@@ -350,15 +355,15 @@ contains
     sigth = 0.0_wp
     impulse = 0.0_wp
     if (got) then
-      call split_card(rd, card2, W_10)
-      call get_real(card2, 1, 'MNPRES', item%limit(EROSION_MNPRES))
-      call get_real(card2, 2, 'SIGP1', item%limit(EROSION_SIGP1))
-      call get_real(card2, 3, 'SIGVM', item%limit(EROSION_SIGVM))
-      call get_real(card2, 4, 'MXEPS', item%limit(EROSION_MXEPS))
-      call get_real(card2, 5, 'EPSSH', epssh)
-      call get_real(card2, 6, 'SIGTH', sigth)
-      call get_real(card2, 7, 'IMPULSE', impulse)
-      call get_real(card2, 8, 'FAILTM', item%limit(EROSION_FAILTM))
+      call read_layout_card(rd, card2, KEY, 2, f)
+      item%limit(EROSION_MNPRES) = real_field(f, 'MNPRES')
+      item%limit(EROSION_SIGP1) = real_field(f, 'SIGP1')
+      item%limit(EROSION_SIGVM) = real_field(f, 'SIGVM')
+      item%limit(EROSION_MXEPS) = real_field(f, 'MXEPS')
+      epssh = real_field(f, 'EPSSH')
+      sigth = real_field(f, 'SIGTH')
+      impulse = real_field(f, 'IMPULSE')
+      item%limit(EROSION_FAILTM) = real_field(f, 'FAILTM')
       bad = bad .or. card2%bad
       if (.not. card2%bad .and. (epssh /= item%exclusion .or. sigth /= item%exclusion .or. &
           impulse /= item%exclusion)) then
@@ -373,8 +378,8 @@ contains
       if (len_trim(card3%text(1:card3%length)) == 0) cycle
       call split_card(rd, card3, W_10)
       do k = 1, 8
-        call get_real(card3, k, 'field '//itoa(k), numfip)
-        if (numfip /= 0.0_wp .and. .not. card3%bad) then
+        call get_real(card3, k, 'field '//itoa(k), damage)
+        if (damage /= 0.0_wp .and. .not. card3%bad) then
           call card_error(card3, who//'the damage models of *MAT_ADD_EROSION (IDAM, DMGTYP, '// &
               '...) are not supported: leave its cards after card 2 blank')
           bad = .true.
@@ -542,20 +547,21 @@ contains
     type(reader_t), intent(inout) :: rd          !< reading state
     character(len=*), intent(in) :: options      !< keyword options
     type(model_t), intent(inout) :: model        !< model appended to
-    real(wp), parameter :: UNSET = 1.0e28_wp     !< LS-DYNA's default of SIGMAX and SIGSAT
+    character(len=*), parameter :: KEY = 'MAT_SIMPLIFIED_JOHNSON_COOK'
+    real(wp), parameter :: UNSET = 1.0e28_wp     !< the table's default of PSFAIL, SIGMAX, SIGSAT
     type(material_t) :: mat
     type(card_t) :: card, card2
+    type(card_fields_t) :: f
     logical :: got, bad
     real(wp) :: psfail, sigsat
     character(len=:), allocatable :: who
     mat%kind = MAT_SIMPLIFIED_JOHNSON_COOK
     call read_title_card(rd, options, mat%title)
-    call first_card(rd, card, got, 'MID RO E PR VP')
+    call first_layout_card(rd, card, got, KEY, 'MID RO E PR VP', f, mat)
     if (.not. got) return
-    call read_mid_ro(card, mat)
-    call get_real(card, 3, 'E', mat%young, required=.true.)
-    call get_real(card, 4, 'PR', mat%poisson)
-    call get_real(card, 5, 'VP', mat%vp)
+    mat%young = real_field(f, 'E')
+    mat%poisson = real_field(f, 'PR')
+    mat%vp = real_field(f, 'VP')
     bad = card%bad
     if (.not. bad) call check_elastic(card, mat, .true.)
     bad = bad .or. card%bad
@@ -565,15 +571,15 @@ contains
       call card_error(card, who//'missing card 2 (A B N C PSFAIL SIGMAX SIGSAT EPSO)')
       return
     end if
-    call split_card(rd, card2, W_10)
-    call get_real(card2, 1, 'A', mat%jc_a)
-    call get_real(card2, 2, 'B', mat%jc_b)
-    call get_real(card2, 3, 'N', mat%n_exponent)
-    call get_real(card2, 4, 'C', mat%jc_c)
-    call get_real(card2, 5, 'PSFAIL', psfail, default=UNSET)
-    call get_real(card2, 6, 'SIGMAX', mat%max_stress, default=UNSET)
-    call get_real(card2, 7, 'SIGSAT', sigsat, default=UNSET)
-    call get_real(card2, 8, 'EPSO', mat%reference_rate)
+    call read_layout_card(rd, card2, KEY, 2, f)
+    mat%jc_a = real_field(f, 'A')
+    mat%jc_b = real_field(f, 'B')
+    mat%n_exponent = real_field(f, 'N')
+    mat%jc_c = real_field(f, 'C')
+    psfail = real_field(f, 'PSFAIL')
+    mat%max_stress = real_field(f, 'SIGMAX')
+    sigsat = real_field(f, 'SIGSAT')
+    mat%reference_rate = real_field(f, 'EPSO')
     bad = bad .or. card2%bad
     call reject_extra_cards(rd, 'material '//itoa(mat%id))
     if (bad) return
@@ -771,20 +777,6 @@ contains
     call reject_extra_cards(rd, 'material '//itoa(mat%id))
   end subroutine read_mat_rigid
 
-  !> The first card of a material; a missing card is reported.
-  subroutine first_card(rd, card, got, layout)
-    type(reader_t), intent(inout) :: rd          !< reading state
-    type(card_t), intent(inout) :: card          !< the card
-    logical, intent(out) :: got                  !< the card exists
-    character(len=*), intent(in) :: layout       !< field names, for the message
-    call next_card(rd, card, got)
-    if (.not. got) then
-      call keyword_error(rd, 'missing card 1 ('//layout//')')
-      return
-    end if
-    call split_card(rd, card, W_10)
-  end subroutine first_card
-
   !> MID of the last material card read, and forget it (0: none since the last call).
   integer function last_material_id()
     last_material_id = last_mid
@@ -813,16 +805,6 @@ contains
     mat%density = real_field(fields, 'RO')
     call check_mid_ro(card, mat)
   end subroutine first_layout_card
-
-  !> MID (field 1, positive) and RO (field 2, positive) of a material card; sets the source.
-  subroutine read_mid_ro(card, mat)
-    type(card_t), intent(inout) :: card          !< card 1 of the material
-    type(material_t), intent(inout) :: mat       !< the material
-    call get_int(card, 1, 'MID', mat%id, required=.true.)
-    last_mid = mat%id
-    call get_real(card, 2, 'RO', mat%density, required=.true.)
-    call check_mid_ro(card, mat)
-  end subroutine read_mid_ro
 
   !> The source of a material and the checks of its MID and RO (positive).
   subroutine check_mid_ro(card, mat)

@@ -19,8 +19,6 @@ module mefem_read_mesh
 
   integer, parameter :: W_NODE(6) = [8, 16, 16, 16, 8, 8]    !< *NODE field widths
   integer, parameter :: W_I8(10) = 8                          !< element cards: I8 fields
-  integer, parameter :: W_MASS(4) = [8, 8, 16, 8]             !< *ELEMENT_MASS: EID NID MASS PID
-  integer, parameter :: W_MASS_PART(4) = [8, 16, 16, 16]      !< PID ADDMASS FINMASS LCID
   !> largest |coordinate| accepted: volumes (cubes of coordinate differences) stay far from
   !> overflow (1e308), and no unit system puts a real part beyond 1e30 of its length unit
   real(wp), parameter :: COORDINATE_LIMIT = 1.0e30_wp
@@ -173,9 +171,9 @@ contains
     character(len=*), intent(in) :: options      !< keyword options
     type(model_t), intent(inout) :: model        !< model appended to
     type(card_t) :: card
+    type(card_fields_t) :: f
     type(added_mass_t) :: item
     logical :: got, node_set
-    integer :: pid
     node_set = trim(adjustl(options)) == 'NODE SET'
     if (len_trim(options) > 0 .and. .not. node_set) then
       call keyword_error(rd, 'option _'//trim(adjustl(options))//' is not supported '// &
@@ -184,14 +182,16 @@ contains
     do
       call next_card(rd, card, got)
       if (.not. got) exit
-      call split_card(rd, card, W_MASS)
+      if (node_set) then                           ! (PID not used)
+        call read_layout_card(rd, card, 'ELEMENT_MASS', 1, f, form_name=['NID ', 'NSID'])
+      else
+        call read_layout_card(rd, card, 'ELEMENT_MASS', 1, f)
+      end if
       item = added_mass_t()
       item%target_kind = merge(ON_NODE_SET, ON_NODE, node_set)
-      call get_int(card, 1, 'EID', item%element_id)
-      call get_int(card, 2, trim(merge('NSID', 'NID ', node_set)), item%target_id, &
-                   required=.true.)
-      call get_real(card, 3, 'MASS', item%mass, required=.true.)
-      call get_int(card, 4, 'PID', pid)
+      item%element_id = int_field(f, 'EID')
+      item%target_id = int_field(f, trim(merge('NSID', 'NID ', node_set)))
+      item%mass = real_field(f, 'MASS')
       if (card%bad) cycle
       if (item%target_id <= 0) then
         call card_error(card, 'field '//trim(merge('NSID', 'NID ', node_set))// &
@@ -213,6 +213,7 @@ contains
     character(len=*), intent(in) :: options      !< keyword options
     type(model_t), intent(inout) :: model        !< model appended to
     type(card_t) :: card
+    type(card_fields_t) :: f
     type(added_mass_t) :: item
     logical :: got, part_set
     integer :: lcid
@@ -224,14 +225,14 @@ contains
     do
       call next_card(rd, card, got)
       if (.not. got) exit
-      call split_card(rd, card, W_MASS_PART)
+      call read_layout_card(rd, card, 'ELEMENT_MASS_PART', 1, f, &
+                            first_name=trim(merge('PSID', 'PID ', part_set)))
       item = added_mass_t()
       item%target_kind = merge(ON_PART_SET, ON_PART, part_set)
-      call get_int(card, 1, trim(merge('PSID', 'PID ', part_set)), item%target_id, &
-                   required=.true.)
-      call get_real(card, 2, 'ADDMASS', item%mass)
-      call get_real(card, 3, 'FINMASS', item%final_mass)
-      call get_int(card, 4, 'LCID', lcid)
+      item%target_id = int_field(f, trim(merge('PSID', 'PID ', part_set)))
+      item%mass = real_field(f, 'ADDMASS')
+      item%final_mass = real_field(f, 'FINMASS')
+      lcid = int_field(f, 'LCID')
       if (card%bad) cycle
       if (item%target_id <= 0) then
         call card_error(card, 'field '//trim(merge('PSID', 'PID ', part_set))// &

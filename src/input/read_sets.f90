@@ -1,15 +1,16 @@
 !> Keyword handlers for sets: *SET_NODE_LIST (*SET_NODE), *SET_NODE_LIST_GENERATE,
 !> *SET_PART_LIST (*SET_PART) and *SET_SEGMENT, each with the _TITLE option.
 !>
-!> Card 1 is SID DA1-DA4 SOLVER; member cards follow until the next keyword (8 x I10 ids,
-!> zeros and blanks ignored; GENERATE: ranges B1 E1 B2 E2 ...; segments: N1 N2 N3 N4 A1-A4).
+!> Card 1 is SID DA1-DA4 SOLVER (its layout in mefem_card_layouts: SET_NODE, for every set);
+!> member cards follow until the next keyword (8 x I10 ids, zeros and blanks ignored;
+!> GENERATE: ranges B1 E1 B2 E2 ...; segments: N1 N2 N3 N4 A1-A4).
 !> Members are stored as user ids and resolved by resolve_conditions.
 module mefem_read_sets
-  use mefem_kinds, only: wp
   use mefem_strings, only: itoa, to_upper
-  use mefem_cards, only: reader_t, card_t, next_card, split_card, get_int, get_real, &
-                         get_text, card_error, keyword_error
+  use mefem_cards, only: reader_t, card_t, next_card, split_card, get_int, get_text, &
+                         card_error, keyword_error
   use mefem_card_helpers, only: has_option, read_title_card
+  use mefem_card_layouts, only: read_layout_card, int_field, card_fields_t
   use mefem_model, only: model_t, set_t, source_t, SET_NODE, SET_PART, SET_SEGMENT, SET_SOLID, &
                          SET_SHELL, &
                          GENERAL_ALL, GENERAL_NODE, GENERAL_PART, GENERAL_SET, GENERAL_BOX, GENERAL_SEG
@@ -19,7 +20,6 @@ module mefem_read_sets
   public :: read_set_node, read_set_part, read_set_segment, set_keyword, read_set_element
 
   integer, parameter :: W_10(8) = 10                       !< standard 8 x 10 card
-  integer, parameter :: W_HEADER(6) = [10, 10, 10, 10, 10, 10]   !< SID DA1-DA4 SOLVER
 
 contains
 
@@ -345,10 +345,9 @@ contains
     character(len=*), intent(in) :: options      !< keyword options
     type(set_t), intent(inout) :: set            !< the set
     type(card_t) :: card
+    type(card_fields_t) :: f
     logical :: got
-    real(wp) :: attribute
     character(len=:), allocatable :: solver
-    integer :: i
     read_header = .false.
     call read_title_card(rd, options, set%title)
     call next_card(rd, card, got)
@@ -356,12 +355,9 @@ contains
       call keyword_error(rd, 'missing card 1 (SID DA1 DA2 DA3 DA4 SOLVER)')
       return
     end if
-    call split_card(rd, card, W_HEADER)
-    call get_int(card, 1, 'SID', set%id, required=.true.)
-    do i = 1, 4
-      call get_real(card, 1 + i, 'DA'//itoa(i), attribute)
-    end do
-    call get_text(card, 6, solver)
+    call read_layout_card(rd, card, 'SET_NODE', 1, f, text_after=[10])   ! (DA1-DA4 not used)
+    set%id = int_field(f, 'SID')
+    call get_text(card, card%nfields, solver)                          ! SOLVER
     set%src = source_t(card%file, card%line)
     if (card%bad) return
     if (set%id <= 0) then

@@ -2,8 +2,9 @@
 !> defaults, a *PARAMETER reference in a material card, a *DEFINE_CURVE in long format) and
 !> kw_all_comma.k (the same deck in comma format, materials by their numeric aliases),
 !> checks every stored value of both, then resolves the references with resolve_conditions
-!> and checks the indices. A deck written by the test (tests/out/kw_unit/) checks the
-!> ranges of a large *SET_NODE_LIST_GENERATE and a curve offset.
+!> and checks the indices. Decks written by the test (tests/out/kw_unit/) check the
+!> ranges of a large *SET_NODE_LIST_GENERATE, a curve offset, and a comma card whose field
+!> follows unread fields.
 program test_keyword_handlers
   use mefem_kinds, only: wp
   use mefem_testing, only: test_start, test_finish, check, check_close, check_equal, project_root
@@ -355,6 +356,14 @@ contains
     call check(same(model%sets(1)%member_ids, [1, 100000, 200001, 200001]), &
                'generated: GENERATE ranges B E')
     call check_close(model%curves(1)%f, [0.0_wp, 0.0_wp], TIGHT, 'generated: curve OFFO -1')
+    ! a field after unread columns (LCID after SGL SW ST): in comma format the 4th entry
+    open(newunit=unit, file=dir//'/gap.k', status='replace', action='write')
+    write(unit, '(a)') '*KEYWORD', '*MAT_MOONEY-RIVLIN_RUBBER', '1,1.0e-9,0.49,0.5,0.1', &
+        ',,,5', '*END'
+    close(unit)
+    call reset_input_errors()
+    call read_deck(dir//'/gap.k', model, n_errors)
+    call check_equal(n_errors, 1, 'generated: comma card, LCID after 3 unread fields read')
   end subroutine check_generated_deck
 
   !> True when an allocated list equals the expected ids.
