@@ -21,7 +21,8 @@ node moves with the point of the SURFB facet it lies on (kinematic, doc/theory.m
    NFLS above the load nothing is released and the run is the plain tie's, bit for bit.
    Shear then contact: a block pressed onto the other and pushed sideways by a load below the
    friction limit, SFLS below the shear it takes: the nodes are released in shear and the
-   companion contact then carries the pressure and, by friction, the side load.
+   companion contact then carries the pressure and, by friction, the side load; on 2 ranks
+   with the contact's work divided, the same releases and bits.
 Units: mm, tonne, s, N, MPa.
 """
 import os
@@ -333,6 +334,19 @@ def tiebreak_shear_then_contact():
     checks.check(abs(mean[2] / P - 1.0) < 0.05 and abs(-mean[0] / shear_load - 1.0) < 0.10,
                  'tiebreak in shear: then the contact carries the pressure (5 %) and, by '
                  'friction, the side load (10 %)', str(mean))
+    # 2 ranks, the companion contact's work divided among them (its held mask on every rank)
+    os.environ['MEFEM_CONTACT_DIVIDE_MIN'] = '0'
+    rc2, text2, out2 = run_case('tiebreak_shear_np2', blocks, ranks=2)
+    del os.environ['MEFEM_CONTACT_DIVIDE_MIN']
+    same = False
+    if rc2 == 0:
+        with h5py.File(os.path.join(out2, 'tiebreak_shear_np2.h5')) as f:
+            last2 = sorted(f['states'].keys())[-1]
+            order2 = np.argsort(f['mesh/node_ids'][()])
+            same = np.array_equal(u, f['states/%s/point/displacement' % last2][()][order2])
+    checks.check(same and released(text2) == events, 'tiebreak in shear: 2 ranks with the '
+                 'contact divided release the same nodes at the same steps and give the bits of '
+                 '1 rank', text2[-300:])
     checks.check(overlap < 0.1, 'tiebreak in shear: the released block does not sink into '
                  'the other (overlap below 0.1 mm: the penalty\'s static 0.016 mm and the '
                  'rocking the release starts; without the contact it sinks through)',
