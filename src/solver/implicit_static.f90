@@ -33,6 +33,9 @@ module mefem_implicit_static
   use mefem_boundary_conditions, only: fixed_dofs, prescribed_displacements, external_forces
   use mefem_sparse_assembly, only: coo_matrix_t, coo_init, coo_add_block, coo_reset_values, &
                                    coo_free, coo_add_rectangle
+  use mefem_implicit_skew, only: skew_nodes_t, implicit_skew_set_up, implicit_skew_activate, &
+                                 implicit_skew_residual, implicit_skew_matrix, &
+                                 implicit_skew_increment
   use mefem_mumps, only: mumps_solver_t, mumps_init, mumps_factorise, mumps_solve, &
                          mumps_free, MUMPS_UNSYMMETRIC, mumps_stats, mumps_stats_t, &
                          ordering_name
@@ -94,6 +97,10 @@ module mefem_implicit_static
   !> Lumped masses of the nodes the body loads act on (mesh, then enriched nodes; 0 at the
   !> others), set once by implicit_static_run: the body force of a node is -m a(t).
   real(wp), allocatable :: loaded_mass(:)
+  !> SPCs in turned local systems: their nodes' frames (mefem_implicit_skew) and the
+  !> transformed tangent the solver takes
+  type(skew_nodes_t) :: skew
+  type(coo_matrix_t) :: skew_tangent
 
   !> Energies of the quasi-static run for glstat (doc/theory.md 5), summed step by step by
   !> the trapezoidal rule over the converged states: internal energy int f_int . du (all
@@ -184,6 +191,16 @@ contains
     call prescribed_displacements(model, 0.0_wp, fixed(:, 1:cells%n_mesh_nodes), &
                                   prescribed(:, 1:cells%n_mesh_nodes))
     call number_equations(cells, fixed, equation, n_equations)
+    if (any([(model%spcs(k)%n_skew > 0, k = 1, model%n_spcs)])) then
+      block
+        logical :: spc_fixed(dim, cells%n_mesh_nodes)
+        spc_fixed = .false.
+        call fixed_dofs(model, 0.0_wp, spc_fixed)
+        call implicit_skew_set_up(model, equation, n_equations, &
+                                  fixed(:, 1:cells%n_mesh_nodes) .and. .not. spc_fixed, skew)
+      end block
+      call say('implicit: '//itoa(skew%n)//' nodes with SPCs in turned systems (node frames)')
+    end if
     call say('implicit: '//itoa(n_equations)//' equations, '//itoa(cells%n)//' cells')
     do k = 1, model%n_materials
       if (material_fails(model%materials(k))) call warn('implicit: material '// &
@@ -539,10 +556,10 @@ contains
       end associate
     end do
     do k = 1, model%n_spcs
-      if (model%spcs(k)%n_skew > 0) call fatal('implicit analysis takes SPCs along the '// &
-          'global axes only; the local axes of CID '//itoa(model%spcs(k)%cid)//' are not '// &
-          'global ones (explicit only); see *BOUNDARY_SPC at line '// &
-          itoa(model%spcs(k)%src%line))
+      if (model%spcs(k)%n_skew > 0 .and. model%spcs(k)%moving_system > 0) call fatal( &
+          'implicit analysis takes SPCs in fixed systems only; CID '// &
+          itoa(model%spcs(k)%cid)//' moves with its nodes (FLAG 1: explicit only); see '// &
+          '*BOUNDARY_SPC at line '//itoa(model%spcs(k)%src%line))
     end do
     if (model%n_rigid_walls > 0) call fatal('implicit analysis does not take rigid walls '// &
         '(use a rigid part as a contact tool)')
@@ -602,6 +619,7 @@ contains
     real(wp), intent(out) :: internal(:,:)             !< (dim, all nodes) f_int at the
                                                        !< converged u (when converged)
     real(wp), allocatable :: residual(:), du(:), force(:,:), fixed_u(:,:), u_start(:,:)
+    real(wp), allocatable :: du_global(:)
     logical, allocatable :: fixed(:,:)
     type(status_t) :: status
     real(wp) :: energy0, energy, norm_du, norm_step, norm_r, norm_r0, ratio
@@ -626,6 +644,8 @@ contains
     converged = .false.
     energy0 = 0.0_wp
     norm_r0 = 0.0_wp
+    ! skew conditions: the system in the node frames (du, residual and the energies there)
+    if (skew%n > 0) call implicit_skew_activate(model, t_new, skew)
     do k = 1, max(1, model%controls%maxref)
       iterations = k
       clock = comm_wtime()
@@ -634,6 +654,7 @@ contains
       timing%assembly = timing%assembly + (comm_wtime() - clock)
       timing%iterations = timing%iterations + 1
       if (.not. ok) return                                  ! a cell inverted: cut the step
+      if (skew%n > 0) call implicit_skew_residual(skew, residual)
       ! line search (LSTOL): if the last increment left too much energy, g(1) = du.R(u), take
       ! the secant step s = g(0)/(g(0) - g(1)) in [0.1, 1] along it and re-evaluate
       if (k > 1 .and. model%controls%lstol > 0.0_wp) then
@@ -641,10 +662,11 @@ contains
         if (abs(slope) > model%controls%lstol*last_energy .and. last_energy - slope > 0.0_wp) then
           step_length = min(1.0_wp, max(0.1_wp, last_energy/(last_energy - slope)))
           if (step_length < 1.0_wp) then
-            call add_increment(u, equation, du, step_length - 1.0_wp)
+            call add_global_increment(step_length - 1.0_wp)
             call evaluate_cells(model, cells, owned, equation, u, hist, force, residual, &
                                 tangent, trial, ok, t_new, u_committed, dt)
             if (.not. ok) return
+            if (skew%n > 0) call implicit_skew_residual(skew, residual)
             if (model%controls%nlprint > 0) call say('  line search: step length '// &
                 rtoa(step_length))
           end if
@@ -653,7 +675,12 @@ contains
       norm_r = norm2(residual)
       if (k == 1) norm_r0 = max(norm_r, tiny(1.0_wp))
       clock = comm_wtime()
-      call mumps_factorise(solver, tangent, status)
+      if (skew%n > 0) then
+        call implicit_skew_matrix(skew, tangent, skew_tangent)
+        call mumps_factorise(solver, skew_tangent, status)
+      else
+        call mumps_factorise(solver, tangent, status)
+      end if
       timing%factorisation = timing%factorisation + (comm_wtime() - clock)
       clock = comm_wtime()
       if (status%ok) call mumps_solve(solver, residual, du, status)
@@ -665,7 +692,7 @@ contains
       last_energy = dot_product(du, residual)
       energy = abs(last_energy)
       if (k == 1) energy0 = max(energy, tiny(1.0_wp))
-      call add_increment(u, equation, du, 1.0_wp)
+      call add_global_increment(1.0_wp)
       norm_du = norm2(du)
       norm_step = norm2(u - u_start)
       ratio = norm_r/norm_r0
@@ -688,6 +715,18 @@ contains
       end if
       if (k > 2 .and. norm_r > 1.0e6_wp*norm_r0) return     ! diverging
     end do
+  contains
+    !> u += factor du, du taken back from the node frames (T du) at skew nodes.
+    subroutine add_global_increment(factor)
+      real(wp), intent(in) :: factor                 !< multiple of du
+      if (skew%n == 0) then
+        call add_increment(u, equation, du, factor)
+        return
+      end if
+      du_global = du
+      call implicit_skew_increment(skew, du_global)
+      call add_increment(u, equation, du_global, factor)
+    end subroutine add_global_increment
   end subroutine newton_step
 
   !> The loaded masses of the body loads: lumped masses of the nodes of the parts they act on

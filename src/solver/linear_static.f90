@@ -23,6 +23,9 @@ module mefem_linear_static
   use mefem_implicit_nodal_pressure, only: np_patches_t, np_values_t, np_patches_build, &
                                            np_pairs_build, np_prepare, np_pressures, &
                                            np_cell_terms, np_add_to_pairs
+  use mefem_implicit_skew, only: skew_nodes_t, implicit_skew_set_up, implicit_skew_activate, &
+                                 implicit_skew_residual, implicit_skew_matrix, &
+                                 implicit_skew_increment
   use mefem_mumps, only: mumps_solver_t, mumps_init, mumps_analyse, mumps_factorise, &
                          mumps_solve, mumps_free, mumps_stats, mumps_stats_t, MUMPS_SPD
   use mefem_output_mesh, only: output_field_t
@@ -56,8 +59,9 @@ contains
     integer, allocatable :: equation(:,:)
     logical, allocatable :: fixed(:,:), owned_element(:)
     real(wp), allocatable :: prescribed(:,:), force(:,:), rhs(:), solution(:), u(:,:)
+    type(skew_nodes_t) :: skew
     real(wp) :: t_end, t0, t_assembly
-    integer :: dim, n_all, n_equations, i, n
+    integer :: dim, n_all, n_equations, i, n, k
 
     t0 = comm_wtime()
     call cells_build(model, cells, status, static=.true.)
@@ -111,6 +115,24 @@ contains
       end do
     end if
     call comm_sum(rhs)
+    ! SPCs in turned systems: the system in the node frames (mefem_implicit_skew)
+    if (any([(model%spcs(k)%n_skew > 0, k = 1, model%n_spcs)])) then
+      block
+        logical :: spc_fixed(dim, cells%n_mesh_nodes)
+        type(coo_matrix_t) :: turned
+        spc_fixed = .false.
+        call fixed_dofs(model, t_end, spc_fixed)
+        call implicit_skew_set_up(model, equation, n_equations, &
+                                  fixed(:, 1:cells%n_mesh_nodes) .and. .not. spc_fixed, skew)
+        call implicit_skew_activate(model, t_end, skew)
+        call implicit_skew_residual(skew, rhs)
+        call implicit_skew_matrix(skew, stiffness, turned)
+        call coo_free(stiffness)
+        stiffness = turned
+        call say('linear static: '//itoa(skew%n)//' nodes with SPCs in turned systems '// &
+                 '(node frames)')
+      end block
+    end if
     t_assembly = comm_wtime() - t0
 
     ! state 0: the unloaded model with every array of the solution's state
@@ -128,6 +150,7 @@ contains
     allocate(solution(n_equations))
     if (status%ok) call mumps_solve(solver, rhs, solution, status)
     if (.not. status%ok) call fatal('linear static: '//status%message)
+    if (skew%n > 0) call implicit_skew_increment(skew, solution)     ! (back to global axes)
     stats = mumps_stats(solver)
     call say('linear static: set-up and assembly '//rtoa(t_assembly)//' s; MUMPS analysis '// &
              rtoa(stats%time_analysis)//' s, factorisation '// &
@@ -167,10 +190,10 @@ contains
           'only; see *BOUNDARY_PRESCRIBED_MOTION at line '//itoa(model%motions(k)%src%line))
     end do
     do k = 1, model%n_spcs
-      if (model%spcs(k)%n_skew > 0) call fatal('linear static analysis takes SPCs along the '// &
-          'global axes only; the local axes of CID '//itoa(model%spcs(k)%cid)//' are not '// &
-          'global ones (explicit only); see *BOUNDARY_SPC at line '// &
-          itoa(model%spcs(k)%src%line))
+      if (model%spcs(k)%n_skew > 0 .and. model%spcs(k)%moving_system > 0) call fatal( &
+          'linear static analysis takes SPCs in fixed systems only; CID '// &
+          itoa(model%spcs(k)%cid)//' moves with its nodes (FLAG 1: explicit only); see '// &
+          '*BOUNDARY_SPC at line '//itoa(model%spcs(k)%src%line))
     end do
     if (model%n_contacts > 0 .or. model%n_rigid_walls > 0) call fatal( &
         'linear static analysis does not take contact or rigid walls')

@@ -18,7 +18,13 @@ against the closed forms:
 4. *LOAD_NODE_SET CID (a _SYSTEM system given by points in another system, CIDL): one
    hexahedron (8 equal nodal masses m), a constant force F on every node along the local x
    axis: u = F T^2/(2 m) e1 (1e-6: the last step's landing on ENDTIM);
-5. the implicit analysis refuses an SPC whose local axes are not global ones, naming it;
+5. the nonlinear implicit analysis with an SPC in a turned system (node frames): a bar of 4
+   hexahedra along e1 = (0.6, 0.8, 0), its root fixed, its other nodes held to e1 (local y and
+   z fixed; local z is global z), pulled by P along global x at the tip: u = 0.6 P x/(M A) e1
+   (M the uniaxial-strain modulus) within 1e-5 (the strain, 1.7e-6: geometric nonlinearity),
+   the normal components 0 to 1e-18, the same bar along x with global SPCs (turned back) to
+   1e-9, 2 ranks to 1e-12; the linear static analysis gives the closed form and the bar along
+   x turned to 1e-12; a moving system's SPC is refused, naming it;
 6. a moving system (*DEFINE_COORDINATE_NODES FLAG 1 on three nodes of the block): the block
    spins freely about z a quarter turn; an SPC of its local x axis (radial, at start) at a node
    on that axis stays radial as the block turns, so it does no work: the run departs from the
@@ -164,10 +170,72 @@ load = ['*LOAD_NODE_SET', f10(1, 1, 9, F, 12)] + curve(9, [(0.0, 1.0), (1.0, 1.0
 run_and_compare('cs_load_cid', deck(x1, conn1, base + local + load), F * T ** 2 / (2 * mass) * e12,
                 1e-6)
 
-# 5. the implicit analysis names the SPC it cannot take
-rc, text, out = run_case('cs_spc_implicit', deck(xs, conn, spc[:-3], implicit=True))
-checks.check(rc != 0 and 'implicit analysis takes SPCs along the global axes only' in text and
-             'CID 7' in text, 'implicit: an SPC in a turned system is refused, naming CID and '
+# 5. the implicit analysis with an SPC in a turned system: a bar along e1 held to it
+xb, cb = box_hexes(4.0, 1.0, 1.0, 4, 1, 1)
+turn = np.array([[E1[0], -E1[1], 0.0], [E1[1], E1[0], 0.0], [0.0, 0.0, 1.0]])
+nb = len(xb)
+system = np.array([[10.0, 10.0, 0.0], [10.0 + E1[0], 10.0 + E1[1], 0.0],
+                   [10.0 - E1[1], 10.0 + E1[0], 0.0]])
+P_BAR, NU = 1.0, 0.3
+root, rest = np.nonzero(xb[:, 0] < 1e-9)[0], np.nonzero(xb[:, 0] > 1e-9)[0]
+tip = np.nonzero(xb[:, 0] > 4.0 - 1e-9)[0]
+unit = curve(9, [(0.0, 1.0), (1.0, 1.0)])
+
+
+def bar(turned, moving=False, linear=False):
+    # root fixed; the other nodes held to the bar's axis; the tip pulled along global x
+    held = f10(3, 7, 0, 1, 1) if turned else f10(3, 0, 0, 1, 1)
+    force = P_BAR if turned else E1[0] * P_BAR              # (along the axis when not turned)
+    cards = node_set(2, root) + ['*BOUNDARY_SPC_SET', f10(2, 0, 1, 1, 1)] + node_set(3, rest) \
+        + ['*BOUNDARY_SPC_SET', held] + node_set(4, tip) \
+        + ['*LOAD_NODE_SET', f10(4, 1, 9, force / len(tip))] + unit
+    if linear:                              # NSOLVR 1: the linear static analysis
+        cards = cards + ['*CONTROL_IMPLICIT_SOLUTION', f10(1)]
+    if turned:
+        cards = ['*DEFINE_COORDINATE_NODES', f10(7, nb + 1, nb + 2, nb + 3, int(moving))] + cards
+        return deck(np.vstack([xb @ turn.T, system]), cb, cards, end=1.0, implicit=True)
+    return deck(xb, cb, cards, end=1.0, implicit=True)
+
+
+found = {}
+for name, blocks, ranks in (('cs_skew_implicit', bar(True), 1),
+                            ('cs_skew_implicit_2ranks', bar(True), 2),
+                            ('cs_skew_implicit_along_x', bar(False), 1),
+                            ('cs_skew_linear', bar(True, linear=True), 1),
+                            ('cs_skew_linear_along_x', bar(False, linear=True), 1)):
+    rc, text, out = run_case(name, blocks, ranks=ranks)
+    checks.check(rc == 0, '%s: run succeeds' % name, text[-600:])
+    if rc == 0:
+        found[name] = final_displacement(out, name)[:nb]
+if len(found) == 5:
+    u = found['cs_skew_implicit']
+    modulus = YOUNG * (1 - NU) / ((1 + NU) * (1 - 2 * NU))
+    want = np.outer(E1[0] * P_BAR * xb[:, 0] / modulus, E1)
+    error = np.max(np.abs(u - want)) / np.max(np.abs(want))
+    normal = max(np.max(np.abs(u @ np.array([-E1[1], E1[0], 0.0]))), np.max(np.abs(u[:, 2])))
+    turned_back = np.max(np.abs(u - found['cs_skew_implicit_along_x'] @ turn.T)) / np.max(np.abs(u))
+    ranks = np.max(np.abs(u - found['cs_skew_implicit_2ranks'])) / np.max(np.abs(u))
+    print('    implicit, SPC in a turned system: u against 0.6 P x/(M A) e1 %.1e, normal components '
+          '%.1e mm, against the bar along x %.1e, 2 ranks %.1e' % (error, normal, turned_back,
+                                                                  ranks))
+    checks.check(error < 1e-5 and normal < 1e-18, 'implicit: the bar held to e1 stretches by '
+                 '0.6 P x/(M A) along it (1e-5) and not across (1e-18)', '%.2e %.2e'
+                 % (error, normal))
+    checks.check(turned_back < 1e-9, 'implicit: the turned bar is the bar along x turned (1e-9)',
+                 '%.2e' % turned_back)
+    checks.check(ranks < 1e-12, 'implicit: 2 ranks give 1 rank\'s displacements (1e-12)',
+                 '%.2e' % ranks)
+    lin = found['cs_skew_linear']
+    lin_error = np.max(np.abs(lin - want)) / np.max(np.abs(want))
+    lin_back = np.max(np.abs(lin - found['cs_skew_linear_along_x'] @ turn.T)) / np.max(np.abs(lin))
+    print('    linear static, the same bar: against 0.6 P x/(M A) e1 %.1e, against the bar along x '
+          '%.1e' % (lin_error, lin_back))
+    checks.check(lin_error < 1e-12 and lin_back < 1e-12, 'linear static: the bar held to e1 '
+                 'stretches by 0.6 P x/(M A) along it, and is the bar along x turned (1e-12)',
+                 '%.2e %.2e' % (lin_error, lin_back))
+rc, text, out = run_case('cs_skew_implicit_moving', bar(True, moving=True))
+checks.check(rc != 0 and 'implicit analysis takes SPCs in fixed systems only' in text and
+             'CID 7' in text, 'implicit: an SPC in a moving system is refused, naming CID and '
              'line', text[-400:])
 
 # 6. a moving system: N1 N2 N3 on the block (its centre of the base, along x, along y)
