@@ -21,7 +21,7 @@ module mefem_implicit_static
   use mefem_signals, only: signals_install, signal_caught, signal_name, signal_record_stop
   use mefem_progress, only: progress_start, progress_update
   use mefem_strings, only: itoa, rtoa
-  use mefem_model, only: model_t, ON_PART, MAT_RIGID, ON_NODE, ON_NODE_SET
+  use mefem_model, only: model_t, ON_PART, MAT_RIGID, ON_NODE, ON_NODE_SET, TIEBREAK_NONE
   use mefem_decomposition, only: decomposition_t
   use mefem_cells, only: cells_t, cells_build, cells_summary, CELL_MAX_NODES
   use mefem_cell_finite_strain, only: cell_deformation_gradient, cell_internal_force, &
@@ -33,9 +33,10 @@ module mefem_implicit_static
   use mefem_boundary_conditions, only: fixed_dofs, prescribed_displacements, external_forces
   use mefem_sparse_assembly, only: coo_matrix_t, coo_init, coo_add_block, coo_reset_values, &
                                    coo_free, coo_add_rectangle
-  use mefem_implicit_skew, only: skew_nodes_t, implicit_skew_set_up, implicit_skew_activate, &
-                                 implicit_skew_residual, implicit_skew_matrix, &
-                                 implicit_skew_increment
+  use mefem_implicit_constraints, only: node_constraints_t, constraints_set_up, &
+                                        constraints_activate, constraints_residual, &
+                                        constraints_matrix, constraints_increment
+  use mefem_tied_contact, only: tied_nodes_t, tied_contact_build
   use mefem_mumps, only: mumps_solver_t, mumps_init, mumps_factorise, mumps_solve, &
                          mumps_free, MUMPS_UNSYMMETRIC, mumps_stats, mumps_stats_t, &
                          ordering_name
@@ -97,9 +98,9 @@ module mefem_implicit_static
   !> Lumped masses of the nodes the body loads act on (mesh, then enriched nodes; 0 at the
   !> others), set once by implicit_static_run: the body force of a node is -m a(t).
   real(wp), allocatable :: loaded_mass(:)
-  !> SPCs in turned local systems: their nodes' frames (mefem_implicit_skew) and the
-  !> transformed tangent the solver takes
-  type(skew_nodes_t) :: skew
+  !> SPCs in turned local systems and tied contacts: the change of unknowns u = T u'
+  !> (mefem_implicit_constraints) and the transformed tangent the solver takes
+  type(node_constraints_t) :: skew
   type(coo_matrix_t) :: skew_tangent
 
   !> Energies of the quasi-static run for glstat (doc/theory.md 5), summed step by step by
@@ -146,6 +147,7 @@ contains
     type(decomposition_t), intent(in) :: decomp     !< this rank's share
     type(cells_t) :: cells
     type(status_t) :: status
+    type(tied_nodes_t) :: tied
     type(coo_matrix_t) :: tangent
     type(mumps_solver_t) :: solver
     type(cell_state_t) :: trial
@@ -190,16 +192,39 @@ contains
     call fixed_dofs(model, 0.0_wp, fixed(:, 1:cells%n_mesh_nodes))
     call prescribed_displacements(model, 0.0_wp, fixed(:, 1:cells%n_mesh_nodes), &
                                   prescribed(:, 1:cells%n_mesh_nodes))
+    ! tied contacts: a tied node's SPCs are overridden (it follows its masters)
+    if (model%n_ties > 0) then
+      call tied_contact_build(model, tied, status)
+      if (.not. status%ok) call fatal('implicit: '//status%message)
+      block                                   ! driven tied nodes or masters: refused
+        logical :: spc_fixed(dim, cells%n_mesh_nodes), driven(dim, cells%n_mesh_nodes)
+        integer :: g
+        spc_fixed = .false.
+        call fixed_dofs(model, 0.0_wp, spc_fixed)
+        driven = fixed(:, 1:cells%n_mesh_nodes) .and. .not. spc_fixed
+        do g = 1, cells%n_mesh_nodes
+          if (any(driven(:, g)) .and. (any(tied%slave == g) .or. &
+                                       any(tied%master_node == g))) call fatal('implicit: '// &
+              'node '//itoa(model%nodes%id(g))//' of a tied contact has a prescribed '// &
+              'motion: a tied node moves with its master facet; drive the bodies elsewhere')
+        end do
+      end block
+      fixed(:, tied%slave) = .false.
+      call say('implicit: tied contacts hold '//itoa(tied%n)//' nodes ('// &
+               itoa(count(tied%dual))//' by dual mortar weights)')
+    end if
     call number_equations(cells, fixed, equation, n_equations)
-    if (any([(model%spcs(k)%n_skew > 0, k = 1, model%n_spcs)])) then
+    if (model%n_ties > 0 .or. any([(model%spcs(k)%n_skew > 0, k = 1, model%n_spcs)])) then
       block
         logical :: spc_fixed(dim, cells%n_mesh_nodes)
         spc_fixed = .false.
         call fixed_dofs(model, 0.0_wp, spc_fixed)
-        call implicit_skew_set_up(model, equation, n_equations, &
-                                  fixed(:, 1:cells%n_mesh_nodes) .and. .not. spc_fixed, skew)
+        if (model%n_ties > 0) spc_fixed(:, tied%slave) = .false.
+        call constraints_set_up(model, equation, n_equations, &
+                                fixed(:, 1:cells%n_mesh_nodes) .and. .not. spc_fixed, tied, skew)
       end block
-      call say('implicit: '//itoa(skew%n)//' nodes with SPCs in turned systems (node frames)')
+      if (skew%n > 0) call say('implicit: '//itoa(skew%n)//' nodes with SPCs in turned '// &
+                               'systems (node frames)')
     end if
     call say('implicit: '//itoa(n_equations)//' equations, '//itoa(cells%n)//' cells')
     do k = 1, model%n_materials
@@ -569,9 +594,11 @@ contains
     if (model%n_transducers > 0) call warn('implicit: force transducers '// &
         '(*CONTACT_FORCE_TRANSDUCER_PENALTY) are written by the explicit analysis only; '// &
         'rcforc has the contacts'' own forces')
-    if (model%n_ties > 0) call fatal('implicit analysis does not take tied contacts '// &
-        '(*CONTACT_TIED_...: explicit only); see the tied contact at line '// &
-        itoa(model%ties(1)%src%line))
+    do k = 1, model%n_ties
+      if (model%ties(k)%tiebreak /= TIEBREAK_NONE) call fatal('implicit analysis takes tied '// &
+          'contacts that do not fail: a tiebreak is explicit only; see the contact at line '// &
+          itoa(model%ties(k)%src%line))
+    end do
     do k = 1, model%n_contacts
       if (model%contacts(k)%single_surface) call fatal('implicit analysis takes contact with '// &
           'rigid tools only: a single-surface contact is explicit only; see '// &
@@ -645,7 +672,7 @@ contains
     energy0 = 0.0_wp
     norm_r0 = 0.0_wp
     ! skew conditions: the system in the node frames (du, residual and the energies there)
-    if (skew%n > 0) call implicit_skew_activate(model, t_new, skew)
+    if (skew%n > 0) call constraints_activate(model, t_new, skew)
     do k = 1, max(1, model%controls%maxref)
       iterations = k
       clock = comm_wtime()
@@ -654,7 +681,7 @@ contains
       timing%assembly = timing%assembly + (comm_wtime() - clock)
       timing%iterations = timing%iterations + 1
       if (.not. ok) return                                  ! a cell inverted: cut the step
-      if (skew%n > 0) call implicit_skew_residual(skew, residual)
+      if (skew%active) call constraints_residual(skew, residual)
       ! line search (LSTOL): if the last increment left too much energy, g(1) = du.R(u), take
       ! the secant step s = g(0)/(g(0) - g(1)) in [0.1, 1] along it and re-evaluate
       if (k > 1 .and. model%controls%lstol > 0.0_wp) then
@@ -666,7 +693,7 @@ contains
             call evaluate_cells(model, cells, owned, equation, u, hist, force, residual, &
                                 tangent, trial, ok, t_new, u_committed, dt)
             if (.not. ok) return
-            if (skew%n > 0) call implicit_skew_residual(skew, residual)
+            if (skew%active) call constraints_residual(skew, residual)
             if (model%controls%nlprint > 0) call say('  line search: step length '// &
                 rtoa(step_length))
           end if
@@ -675,8 +702,8 @@ contains
       norm_r = norm2(residual)
       if (k == 1) norm_r0 = max(norm_r, tiny(1.0_wp))
       clock = comm_wtime()
-      if (skew%n > 0) then
-        call implicit_skew_matrix(skew, tangent, skew_tangent)
+      if (skew%active) then
+        call constraints_matrix(skew, tangent, skew_tangent)
         call mumps_factorise(solver, skew_tangent, status)
       else
         call mumps_factorise(solver, tangent, status)
@@ -716,15 +743,15 @@ contains
       if (k > 2 .and. norm_r > 1.0e6_wp*norm_r0) return     ! diverging
     end do
   contains
-    !> u += factor du, du taken back from the node frames (T du) at skew nodes.
+    !> u += factor du, du taken back from the constraints' unknowns (T du).
     subroutine add_global_increment(factor)
       real(wp), intent(in) :: factor                 !< multiple of du
-      if (skew%n == 0) then
+      if (.not. skew%active) then
         call add_increment(u, equation, du, factor)
         return
       end if
       du_global = du
-      call implicit_skew_increment(skew, du_global)
+      call constraints_increment(skew, du_global)
       call add_increment(u, equation, du_global, factor)
     end subroutine add_global_increment
   end subroutine newton_step

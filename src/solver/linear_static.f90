@@ -12,7 +12,7 @@ module mefem_linear_static
   use mefem_comm, only: comm_sum, comm_is_root, comm_wtime
   use mefem_errors, only: status_t, fatal, say
   use mefem_strings, only: itoa, rtoa
-  use mefem_model, only: model_t, MAT_ELASTIC, ON_PART
+  use mefem_model, only: model_t, MAT_ELASTIC, ON_PART, TIEBREAK_NONE
   use mefem_decomposition, only: decomposition_t
   use mefem_cells, only: cells_t, cells_build, cells_summary, CELL_MAX_NODES
   use mefem_cell_linear, only: lame_parameters, cell_strain, isotropic_stress, cell_stiffness
@@ -23,9 +23,10 @@ module mefem_linear_static
   use mefem_implicit_nodal_pressure, only: np_patches_t, np_values_t, np_patches_build, &
                                            np_pairs_build, np_prepare, np_pressures, &
                                            np_cell_terms, np_add_to_pairs
-  use mefem_implicit_skew, only: skew_nodes_t, implicit_skew_set_up, implicit_skew_activate, &
-                                 implicit_skew_residual, implicit_skew_matrix, &
-                                 implicit_skew_increment
+  use mefem_implicit_constraints, only: node_constraints_t, constraints_set_up, &
+                                        constraints_activate, constraints_residual, &
+                                        constraints_matrix, constraints_increment
+  use mefem_tied_contact, only: tied_nodes_t, tied_contact_build
   use mefem_mumps, only: mumps_solver_t, mumps_init, mumps_analyse, mumps_factorise, &
                          mumps_solve, mumps_free, mumps_stats, mumps_stats_t, MUMPS_SPD
   use mefem_output_mesh, only: output_field_t
@@ -59,7 +60,8 @@ contains
     integer, allocatable :: equation(:,:)
     logical, allocatable :: fixed(:,:), owned_element(:)
     real(wp), allocatable :: prescribed(:,:), force(:,:), rhs(:), solution(:), u(:,:)
-    type(skew_nodes_t) :: skew
+    type(node_constraints_t) :: skew
+    type(tied_nodes_t) :: tied
     real(wp) :: t_end, t0, t_assembly
     integer :: dim, n_all, n_equations, i, n, k
 
@@ -96,6 +98,25 @@ contains
         call add_body_forces(body_acceleration(model, t_end), mass, force)
       end block
     end if
+    ! tied contacts: a tied node's SPCs are overridden (it follows its masters); a driven tied
+    ! node or master is refused
+    if (model%n_ties > 0) then
+      call tied_contact_build(model, tied, status)
+      if (.not. status%ok) call fatal('linear static: '//status%message)
+      block
+        logical :: spc_fixed(dim, cells%n_mesh_nodes)
+        integer :: g
+        spc_fixed = .false.
+        call fixed_dofs(model, t_end, spc_fixed)
+        do g = 1, cells%n_mesh_nodes
+          if (any(fixed(:, g) .and. .not. spc_fixed(:, g)) .and. (any(tied%slave == g) .or. &
+              any(tied%master_node == g))) call fatal('linear static: node '// &
+              itoa(model%nodes%id(g))//' of a tied contact has a prescribed motion: a tied '// &
+              'node moves with its master facet; drive the bodies elsewhere')
+        end do
+      end block
+      fixed(:, tied%slave) = .false.
+    end if
     call number_equations(cells, fixed, equation, n_equations)
     call say('linear static: '//itoa(n_equations)//' equations')
     if (n_equations == 0) call fatal('linear static: every degree of freedom is fixed')
@@ -115,22 +136,25 @@ contains
       end do
     end if
     call comm_sum(rhs)
-    ! SPCs in turned systems: the system in the node frames (mefem_implicit_skew)
-    if (any([(model%spcs(k)%n_skew > 0, k = 1, model%n_spcs)])) then
+    ! SPCs in turned systems and tied contacts: a change of unknowns (mefem_implicit_constraints)
+    if (model%n_ties > 0 .or. any([(model%spcs(k)%n_skew > 0, k = 1, model%n_spcs)])) then
       block
         logical :: spc_fixed(dim, cells%n_mesh_nodes)
         type(coo_matrix_t) :: turned
         spc_fixed = .false.
         call fixed_dofs(model, t_end, spc_fixed)
-        call implicit_skew_set_up(model, equation, n_equations, &
-                                  fixed(:, 1:cells%n_mesh_nodes) .and. .not. spc_fixed, skew)
-        call implicit_skew_activate(model, t_end, skew)
-        call implicit_skew_residual(skew, rhs)
-        call implicit_skew_matrix(skew, stiffness, turned)
+        if (model%n_ties > 0) spc_fixed(:, tied%slave) = .false.
+        call constraints_set_up(model, equation, n_equations, &
+                                fixed(:, 1:cells%n_mesh_nodes) .and. .not. spc_fixed, tied, skew)
+        call constraints_activate(model, t_end, skew)
+        call constraints_residual(skew, rhs)
+        call constraints_matrix(skew, stiffness, turned)
         call coo_free(stiffness)
         stiffness = turned
-        call say('linear static: '//itoa(skew%n)//' nodes with SPCs in turned systems '// &
-                 '(node frames)')
+        if (skew%n > 0) call say('linear static: '//itoa(skew%n)//' nodes with SPCs in '// &
+                                 'turned systems (node frames)')
+        if (model%n_ties > 0) call say('linear static: tied contacts hold '//itoa(tied%n)// &
+                                       ' nodes')
       end block
     end if
     t_assembly = comm_wtime() - t0
@@ -150,7 +174,7 @@ contains
     allocate(solution(n_equations))
     if (status%ok) call mumps_solve(solver, rhs, solution, status)
     if (.not. status%ok) call fatal('linear static: '//status%message)
-    if (skew%n > 0) call implicit_skew_increment(skew, solution)     ! (back to global axes)
+    if (skew%active) call constraints_increment(skew, solution)      ! (back to global axes)
     stats = mumps_stats(solver)
     call say('linear static: set-up and assembly '//rtoa(t_assembly)//' s; MUMPS analysis '// &
              rtoa(stats%time_analysis)//' s, factorisation '// &
@@ -197,8 +221,11 @@ contains
     end do
     if (model%n_contacts > 0 .or. model%n_rigid_walls > 0) call fatal( &
         'linear static analysis does not take contact or rigid walls')
-    if (model%n_ties > 0) call fatal('linear static analysis does not take tied contacts '// &
-        '(*CONTACT_TIED_...: explicit only)')
+    do k = 1, model%n_ties
+      if (model%ties(k)%tiebreak /= TIEBREAK_NONE) call fatal('linear static analysis takes '// &
+          'tied contacts that do not fail: a tiebreak is explicit only; see the contact at '// &
+          'line '//itoa(model%ties(k)%src%line))
+    end do
     if (model%n_rigid_constraints > 0) call fatal('linear static analysis does not take '// &
         '*CONSTRAINED_RIGID_BODIES or *CONSTRAINED_EXTRA_NODES (rigid parts take no part in it)')
   end subroutine check_supported

@@ -12,7 +12,11 @@ node moves with the point of the SURFB facet it lies on (kinematic, doc/theory.m
 3. _OFFSET with a gap of 0.01 mm (SAST = SST = -0.05 sets the tolerance): the tension patch test again,
    the gap kept.
 4. TIED_NODES_TO_SURFACE with a node set holding far nodes too: those are reported untied.
-5. The nonlinear implicit analysis refuses a tied contact when it starts.
+5. The nonlinear implicit analysis: the tension patch test, the tie as a change of unknowns
+   (ME-FEM and standard tets): every element has the same stress (1e-9), the traction on the
+   stretched area (1e-4, the estimate's own error), 2 ranks agree; the linear static analysis
+   gives the traction exactly (1e-10);
+   a tiebreak is refused (its failure is explicit only).
 6. Tiebreak (*CONTACT_TIEBREAK_..., *CONTACT_AUTOMATIC_SURFACE_TO_SURFACE_TIEBREAK OPTION 2):
    the tension patch test with NFLS = P/2: the nodes are released when the ramped traction
    reaches NFLS (t = T/2 by the ramp's symmetry), all of them, and the blocks part; 2 ranks
@@ -201,13 +205,69 @@ def untied_warning():
                  text[-600:])
 
 
-def implicit_refused():
+def implicit_tie():
+    """The tension patch test in the nonlinear implicit analysis (the ties as a change of
+    unknowns, mefem_implicit_constraints): every element stress is the applied traction."""
     x, c1, c2, n1 = two_blocks(0.0)
-    blocks = deck(x, c1, c2, ['*CONTACT_TIED_SURFACE_TO_SURFACE', f10(2, 1, 3, 3), '', ''], [])
-    blocks[-1] = ['*CONTROL_TERMINATION', f10(1.0), '*CONTROL_IMPLICIT_GENERAL', f10(1, 0.5)]
-    rc, text, out = run_case('tied_implicit', blocks)
-    checks.check(rc == 1 and 'implicit analysis does not take tied contacts' in text,
-                 'implicit analysis refuses a tied contact when it starts', text[-400:])
+    loads = symmetry(x) + top_segments(x, c2, 2.0, 9) + ['*LOAD_SEGMENT_SET', f10(9, 1, -1.0)] \
+        + curve(1, [(0.0, 0.0), (1.0, P)])
+    tie = ['*CONTACT_TIED_SURFACE_TO_SURFACE', f10(2, 1, 3, 3), '', '']
+    results = {}
+    for elform in (43, 10):
+        for ranks in (1, 2):
+            blocks = deck(x, c1, c2, tie, loads, elform=elform)
+            blocks[-1] = ['*CONTROL_TERMINATION', f10(1.0), '*CONTROL_IMPLICIT_GENERAL',
+                          f10(1, 0.25), '*DATABASE_BINARY_D3PLOT', f10(1.0)]
+            name = 'tied_implicit_%d_np%d' % (elform, ranks)
+            rc, text, out = run_case(name, blocks, ranks=ranks)
+            checks.check(rc == 0, '%s: run succeeds' % name, text[-600:])
+            if rc != 0:
+                return
+            with h5py.File(os.path.join(out, name + '.h5')) as f:
+                last = sorted(f['states'].keys())[-1]
+                order = np.argsort(f['mesh/node_ids'][()])
+                results[elform, ranks] = (
+                    {'displacement': f['states/%s/point/displacement' % last][()][order]},
+                    f['states/%s/cell/stress' % last][()])
+    expected = P / (1 - NU * P / E) ** 2
+    for elform in (43, 10):
+        point, stress = results[elform, 1]
+        spread = np.ptp(stress[:, 2]) / np.mean(stress[:, 2])
+        error = abs(np.mean(stress[:, 2]) / expected - 1)
+        u2 = results[elform, 2][0]['displacement']
+        ranks = np.max(abs(point['displacement'] - u2)) / np.max(abs(u2))
+        print('    implicit tie, ELFORM %d: sigma_zz %.9f .. %.9f MPa (spread %.1e; the estimate '
+              'P/(1 - nu P/E)^2 = %.6f, %.1e); 2 ranks %.1e' % (
+                  elform, stress[:, 2].min(), stress[:, 2].max(), spread, expected, error, ranks))
+        checks.check(spread < 1e-9 and error < 1e-4, 'implicit, ELFORM %d: the tie across '
+                     'non-matching meshes passes the patch test (every element the same stress '
+                     'to 1e-9, the traction on the stretched area within 1e-4)' % elform,
+                     '%.2e %.2e' % (spread, error))
+        checks.check(ranks < 1e-10, 'implicit, ELFORM %d: 2 ranks give 1 rank\'s displacements '
+                     '(1e-10)' % elform, '%.2e' % ranks)
+    # the linear static analysis: the same patch test, exact
+    for elform in (43, 10):
+        blocks = deck(x, c1, c2, tie, loads, elform=elform)
+        blocks[-1] = ['*CONTROL_TERMINATION', f10(1.0), '*CONTROL_IMPLICIT_GENERAL',
+                      f10(1, 1.0), '*CONTROL_IMPLICIT_SOLUTION', f10(1)]
+        name = 'tied_linear_%d' % elform
+        rc, text, out = run_case(name, blocks)
+        checks.check(rc == 0, '%s: run succeeds' % name, text[-600:])
+        if rc != 0:
+            continue
+        with h5py.File(os.path.join(out, name + '.h5')) as f:
+            last = sorted(f['states'].keys())[-1]
+            sigma = f['states/%s/cell/stress' % last][()]
+        error = np.max(abs(sigma[:, 2] / P - 1))
+        print('    linear static tie, ELFORM %d: sigma_zz / P - 1 within %.1e' % (elform, error))
+        checks.check(error < 1e-10, 'linear static, ELFORM %d: the tie passes the patch test '
+                     '(every stress the traction to 1e-10)' % elform, '%.2e' % error)
+    blocks = deck(x, c1, c2, ['*CONTACT_TIEBREAK_SURFACE_TO_SURFACE', f10(2, 1, 3, 3), '', '',
+                              f10(P, P)], loads)
+    blocks[-1] = ['*CONTROL_TERMINATION', f10(1.0), '*CONTROL_IMPLICIT_GENERAL', f10(1, 0.25)]
+    rc, text, out = run_case('tiebreak_implicit', blocks)
+    checks.check(rc == 1 and 'a tiebreak is explicit only' in text, 'implicit analysis refuses '
+                 'a tiebreak when it starts', text[-400:])
 
 
 def released(text):
@@ -357,7 +417,7 @@ patch(0.0, '*CONTACT_TIED_SURFACE_TO_SURFACE', '', ranks_list=(1, 2))
 patch(0.01, '*CONTACT_TIED_SURFACE_TO_SURFACE_OFFSET', f10(1.0, 1.0, -0.05))
 matching()
 untied_warning()
-implicit_refused()
+implicit_tie()
 tiebreak_tension()
 tiebreak_shear_then_contact()
 checks.exit()
