@@ -254,9 +254,10 @@ contains
   pure subroutine constraints_increment(c, du)
     type(node_constraints_t), intent(in) :: c          !< constraints
     real(wp), intent(inout) :: du(:)                   !< (equations) changed in place
-    real(wp) :: original(size(du)), weights(MAX_TARGETS)
+    real(wp), allocatable :: original(:)
+    real(wp) :: weights(MAX_TARGETS)
     integer :: targets(MAX_TARGETS), eq, n, m, k
-    original = du
+    allocate(original, source=du)                      ! (on the heap: equations may be many)
     do m = 1, c%n                                      ! skew nodes' equations
       do k = 1, c%n_free(m)
         eq = c%eq(k, m)
@@ -275,9 +276,10 @@ contains
   pure subroutine apply_transpose(c, v)
     type(node_constraints_t), intent(in) :: c          !< constraints
     real(wp), intent(inout) :: v(:)                    !< (equations)
-    real(wp) :: original(size(v)), weights(MAX_TARGETS)
+    real(wp), allocatable :: original(:)
+    real(wp) :: weights(MAX_TARGETS)
     integer :: targets(MAX_TARGETS), eq, n, m, k
-    original = v
+    allocate(original, source=v)                       ! (on the heap: equations may be many)
     do m = 1, c%n
       v(c%eq(1:c%n_free(m), m)) = 0.0_wp
     end do

@@ -197,8 +197,9 @@ contains
       call tied_contact_build(model, tied, status)
       if (.not. status%ok) call fatal('implicit: '//status%message)
       block                                   ! driven tied nodes or masters: refused
-        logical :: spc_fixed(dim, cells%n_mesh_nodes), driven(dim, cells%n_mesh_nodes)
+        logical, allocatable :: spc_fixed(:,:), driven(:,:)
         integer :: g
+        allocate(spc_fixed(dim, cells%n_mesh_nodes))
         spc_fixed = .false.
         call fixed_dofs(model, 0.0_wp, spc_fixed)
         driven = fixed(:, 1:cells%n_mesh_nodes) .and. .not. spc_fixed
@@ -216,7 +217,8 @@ contains
     call number_equations(cells, fixed, equation, n_equations)
     if (model%n_ties > 0 .or. any([(model%spcs(k)%n_skew > 0, k = 1, model%n_spcs)])) then
       block
-        logical :: spc_fixed(dim, cells%n_mesh_nodes)
+        logical, allocatable :: spc_fixed(:,:)
+        allocate(spc_fixed(dim, cells%n_mesh_nodes))
         spc_fixed = .false.
         call fixed_dofs(model, 0.0_wp, spc_fixed)
         if (model%n_ties > 0) spc_fixed(:, tied%slave) = .false.

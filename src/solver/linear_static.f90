@@ -104,8 +104,9 @@ contains
       call tied_contact_build(model, tied, status)
       if (.not. status%ok) call fatal('linear static: '//status%message)
       block
-        logical :: spc_fixed(dim, cells%n_mesh_nodes)
+        logical, allocatable :: spc_fixed(:,:)
         integer :: g
+        allocate(spc_fixed(dim, cells%n_mesh_nodes))
         spc_fixed = .false.
         call fixed_dofs(model, t_end, spc_fixed)
         do g = 1, cells%n_mesh_nodes
@@ -139,8 +140,9 @@ contains
     ! SPCs in turned systems and tied contacts: a change of unknowns (mefem_implicit_constraints)
     if (model%n_ties > 0 .or. any([(model%spcs(k)%n_skew > 0, k = 1, model%n_spcs)])) then
       block
-        logical :: spc_fixed(dim, cells%n_mesh_nodes)
+        logical, allocatable :: spc_fixed(:,:)
         type(coo_matrix_t) :: turned
+        allocate(spc_fixed(dim, cells%n_mesh_nodes))
         spc_fixed = .false.
         call fixed_dofs(model, t_end, spc_fixed)
         if (model%n_ties > 0) spc_fixed(:, tied%slave) = .false.
