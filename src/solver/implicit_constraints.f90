@@ -19,7 +19,8 @@ module mefem_implicit_constraints
   use mefem_kinds, only: wp, i8
   use mefem_errors, only: fatal
   use mefem_strings, only: itoa
-  use mefem_model, only: model_t
+  use mefem_model, only: model_t, ON_NODE, ON_NODE_SET
+  use mefem_curves, only: curve_value
   use mefem_boundary_conditions, only: target_nodes
   use mefem_sparse_assembly, only: coo_matrix_t, coo_init, coo_add_rectangle, STORAGE_LOWER
   use mefem_comm, only: comm_rank
@@ -29,9 +30,13 @@ module mefem_implicit_constraints
 
   public :: node_constraints_t, constraints_set_up, constraints_activate
   public :: constraints_residual, constraints_matrix, constraints_increment
+  public :: constraints_prescribe, constraints_reaction
 
   !> length below which a direction is held by the node's earlier ones already
   real(wp), parameter :: DEPENDENT = 1.0e-8_wp
+  !> a motion's component along a fixed dof, and the cosine of a motion's direction and an
+  !> SPC's at one node, above which they are not normal
+  real(wp), parameter :: ALIGNED = 1.0e-9_wp
   !> most unknowns an equation spreads over (a tied node's masters: the vertices of the SURFB
   !> facets its SURFA facets overlap)
   integer, parameter :: MAX_TARGETS = 64
@@ -46,11 +51,14 @@ module mefem_implicit_constraints
     integer, allocatable :: free(:,:)              !< (dim, n) which (1 x, 2 y, 3 z)
     integer, allocatable :: eq(:,:)                !< (dim, n) their equations
     integer, allocatable :: start(:)               !< (n + 1) its conditions in spc, dir
-    integer, allocatable :: spc(:)                 !< the SPC of each condition
+    integer, allocatable :: spc(:)                 !< the SPC of each condition (0: a motion)
+    integer, allocatable :: motion(:)              !< the node motion (DOF 4/-4), or 0
     real(wp), allocatable :: dir(:,:)              !< (3, conditions) its direction
     real(wp), allocatable :: frame(:,:,:)          !< (dim, dim, n) Q on the free components
                                                    !< (n_free x n_free), fixed directions first
     integer, allocatable :: n_fixed(:)             !< (n) fixed components (active now)
+    real(wp), allocatable :: drive(:)              !< (n) a motion's displacement along the
+                                                   !< frame's first axis now, or huge: none
     integer, allocatable :: slot(:)                !< (equations) skew node of an equation, or 0
     integer, allocatable :: component(:)           !< (equations) its component there
     ! tied components: equation tie_eq(k) = sum of tie_weight(j) x equation tie_target(j),
@@ -94,6 +102,7 @@ contains
               else
                 m = next(slot_of(g))
                 skew%spc(m) = k
+                skew%motion(m) = 0
                 skew%dir(:, m) = spc%skew(:, j)
                 next(slot_of(g)) = m + 1
               end if
@@ -106,17 +115,48 @@ contains
           end do
         end associate
       end do
+      do k = 1, model%n_motions                       ! node motions along a vector
+        associate (pm => model%motions(k))
+          if (abs(pm%dof) /= 4 .or. (pm%target_kind /= ON_NODE .and. &
+                                     pm%target_kind /= ON_NODE_SET)) cycle
+          call target_nodes(model, pm%target_kind, pm%target, nodes)
+          do i = 1, size(nodes)
+            g = nodes(i)
+            total = total + 1
+            if (pass == 1) then
+              count_at(g) = count_at(g) + 1
+              if (any(driven(:, g))) call fatal('implicit: node '//itoa(model%nodes%id(g))// &
+                  ' has a motion along a vector (DOF 4, line '//itoa(pm%src%line)//') and one '// &
+                  'along an axis: the implicit analysis does not take both at a node')
+              if (any(equation(:, g) == 0 .and. abs(pm%direction(1:skew%dim)) > ALIGNED)) &
+                call fatal('implicit: node '//itoa(model%nodes%id(g))//' has a motion along '// &
+                    'a vector (DOF 4, line '//itoa(pm%src%line)//') with a component along '// &
+                    'a fixed dof')
+            else
+              m = next(slot_of(g))
+              skew%spc(m) = 0
+              skew%motion(m) = k
+              skew%dir(:, m) = pm%direction
+              next(slot_of(g)) = m + 1
+            end if
+          end do
+        end associate
+      end do
       if (pass == 1) then
         skew%n = count(count_at > 0)
         skew%node = pack([(g, g = 1, size(count_at))], count_at > 0)
         allocate(slot_of(size(count_at)), skew%start(skew%n + 1), skew%spc(total), &
-                 skew%dir(3, total), skew%eq(skew%dim, skew%n), skew%free(skew%dim, skew%n), &
-                 skew%n_free(skew%n), skew%frame(skew%dim, skew%dim, skew%n), &
-                 skew%n_fixed(skew%n))
+                 skew%motion(total), skew%dir(3, total), skew%eq(skew%dim, skew%n), &
+                 skew%free(skew%dim, skew%n), skew%n_free(skew%n), &
+                 skew%frame(skew%dim, skew%dim, skew%n), skew%n_fixed(skew%n), &
+                 skew%drive(skew%n))
         slot_of = 0
         skew%start(1) = 1
         skew%eq = 0
         skew%free = 0
+        skew%n_fixed = 0                                ! (until constraints_activate)
+        skew%drive = huge(1.0_wp)
+        skew%frame = 0.0_wp
         do m = 1, skew%n
           g = skew%node(m)
           slot_of(g) = m
@@ -128,6 +168,7 @@ contains
         next = skew%start(1:skew%n)
       end if
     end do
+    call check_motions(model, skew)
     allocate(skew%slot(n_equations), skew%component(n_equations))
     skew%slot = 0
     skew%component = 0
@@ -140,6 +181,33 @@ contains
     call tie_components(model, equation, tied, skew)
     skew%active = skew%n > 0 .or. skew%n_tied > 0
   end subroutine constraints_set_up
+
+  !> A node takes one motion along a vector, and SPCs in turned systems only normal to it (its
+  !> frame's first axis is the motion's direction, exactly).
+  subroutine check_motions(model, c)
+    type(model_t), intent(in) :: model                 !< resolved model (messages)
+    type(node_constraints_t), intent(in) :: c          !< the conditions
+    integer :: m, i, j, k
+    do m = 1, c%n
+      k = 0
+      do i = c%start(m), c%start(m + 1) - 1
+        if (c%motion(i) == 0) cycle
+        if (k > 0) call fatal('implicit: node '//itoa(model%nodes%id(c%node(m)))//' has two '// &
+            'motions along vectors (DOF 4; lines '//itoa(model%motions(c%motion(k))%src%line)// &
+            ' and '//itoa(model%motions(c%motion(i))%src%line)//')')
+        k = i
+      end do
+      if (k == 0) cycle
+      do j = c%start(m), c%start(m + 1) - 1
+        if (c%spc(j) == 0) cycle
+        if (abs(dot_product(c%dir(:, j), c%dir(:, k))) > ALIGNED) call fatal( &
+            'implicit: node '//itoa(model%nodes%id(c%node(m)))//' has a motion along a '// &
+            'vector (DOF 4, line '//itoa(model%motions(c%motion(k))%src%line)//') and an SPC '// &
+            'in a turned system not normal to it (*BOUNDARY_SPC at line '// &
+            itoa(model%spcs(c%spc(j))%src%line)//')')
+      end do
+    end do
+  end subroutine check_motions
 
   !> The tied components: each tied node's free component i, from its masters' component i
   !> (a fixed master component contributes nothing: it does not move).
@@ -206,11 +274,26 @@ contains
     type(node_constraints_t), intent(inout) :: skew          !< frames set
     real(wp) :: e(3), q(3, 3)
     integer :: m, c, k, j, d, n
+    logical :: whole
     do m = 1, skew%n
       d = skew%n_free(m)                            ! the frame's size: the free components
       q = 0.0_wp
       n = 0
+      skew%drive(m) = huge(1.0_wp)
+      whole = .false.
+      do c = skew%start(m), skew%start(m + 1) - 1      ! a motion first: its axis exactly
+        if (skew%motion(c) == 0) cycle
+        associate (pm => model%motions(skew%motion(c)))
+          if (t < pm%birth .or. t > pm%death) cycle
+          e = 0.0_wp
+          e(1:d) = skew%dir(skew%free(1:d, m), c)
+          call add_direction(e)
+          skew%drive(m) = pm%scale*curve_value(model%curves(pm%curve), t)
+          whole = pm%dof < 0
+        end associate
+      end do
       do c = skew%start(m), skew%start(m + 1) - 1
+        if (skew%spc(c) == 0) cycle
         associate (spc => model%spcs(skew%spc(c)))
           if (t < spc%birth .or. t > spc%death) cycle
         end associate
@@ -226,6 +309,7 @@ contains
       end do
       skew%frame(:, :, m) = 0.0_wp
       skew%frame(1:d, 1:d, m) = q(1:d, 1:d)
+      if (whole) skew%n_fixed(m) = d                   ! DOF -4: the node moves along e only
     end do
   contains
     !> Append e, made orthogonal to the frame's columns so far, when it is not held by them.
@@ -240,6 +324,48 @@ contains
       q(:, n) = v/norm2(v)
     end subroutine add_direction
   end subroutine constraints_activate
+
+  !> The motions along vectors at the step's start: each driven node moved along its frame's
+  !> first axis e to the motion's displacement, u += e (d - e . u) (its other components as
+  !> they are), so that Newton keeps the component (du' = 0 there), as the axis motions do.
+  pure subroutine constraints_prescribe(c, u)
+    type(node_constraints_t), intent(in) :: c          !< constraints (activated)
+    real(wp), intent(inout) :: u(:,:)                  !< (dim, nodes) displacements
+    real(wp) :: e(3)
+    integer :: m, d
+    do m = 1, c%n
+      if (c%drive(m) == huge(1.0_wp)) cycle
+      d = c%n_free(m)
+      associate (comps => c%free(1:d, m), node => c%node(m))
+        e(1:d) = c%frame(1:d, 1, m)
+        u(comps, node) = u(comps, node) + e(1:d)*(c%drive(m) - dot_product(e(1:d), &
+                                                                             u(comps, node)))
+      end associate
+    end do
+  end subroutine constraints_prescribe
+
+  !> The external force at the constrained nodes for the work of their reactions (glstat):
+  !> at each node with a motion along a vector, the removed components of the internal force
+  !> minus the load take the load's place (the reaction and the load together, as at fixed
+  !> dofs).
+  pure subroutine constraints_reaction(c, internal, g)
+    type(node_constraints_t), intent(in) :: c          !< constraints (activated)
+    real(wp), intent(in) :: internal(:,:)              !< (dim, nodes) f_int
+    real(wp), intent(inout) :: g(:,:)                  !< (dim, nodes) loads; changed there
+    real(wp) :: r(3), e(3)
+    integer :: m, d, k
+    do m = 1, c%n
+      if (c%drive(m) == huge(1.0_wp)) cycle
+      d = c%n_free(m)
+      associate (comps => c%free(1:d, m), node => c%node(m))
+        r(1:d) = internal(comps, node) - g(comps, node)
+        do k = 1, c%n_fixed(m)
+          e(1:d) = c%frame(1:d, k, m)
+          g(comps, node) = g(comps, node) + e(1:d)*dot_product(e(1:d), r(1:d))
+        end do
+      end associate
+    end do
+  end subroutine constraints_reaction
 
   !> R' = T^T R: the removed unknowns' residuals 0, every other one the sum of the weights
   !> times the residuals of the equations that spread onto it (spread).

@@ -35,7 +35,8 @@ module mefem_implicit_static
                                    coo_free, coo_add_rectangle
   use mefem_implicit_constraints, only: node_constraints_t, constraints_set_up, &
                                         constraints_activate, constraints_residual, &
-                                        constraints_matrix, constraints_increment
+                                        constraints_matrix, constraints_increment, &
+                                        constraints_prescribe, constraints_reaction
   use mefem_tied_contact, only: tied_nodes_t, tied_contact_build
   use mefem_mumps, only: mumps_solver_t, mumps_init, mumps_factorise, mumps_solve, &
                          mumps_free, MUMPS_UNSYMMETRIC, mumps_stats, mumps_stats_t, &
@@ -215,7 +216,9 @@ contains
                itoa(count(tied%dual))//' by dual mortar weights)')
     end if
     call number_equations(cells, fixed, equation, n_equations)
-    if (model%n_ties > 0 .or. any([(model%spcs(k)%n_skew > 0, k = 1, model%n_spcs)])) then
+    if (model%n_ties > 0 .or. any([(model%spcs(k)%n_skew > 0, k = 1, model%n_spcs)]) .or. &
+        any([(abs(model%motions(k)%dof) == 4 .and. model%motions(k)%target_kind /= ON_PART, &
+              k = 1, model%n_motions)])) then
       block
         logical, allocatable :: spc_fixed(:,:)
         allocate(spc_fixed(dim, cells%n_mesh_nodes))
@@ -226,7 +229,7 @@ contains
                                 fixed(:, 1:cells%n_mesh_nodes) .and. .not. spc_fixed, tied, skew)
       end block
       if (skew%n > 0) call say('implicit: '//itoa(skew%n)//' nodes with SPCs in turned '// &
-                               'systems (node frames)')
+                               'systems or motions along vectors (node frames)')
     end if
     call say('implicit: '//itoa(n_equations)//' equations, '//itoa(cells%n)//' cells')
     do k = 1, model%n_materials
@@ -443,6 +446,7 @@ contains
     if (model%n_body_loads > 0) call add_body_forces(body_acceleration(model, t), &
                                                      loaded_mass, g)
     where (equation == 0) g = internal
+    if (skew%n > 0) call constraints_reaction(skew, internal, g)    ! (motions along vectors)
     allocate(f_contact(3, tools%interfaces%nnode), x_contact(3, tools%interfaces%nnode))
     do k = 1, tools%interfaces%nnode
       n = tools%interfaces%node_global(k)
@@ -577,9 +581,7 @@ contains
         if (pm%target_kind == ON_PART .and. (pm%dof < 1 .or. pm%dof > 3)) call fatal( &
             'implicit analysis moves rigid tools by translations (DOF 1-3) only; see '// &
             '*BOUNDARY_PRESCRIBED_MOTION_RIGID at line '//itoa(pm%src%line))
-        if (abs(pm%dof) == 4) call fatal('implicit analysis takes node motions along the '// &
-            'global axes (DOF 1-3) only; DOF 4/-4 along a vector (VID) is explicit only; see '// &
-            '*BOUNDARY_PRESCRIBED_MOTION at line '//itoa(pm%src%line))
+
       end associate
     end do
     do k = 1, model%n_spcs
@@ -652,7 +654,9 @@ contains
     logical, allocatable :: fixed(:,:)
     type(status_t) :: status
     real(wp) :: energy0, energy, norm_du, norm_step, norm_r, norm_r0, ratio
-    real(wp) :: last_energy, slope, step_length, clock
+    real(wp) :: last_energy, slope, step_length, clock, force_scale
+    !> a residual this small against the internal forces is round-off: converged
+    real(wp), parameter :: ROUNDOFF_FLOOR = 1.0e-9_wp
     integer :: k, dim
     logical :: ok
     dim = cells%dim
@@ -665,6 +669,12 @@ contains
     call prescribed_displacements(model, t_new, fixed(:, 1:cells%n_mesh_nodes), &
                                   fixed_u(:, 1:cells%n_mesh_nodes))
     where (fixed) u = fixed_u
+    ! skew conditions and motions along vectors: the frames of the new time, the driven nodes
+    ! moved along their vectors
+    if (skew%n > 0) then
+      call constraints_activate(model, t_new, skew)
+      call constraints_prescribe(skew, u)
+    end if
     u_start = u
     force = 0.0_wp
     call external_forces(model, t_new, force(:, 1:cells%n_mesh_nodes))
@@ -673,13 +683,17 @@ contains
     converged = .false.
     energy0 = 0.0_wp
     norm_r0 = 0.0_wp
-    ! skew conditions: the system in the node frames (du, residual and the energies there)
-    if (skew%n > 0) call constraints_activate(model, t_new, skew)
     do k = 1, max(1, model%controls%maxref)
       iterations = k
       clock = comm_wtime()
-      call evaluate_cells(model, cells, owned, equation, u, hist, force, residual, tangent, &
-                          trial, ok, t_new, u_committed, dt)
+      if (k == 1) then                   ! (f_int of the first iterate: the forces' scale)
+        call evaluate_cells(model, cells, owned, equation, u, hist, force, residual, tangent, &
+                            trial, ok, t_new, u_committed, dt, internal)
+        force_scale = norm2(internal)
+      else
+        call evaluate_cells(model, cells, owned, equation, u, hist, force, residual, tangent, &
+                            trial, ok, t_new, u_committed, dt)
+      end if
       timing%assembly = timing%assembly + (comm_wtime() - clock)
       timing%iterations = timing%iterations + 1
       if (.not. ok) return                                  ! a cell inverted: cut the step
@@ -733,7 +747,11 @@ contains
                  ', energy ratio '//rtoa(energy/energy0))
       end if
       if (norm_r /= norm_r) return                          ! NaN: cut the step
-      if (norm_r < model%controls%abstol .or. (k > 1 .and. &
+      ! converged: the residual at round-off (ROUNDOFF_FLOOR of the internal forces, reactions
+      ! included: e.g. a linear step the predictor already solved), below ABSTOL, or all the
+      ! relative criteria met
+      if (norm_r <= ROUNDOFF_FLOOR*force_scale .or. norm_r < model%controls%abstol .or. &
+          (k > 1 .and. &
           norm_du <= model%controls%dctol*norm_step .and. &
           energy <= model%controls%ectol*energy0 .and. ratio <= model%controls%rctol)) then
         ! one more evaluation so that history, stress and f_int belong to the final u

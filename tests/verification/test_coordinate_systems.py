@@ -233,6 +233,53 @@ if len(found) == 5:
     checks.check(lin_error < 1e-12 and lin_back < 1e-12, 'linear static: the bar held to e1 '
                  'stretches by 0.6 P x/(M A) along it, and is the bar along x turned (1e-12)',
                  '%.2e %.2e' % (lin_error, lin_back))
+# the same bar driven at its tip along e1 (DOF 4 / -4 along a vector, VAD 2) by DELTA: u =
+# DELTA x/L e1, the bar along x driven by DOF 1 turned, and the reaction's work balances the
+# strain energy (glstat)
+DELTA, LENGTH = 1.0e-4, 4.0
+inner = np.nonzero((xb[:, 0] > 1e-9) & (xb[:, 0] < LENGTH - 1e-9))[0]
+drive = curve(8, [(0.0, 0.0), (1.0, 1.0)])
+
+
+def driven(dof):
+    sets = node_set(2, root) + ['*BOUNDARY_SPC_SET', f10(2, 0, 1, 1, 1)] + node_set(4, tip)
+    if dof == 1:                                            # along x: the reference
+        return deck(xb, cb, sets + node_set(3, inner) + ['*BOUNDARY_SPC_SET', f10(3, 0, 0, 1, 1),
+                    '*BOUNDARY_SPC_SET', f10(4, 0, 0, 1, 1), '*BOUNDARY_PRESCRIBED_MOTION_SET',
+                    f10(4, 1, 2, 8, DELTA)] + drive + ['*DATABASE_GLSTAT', f10(0.25)],
+                    end=1.0, implicit=True)
+    held = node_set(3, inner if dof == -4 else np.concatenate([inner, tip]))
+    cards = ['*DEFINE_COORDINATE_NODES', f10(7, nb + 1, nb + 2, nb + 3),
+             '*DEFINE_VECTOR', f10(5, 0.0, 0.0, 0.0, E1[0], E1[1], 0.0)] + sets + held + \
+        ['*BOUNDARY_SPC_SET', f10(3, 7, 0, 1, 1), '*BOUNDARY_PRESCRIBED_MOTION_SET',
+         f10(4, dof, 2, 8, DELTA, 5)] + drive + ['*DATABASE_GLSTAT', f10(0.25)]
+    return deck(np.vstack([xb @ turn.T, system]), cb, cards, end=1.0, implicit=True)
+
+
+runs = {}
+for dof in (1, 4, -4):
+    name = 'cs_vector_implicit_%s' % ('x' if dof == 1 else 'dof%d' % dof)
+    blocks = driven(dof)
+    blocks[-1] = ['*CONTROL_IMPLICIT_GENERAL', f10(1, 0.25)]          # 4 steps
+    rc, text, out = run_case(name, blocks)
+    checks.check(rc == 0, '%s: run succeeds' % name, text[-600:])
+    if rc == 0:
+        runs[dof] = (final_displacement(out, name)[:nb], glstat(out))
+if len(runs) == 3:
+    want = np.outer(DELTA * xb[:, 0] / LENGTH, E1)
+    for dof in (4, -4):
+        u, g = runs[dof]
+        closed = np.max(np.abs(u - want)) / DELTA
+        turned_back = np.max(np.abs(u - runs[1][0] @ turn.T)) / DELTA
+        ratio = g['total energy / initial energy'][-1] if 'total energy / initial energy' in g \
+            else float('nan')
+        print('    implicit, DOF %d along e1: u against DELTA x/L e1 %.1e, against the bar along x '
+              'driven by DOF 1 %.1e, energy ratio %.6f' % (dof, closed, turned_back, ratio))
+        checks.check(closed < 1e-6 and turned_back < 1e-9, 'implicit, DOF %d along a vector: '
+                     'the bar stretched along e1 as the closed form (1e-6) and as the bar along x '
+                     'turned (1e-9)' % dof, '%.2e %.2e' % (closed, turned_back))
+        checks.check(abs(ratio - 1) < 1e-3, 'implicit, DOF %d: the reaction\'s work balances '
+                     'the strain energy (glstat ratio within 1e-3)' % dof, '%.6f' % ratio)
 rc, text, out = run_case('cs_skew_implicit_moving', bar(True, moving=True))
 checks.check(rc != 0 and 'implicit analysis takes SPCs in fixed systems only' in text and
              'CID 7' in text, 'implicit: an SPC in a moving system is refused, naming CID and '
