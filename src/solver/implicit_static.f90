@@ -21,7 +21,8 @@ module mefem_implicit_static
   use mefem_signals, only: signals_install, signal_caught, signal_name, signal_record_stop
   use mefem_progress, only: progress_start, progress_update
   use mefem_strings, only: itoa, rtoa
-  use mefem_model, only: model_t, ON_PART, MAT_RIGID, ON_NODE, ON_NODE_SET, TIEBREAK_NONE
+  use mefem_model, only: model_t, ON_PART, MAT_RIGID, ON_NODE, ON_NODE_SET, TIEBREAK_NONE, &
+                         RIGID_EXTRA_NODES
   use mefem_decomposition, only: decomposition_t
   use mefem_cells, only: cells_t, cells_build, cells_summary, CELL_MAX_NODES
   use mefem_cell_finite_strain, only: cell_deformation_gradient, cell_internal_force, &
@@ -30,7 +31,8 @@ module mefem_implicit_static
   use mefem_material_state, only: NHIST, HIST_ALPHA, material_state_init
   use mefem_material_update, only: material_update, rate_dependent, material_fails, &
                                    spall_active
-  use mefem_boundary_conditions, only: fixed_dofs, prescribed_displacements, external_forces
+  use mefem_boundary_conditions, only: fixed_dofs, prescribed_displacements, external_forces, &
+                                      target_nodes
   use mefem_sparse_assembly, only: coo_matrix_t, coo_init, coo_add_block, coo_reset_values, &
                                    coo_free, coo_add_rectangle
   use mefem_implicit_constraints, only: node_constraints_t, constraints_set_up, &
@@ -193,6 +195,8 @@ contains
     call fixed_dofs(model, 0.0_wp, fixed(:, 1:cells%n_mesh_nodes))
     call prescribed_displacements(model, 0.0_wp, fixed(:, 1:cells%n_mesh_nodes), &
                                   prescribed(:, 1:cells%n_mesh_nodes))
+    call extra_nodes_follow(model, 0.0_wp, fixed(:, 1:cells%n_mesh_nodes), &
+                            prescribed(:, 1:cells%n_mesh_nodes))
     ! tied contacts: a tied node's SPCs are overridden (it follows its masters)
     if (model%n_ties > 0) then
       call tied_contact_build(model, tied, status)
@@ -592,9 +596,12 @@ contains
     end do
     if (model%n_rigid_walls > 0) call fatal('implicit analysis does not take rigid walls '// &
         '(use a rigid part as a contact tool)')
-    if (model%n_rigid_constraints > 0) call fatal('implicit analysis does not take '// &
-        '*CONSTRAINED_RIGID_BODIES or *CONSTRAINED_EXTRA_NODES (rigid parts are contact '// &
-        'tools there); see line '//itoa(model%rigid_constraints(1)%src%line))
+    do k = 1, model%n_rigid_constraints
+      if (model%rigid_constraints(k)%kind /= RIGID_EXTRA_NODES) call fatal('implicit '// &
+          'analysis does not take *CONSTRAINED_RIGID_BODIES, *CONSTRAINED_NODAL_RIGID_BODY '// &
+          'or *CONSTRAINED_SPOTWELD (rigid parts are driven tools there; their extra nodes '// &
+          'follow them); see line '//itoa(model%rigid_constraints(k)%src%line))
+    end do
     if (model%n_transducers > 0) call warn('implicit: force transducers '// &
         '(*CONTACT_FORCE_TRANSDUCER_PENALTY) are written by the explicit analysis only; '// &
         'rcforc has the contacts'' own forces')
@@ -668,6 +675,8 @@ contains
     fixed_u = u
     call prescribed_displacements(model, t_new, fixed(:, 1:cells%n_mesh_nodes), &
                                   fixed_u(:, 1:cells%n_mesh_nodes))
+    call extra_nodes_follow(model, t_new, fixed(:, 1:cells%n_mesh_nodes), &
+                            fixed_u(:, 1:cells%n_mesh_nodes))
     where (fixed) u = fixed_u
     ! skew conditions and motions along vectors: the frames of the new time, the driven nodes
     ! moved along their vectors
@@ -859,6 +868,30 @@ contains
       end associate
     end do
   end function tool_displacement
+
+  !> *CONSTRAINED_EXTRA_NODES: the extra nodes of a rigid tool are driven with it (the tools
+  !> translate in the implicit analysis): all their dofs fixed, with the tool's displacement
+  !> at t.
+  subroutine extra_nodes_follow(model, t, fixed, value)
+    type(model_t), intent(in) :: model                 !< resolved model
+    real(wp), intent(in) :: t                          !< time
+    logical, intent(inout) :: fixed(:,:)               !< (dim, mesh nodes) fixed dofs
+    real(wp), intent(inout) :: value(:,:)              !< (dim, mesh nodes) their values
+    integer, allocatable :: nodes(:)
+    real(wp) :: d(3)
+    integer :: k, i
+    do k = 1, model%n_rigid_constraints
+      associate (rc => model%rigid_constraints(k))
+        if (rc%kind /= RIGID_EXTRA_NODES .or. rc%lead <= 0 .or. rc%target <= 0) cycle
+        call target_nodes(model, rc%target_kind, rc%target, nodes)
+        d = tool_displacement(model, rc%lead, t)
+        do i = 1, size(nodes)
+          fixed(:, nodes(i)) = .true.
+          value(:, nodes(i)) = d(1:size(value, 1))
+        end do
+      end associate
+    end do
+  end subroutine extra_nodes_follow
 
   !> Contact forces and their frozen-geometry penalty tangent (formulation 5.5) at u and the
   !> tools' positions at t: residual += contact forces at the free slave dofs, tangent +=

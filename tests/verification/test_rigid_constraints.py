@@ -8,7 +8,9 @@ body is moved down by delta = 0.02 mm (smooth, quasi-static over 60 wave transit
 *BOUNDARY_PRESCRIBED_MOTION_RIGID on part 2. Expected: the block's top nodes and part 3's nodes
 follow the prescribed displacement, and the body's reaction is the block's elastic force
 (lambda + 2 mu) A delta / H. Without the constraints part 3 stays where it is and the block is
-not loaded (the same deck without them). mm, t, s, MPa.
+not loaded (the same deck without them). The nonlinear implicit analysis (the plate a driven
+tool, VAD 2): the extra nodes follow it, the same bits as the top nodes driven themselves
+(*BOUNDARY_PRESCRIBED_MOTION_SET DOF 3); a merge of rigid parts is refused there. mm, t, s, MPa.
 """
 import os
 import sys
@@ -92,4 +94,56 @@ if with_constraints and without:
     checks.check(np.abs(u0[top, 2]).max() < 1e-12 and np.abs(u0[nb + 4:nb + 8, 2]).max() < 1e-12,
                  'without the constraints the block and part 3 stay at rest',
                  '%.3e %.3e' % (np.abs(u0[top, 2]).max(), np.abs(u0[nb + 4:nb + 8, 2]).max()))
+
+
+def implicit(how):
+    """The block in the nonlinear implicit analysis (4 steps), its top driven down by DELTA by
+    the plate's body (how = 'extra') or directly (how = 'nodes'); or with the merge ('merge')."""
+    blocks = [nodes_card(x), elements_card('ELEMENT_SOLID', cb),
+              elements_card('ELEMENT_SHELL', np.array([[nb, nb + 1, nb + 2, nb + 3]]), pid=2,
+                            first_id=len(cb) + 1),
+              elements_card('ELEMENT_SHELL', np.array([[nb + 4, nb + 5, nb + 6, nb + 7]]),
+                            pid=3, first_id=len(cb) + 2),
+              ['*PART', 'block', f10(1, 1, 1), '*SECTION_SOLID', f10(1, 10)] + elastic(),
+              ['*PART', 'plate', f10(2, 2, 2), '*PART', 'tab', f10(3, 2, 2),
+               '*SECTION_SHELL', f10(2, 2), f10(1.0, 1.0, 1.0, 1.0),
+               '*MAT_RIGID', free(2, DENSITY, YOUNG, POISSON), f10(1.0, 7, 7)],
+              node_set(1, range(nb)), node_set(3, np.nonzero(xb[:, 2] < 1e-9)[0]),
+              node_set(4, top),
+              ['*BOUNDARY_SPC_SET', f10(1, 0, 1, 1, 0), '*BOUNDARY_SPC_SET', f10(3, 0, 0, 0, 1)],
+              ['*BOUNDARY_PRESCRIBED_MOTION_RIGID', f10(2, 3, 2, 1, 1.0)],
+              curve(1, [(0.0, 0.0), (1.0, -DELTA)]),
+              ['*CONTROL_TERMINATION', f10(1.0), '*CONTROL_IMPLICIT_GENERAL', f10(1, 0.25),
+               '*DATABASE_BINARY_D3PLOT', f10(1.0)]]
+    if how == 'nodes':
+        blocks.append(['*BOUNDARY_PRESCRIBED_MOTION_SET', f10(4, 3, 2, 1, 1.0)])
+    else:
+        blocks.append(['*CONSTRAINED_EXTRA_NODES_SET', f10(2, 4)])
+    if how == 'merge':
+        blocks.append(['*CONSTRAINED_RIGID_BODIES', f10(2, 3)])
+    name = 'rigid_constraints_implicit_' + how
+    rc, text, out = run_case(name, blocks)
+    if how == 'merge':
+        checks.check(rc != 0 and 'implicit analysis does not take *CONSTRAINED_RIGID_BODIES' in
+                     text, 'implicit: a merge of rigid parts is refused, naming the line',
+                     text[-400:])
+        return None
+    checks.check(rc == 0, '%s: run succeeds' % name, text[-600:])
+    if rc != 0:
+        return None
+    with h5py.File(os.path.join(out, name + '.h5')) as f:
+        last = sorted(f['states'].keys())[-1]
+        order = np.argsort(f['mesh/node_ids'][()])
+        return f['states/%s/point/displacement' % last][()][order][:nb]
+
+
+extra, direct = implicit('extra'), implicit('nodes')
+implicit('merge')
+if extra is not None and direct is not None:
+    print('    implicit: the extra nodes moved %.6e .. %.6e mm (driven %.6e); against the top '
+          'driven itself %.1e' % (extra[top, 2].min(), extra[top, 2].max(), -DELTA,
+                                  np.abs(extra - direct).max()))
+    checks.check(np.abs(extra[top, 2] + DELTA).max() < 1e-12 and np.array_equal(extra, direct),
+                 'implicit: the extra nodes follow the driven tool: the bits of the top driven '
+                 'itself', '%.3e' % np.abs(extra - direct).max())
 checks.exit()
