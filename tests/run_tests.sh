@@ -75,6 +75,10 @@ for deck in tests/decks/broken/*.k; do
         while IFS= read -r want; do
           grep -qF -- "$want" "$out.o" || { ok=0; echo "FAIL: $deck ($exe): missing message: $want"; }
         done < <(grep -aoP '^\$ expect: \K.*' "$deck")
+        # and messages it must not get ("$ expect-not: text": a misleading suggestion)
+        while IFS= read -r unwanted; do
+          grep -qF -- "$unwanted" "$out.o" && { ok=0; echo "FAIL: $deck ($exe): unwanted message: $unwanted"; }
+        done < <(grep -aoP '^\$ expect-not: \K.*' "$deck")
         grep -aq '^\$ expect: ' "$deck" || { ok=0; echo "FAIL: $deck: has no '\$ expect:' line"; }
         [ $ok = 1 ] && echo "PASS: $exe rejects $deck"
         [ $ok = 1 ] || { echo "    got:"; sed 's/^/    /' "$out.o" | head -20; }

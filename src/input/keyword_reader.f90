@@ -662,12 +662,16 @@ contains
   end subroutine skip_or_reject
 
   !> "; did you mean *NAME?" when a registered keyword is within a few edits of an unknown
-  !> name (a typo: *SECTON_SOLID, *BOUNDRY_SPC_SET), else blank.
+  !> name (a typo: *SECTON_SOLID, *BOUNDRY_SPC_SET), else blank; never for a material by its
+  !> number (*MAT_004 is another material than *MAT_001, not a typo of it).
   function suggestion(name) result(text)
     character(len=*), intent(in) :: name     !< the unknown keyword name, upper case, no '*'
     character(len=80) :: text
     integer :: k, best, distance, best_distance
     text = ''
+    if (len(name) > 4) then
+      if (name(1:4) == 'MAT_' .and. verify(name(5:5), '0123456789') == 0) return
+    end if
     best = 0
     best_distance = huge(1)
     do k = 1, N_ENTRIES
