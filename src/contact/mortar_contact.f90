@@ -71,11 +71,15 @@ module mefem_mortar_contact
   use mefem_model_resolve, only: element_measure
   use mefem_output_mesh, only: NODES_OF_TOPO
   use mefem_comm, only: comm_rank, comm_size, comm_allgatherv_real
+  use mefem_restart_file, only: restart_file_t, restart_put_ints, restart_put_reals, &
+                                restart_get_ints, restart_get_reals, restart_get_ints_alloc, &
+                                restart_get_reals_alloc
   implicit none
   private
 
   public :: mortar_contact_setup, mortar_contact_forces, mortar_contact_slave_rows
   public :: mortar_contact_set_masses, mortar_contact_erode
+  public :: mortar_contact_restart_put, mortar_contact_restart_get
 
   real(wp), parameter :: MIN_MASS_LIMIT = 0.1_wp   !< eps a dt^2 / m at most, whatever
                                                    !< TSSFAC (contact_mass_limit): the spring's
@@ -97,6 +101,7 @@ module mefem_mortar_contact
   !> Reals per slave node in the records the ranks exchange: A_A, g_A, p_A, n_A (3), t_A (3),
   !> master normal (3), t_A in the node's frame (2), initial-penetration offset o_A.
   integer, parameter :: NODE_RECORD_LENGTH = 15
+  integer, parameter :: PAIR_REALS = 9 + 3*MAX_VERTICES + 3   !< reals of a pair (restart)
   !> An interface's work is divided among the ranks only when it has at least this many
   !> candidate pairs per rank: below, the 4 collectives of a divided evaluation (tens of us,
   !> far more on an oversubscribed machine) cost more than the kernels they share (about 0.5 us
@@ -1271,5 +1276,109 @@ contains
     end do
     force = f
   end subroutine add_weighted_tractions
+
+
+  !> Write the state a contact carries from one call to the next into a restart file (the
+  !> data are replicated: rank 0 writes): per interface the search (candidates, positions at
+  !> the search), the last call's pairs with their mortar weights, the slave nodes' areas,
+  !> normals, tractions (friction history) and offsets, the tiebreak's held nodes.
+  subroutine mortar_contact_restart_put(contact, f)
+    type(mortar_contact_t), intent(in) :: contact     !< contact data after a call
+    type(restart_file_t), intent(inout) :: f          !< file being written
+    integer :: k, q, ns
+    call restart_put_ints(f, 'contact.interfaces', 1, [contact%n])
+    do k = 1, contact%n
+      associate (it => contact%interfaces(k))
+        ns = size(it%slave%nodes)
+        call restart_put_ints(f, 'contact.flags', 5, [merge(1, 0, it%searched), &
+            merge(1, 0, it%evaluated), merge(1, 0, it%eroded), it%ncandidate, it%npair])
+        call restart_put_ints(f, 'contact.candidates', 2*it%ncandidate, &
+                              it%candidates(:, 1:it%ncandidate))
+        if (it%searched) call restart_put_reals(f, 'contact.search_positions', &
+                                                size(it%x_search), it%x_search)
+        call restart_put_ints(f, 'contact.pair_facets', 3*it%npair, &
+            [(it%pairs(q)%candidate, it%pairs(q)%slave, it%pairs(q)%master, q = 1, it%npair)])
+        call restart_put_reals(f, 'contact.pair_weights', PAIR_REALS*it%npair, &
+            [(pair_values(it%pairs(q)), q = 1, it%npair)])
+        call restart_put_reals(f, 'contact.nodes', 13*ns, [it%area, it%normal, &
+            it%master_normal, it%traction, it%traction_local, it%offset])
+        call restart_put_reals(f, 'contact.penalty', 2, [it%eps_material, it%mass_per_area])
+        if (allocated(it%held)) call restart_put_ints(f, 'contact.held', ns, &
+                                                      merge(1, 0, it%held))
+      end associate
+    end do
+  contains
+    !> A pair's reals, flat.
+    pure function pair_values(p) result(r)
+      type(pair_t), intent(in) :: p                   !< the pair
+      real(wp) :: r(PAIR_REALS)
+      r = [reshape(p%n_ab, [9]), reshape(p%n_ac, [3*MAX_VERTICES]), p%master_normal]
+    end function pair_values
+  end subroutine mortar_contact_restart_put
+
+  !> Read what mortar_contact_restart_put wrote into contact data set up for the same model
+  !> (every rank).
+  subroutine mortar_contact_restart_get(contact, f)
+    type(mortar_contact_t), intent(inout) :: contact  !< contact data, set up
+    type(restart_file_t), intent(inout) :: f          !< file being read
+    integer :: k, q, ns, n(1), flags(5)
+    integer, allocatable :: facets(:), held(:)
+    real(wp), allocatable :: weights(:), nodes(:)
+    real(wp) :: penalty(2)
+    call restart_get_ints(f, 'contact.interfaces', 1, n)
+    do k = 1, contact%n
+      associate (it => contact%interfaces(k))
+        ns = size(it%slave%nodes)
+        call restart_get_ints(f, 'contact.flags', 5, flags)
+        it%searched = flags(1) == 1
+        it%evaluated = flags(2) == 1
+        it%eroded = flags(3) == 1
+        it%ncandidate = flags(4)
+        it%npair = flags(5)
+        if (allocated(it%candidates)) deallocate(it%candidates)
+        allocate(it%candidates(2, max(it%ncandidate, 1)))
+        call restart_get_ints(f, 'contact.candidates', 2*it%ncandidate, it%candidates)
+        if (it%searched) then
+          if (.not. allocated(it%x_search)) allocate(it%x_search(3, size(it%surface_nodes)))
+          call restart_get_reals(f, 'contact.search_positions', size(it%x_search), &
+                                 it%x_search)
+        end if
+        call restart_get_ints_alloc(f, 'contact.pair_facets', facets)
+        call restart_get_reals_alloc(f, 'contact.pair_weights', weights)
+        if (size(it%pairs) < it%npair) then
+          deallocate(it%pairs)
+          allocate(it%pairs(it%npair))
+        end if
+        do q = 1, it%npair
+          it%pairs(q)%candidate = facets(3*q - 2)
+          it%pairs(q)%slave = facets(3*q - 1)
+          it%pairs(q)%master = facets(3*q)
+          associate (r => weights(PAIR_REALS*(q - 1) + 1:PAIR_REALS*q))
+            it%pairs(q)%n_ab = reshape(r(1:9), [3, 3])
+            it%pairs(q)%n_ac = reshape(r(10:9 + 3*MAX_VERTICES), [3, MAX_VERTICES])
+            it%pairs(q)%master_normal = r(PAIR_REALS - 2:PAIR_REALS)
+          end associate
+        end do
+        allocate(nodes(13*ns))
+        call restart_get_reals(f, 'contact.nodes', 13*ns, nodes)
+        it%area = nodes(1:ns)
+        it%normal = reshape(nodes(ns + 1:4*ns), [3, ns])
+        it%master_normal = reshape(nodes(4*ns + 1:7*ns), [3, ns])
+        it%traction = reshape(nodes(7*ns + 1:10*ns), [3, ns])
+        it%traction_local = reshape(nodes(10*ns + 1:12*ns), [2, ns])
+        it%offset = nodes(12*ns + 1:13*ns)
+        deallocate(nodes)
+        call restart_get_reals(f, 'contact.penalty', 2, penalty)
+        it%eps_material = penalty(1)
+        it%mass_per_area = penalty(2)
+        if (allocated(it%held)) then
+          allocate(held(ns))
+          call restart_get_ints(f, 'contact.held', ns, held)
+          it%held = held == 1
+          deallocate(held)
+        end if
+      end associate
+    end do
+  end subroutine mortar_contact_restart_get
 
 end module mefem_mortar_contact

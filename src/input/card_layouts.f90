@@ -9,8 +9,8 @@
 !>
 !> Keywords read through the table: *CONTROL_TERMINATION, *CONTROL_SOLUTION,
 !> *CONTROL_HOURGLASS, *CONTROL_TIMESTEP (cards 1, 2), *CONTROL_IMPLICIT_GENERAL,
-!> *CONTROL_IMPLICIT_SOLUTION (cards 1, 2), *CONTROL_IMPLICIT_AUTO, *DATABASE_BINARY_D3PLOT
-!> and *DATABASE_GLSTAT (whose card *DATABASE_RCFORC and *DATABASE_NODOUT share),
+!> *CONTROL_IMPLICIT_SOLUTION (cards 1, 2), *CONTROL_IMPLICIT_AUTO, *DATABASE_BINARY_D3PLOT,
+!> *DATABASE_BINARY_D3DUMP (whose card *DATABASE_BINARY_RUNRSF shares) and *DATABASE_GLSTAT (whose card *DATABASE_RCFORC and *DATABASE_NODOUT share),
 !> *MEFEM_ENRICHMENT; the materials *MAT_ELASTIC, *MAT_PIECEWISE_LINEAR_PLASTICITY (cards 1-4),
 !> *MAT_POWER_LAW_PLASTICITY and *MAT_PLASTIC_KINEMATIC (cards 1-2), *MAT_JOHNSON_COOK
 !> (cards 1-4), *MAT_SIMPLIFIED_JOHNSON_COOK (cards 1-2), *MAT_MOONEY-RIVLIN_RUBBER and
@@ -74,14 +74,14 @@ module mefem_card_layouts
   end type layout_cache_t
   type(layout_cache_t) :: last
 
-  integer, parameter :: N_LAYOUT_FIELDS = 513
+  integer, parameter :: N_LAYOUT_FIELDS = 520
 
   !> The table (doc/keywords.md has the same fields; tests/decks/test_card_layouts.py):
   !> keyword, card, field, first and last column, type, default, required, 0 = default; in
   !> four parts (a statement has at most 255 continuation lines): the controls, output,
   !> sections and contacts; the materials; the conditions, curves, loads and constraints; the
   !> sets, masses, parts, coordinate systems, vectors, boxes and rigid walls.
-  type(field_layout_t), parameter :: LAYOUTS_MODEL(113) = [ &
+  type(field_layout_t), parameter :: LAYOUTS_MODEL(120) = [ &
     field_layout_t('CONTROL_TERMINATION', 1, 'ENDTIM', 1, 10, 'F', 0.0_wp, .false., .false.), &
     field_layout_t('CONTROL_TERMINATION', 1, 'ENDCYC', 11, 20, 'I', 0.0_wp, .false., .false.), &
     field_layout_t('CONTROL_TERMINATION', 1, 'DTMIN', 21, 30, 'F', 0.0_wp, .false., .false.), &
@@ -139,6 +139,13 @@ module mefem_card_layouts
     field_layout_t('DATABASE_BINARY_D3PLOT', 1, 'BEAM', 21, 30, 'I', 0.0_wp, .false., .false.), &
     field_layout_t('DATABASE_BINARY_D3PLOT', 1, 'NPLTC', 31, 40, 'I', 0.0_wp, .false., .false.), &
     field_layout_t('DATABASE_BINARY_D3PLOT', 1, 'PSETID', 41, 50, 'I', 0.0_wp, .false., .false.), &
+    field_layout_t('DATABASE_BINARY_D3DUMP', 1, 'CYCL', 1, 10, 'F', 0.0_wp, .true., .false.), &
+    field_layout_t('DATABASE_BINARY_D3DUMP', 1, 'LCDT', 11, 20, 'I', 0.0_wp, .false., .false.), &
+    field_layout_t('DATABASE_BINARY_D3DUMP', 1, 'BEAM', 21, 30, 'I', 0.0_wp, .false., .false.), &
+    field_layout_t('DATABASE_BINARY_D3DUMP', 1, 'NPLTC', 31, 40, 'I', 0.0_wp, .false., .false.), &
+    field_layout_t('DATABASE_BINARY_D3DUMP', 1, 'PSETID', 41, 50, 'I', 0.0_wp, .false., .false.), &
+    field_layout_t('DATABASE_BINARY_D3DUMP', 1, 'CID', 51, 60, 'I', 0.0_wp, .false., .false.), &
+    field_layout_t('DATABASE_BINARY_D3DUMP', 1, 'NSKIP', 61, 70, 'I', 0.0_wp, .false., .false.), &
     field_layout_t('DATABASE_GLSTAT', 1, 'DT', 1, 10, 'F', 0.0_wp, .true., .false.), &
     field_layout_t('MEFEM_ENRICHMENT', 1, 'SUPPORT', 1, 10, 'F', 1.5_wp, .false., .true.), &
     field_layout_t('MEFEM_ENRICHMENT', 1, 'BASIS', 11, 20, 'I', 1.0_wp, .false., .true.), &

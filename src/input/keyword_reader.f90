@@ -27,7 +27,8 @@ module mefem_keyword_reader
                                  read_control_implicit_solution, read_control_implicit_auto, &
                                  read_database_binary_d3plot, read_database_interval, &
                                  read_database_history_node, read_mefem_enrichment, &
-                                 DATABASE_GLSTAT, DATABASE_RCFORC, DATABASE_NODOUT
+                                 DATABASE_GLSTAT, DATABASE_RCFORC, DATABASE_NODOUT, &
+                                 read_database_restart, DATABASE_D3DUMP, DATABASE_RUNRSF
   use mefem_read_materials, only: read_mat_johnson_cook, read_mat_simplified_johnson_cook, &
                                   last_material_id, &
                                   read_mat_elastic, read_mat_piecewise_linear, &
@@ -88,7 +89,8 @@ module mefem_keyword_reader
                         H_DEFINE_CURVE_SMOOTH = 73, H_DEFINE_TABLE = 74, &
                         H_DEFINE_COORDINATE_SYSTEM = 75, H_DEFINE_COORDINATE_VECTOR = 76, &
                         H_DEFINE_COORDINATE_NODES = 77, H_DEFINE_VECTOR = 78, &
-                        H_SET_SOLID = 79, H_SET_SHELL = 80, H_CONTACT_TIEBREAK = 81
+                        H_SET_SOLID = 79, H_SET_SHELL = 80, H_CONTACT_TIEBREAK = 81, &
+                        H_DATABASE_D3DUMP = 82, H_DATABASE_RUNRSF = 83
 
   !> Id read from the first card of a rejected keyword (skip_cards), 0 when none.
   integer :: rejected_id = 0
@@ -100,7 +102,7 @@ module mefem_keyword_reader
     character(len=64) :: options = ''    !< options accepted, as ' OPT1 OPT2 '
   end type keyword_entry_t
 
-  integer, parameter :: N_ENTRIES = 101
+  integer, parameter :: N_ENTRIES = 103
   type(keyword_entry_t), parameter :: REGISTRY(N_ENTRIES) = [ &
     keyword_entry_t('NODE', H_NODE, ' '), &
     keyword_entry_t('ELEMENT_SOLID', H_ELEMENT_SOLID, ' '), &
@@ -221,6 +223,8 @@ module mefem_keyword_reader
     keyword_entry_t('CONTROL_IMPLICIT_SOLUTION', H_CONTROL_IMPLICIT_SOLUTION, ' '), &
     keyword_entry_t('CONTROL_IMPLICIT_AUTO', H_CONTROL_IMPLICIT_AUTO, ' '), &
     keyword_entry_t('DATABASE_BINARY_D3PLOT', H_DATABASE_D3PLOT, ' '), &
+    keyword_entry_t('DATABASE_BINARY_D3DUMP', H_DATABASE_D3DUMP, ' '), &
+    keyword_entry_t('DATABASE_BINARY_RUNRSF', H_DATABASE_RUNRSF, ' '), &
     keyword_entry_t('DATABASE_GLSTAT', H_DATABASE_GLSTAT, ' '), &
     keyword_entry_t('DATABASE_RCFORC', H_DATABASE_RCFORC, ' '), &
     keyword_entry_t('DATABASE_NODOUT', H_DATABASE_NODOUT, ' '), &
@@ -596,6 +600,10 @@ contains
       call read_control_implicit_auto(rd, model)
     case (H_DATABASE_D3PLOT)
       call read_database_binary_d3plot(rd, model)
+    case (H_DATABASE_D3DUMP)
+      call read_database_restart(rd, DATABASE_D3DUMP, model)
+    case (H_DATABASE_RUNRSF)
+      call read_database_restart(rd, DATABASE_RUNRSF, model)
     case (H_DATABASE_GLSTAT)
       call read_database_interval(rd, DATABASE_GLSTAT, model)
     case (H_DATABASE_RCFORC)

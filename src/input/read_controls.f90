@@ -22,9 +22,11 @@ module mefem_read_controls
             read_database_binary_d3plot, read_database_interval, read_database_history_node, &
             read_mefem_enrichment, read_control_hourglass
   public :: DATABASE_GLSTAT, DATABASE_RCFORC, DATABASE_NODOUT
+  public :: read_database_restart, DATABASE_D3DUMP, DATABASE_RUNRSF
 
   ! ASCII output files of read_database_interval
   integer, parameter :: DATABASE_GLSTAT = 1, DATABASE_RCFORC = 2, DATABASE_NODOUT = 3
+  integer, parameter :: DATABASE_D3DUMP = 1, DATABASE_RUNRSF = 2   !< restart files
 
   integer, parameter :: W_10(8) = 10   !< standard 8 x 10 card
   !> largest *MEFEM_ENRICHMENT BMASS accepted (bubble inertia 100 times the element's mass:
@@ -558,6 +560,42 @@ contains
     end if
     call skip_remaining(rd)
   end subroutine read_database_interval
+
+  !> *DATABASE_BINARY_D3DUMP / *DATABASE_BINARY_RUNRSF: CYCL LCDT BEAM NPLTC PSETID CID NSKIP:
+  !> a restart file every CYCL cycles (d3dump01, d3dump02, ... each kept; runrsf overwritten).
+  subroutine read_database_restart(rd, which, model)
+    type(reader_t), intent(inout) :: rd      !< reading state
+    integer, intent(in) :: which             !< DATABASE_D3DUMP or DATABASE_RUNRSF
+    type(model_t), intent(inout) :: model    !< model receiving the controls
+    type(card_t) :: card
+    type(card_fields_t) :: f
+    logical :: got
+    real(wp) :: cycles
+    integer :: npltc
+    call next_card(rd, card, got, keep_blank=.true.)
+    if (.not. got) then
+      call keyword_error(rd, 'missing card 1 (CYCL LCDT BEAM NPLTC PSETID CID NSKIP)')
+      return
+    end if
+    call read_layout_card(rd, card, 'DATABASE_BINARY_D3DUMP', 1, f)   ! (RUNRSF shares it)
+    cycles = real_field(f, 'CYCL')
+    npltc = int_field(f, 'NPLTC')
+    if (.not. card%bad) then
+      if (npltc /= 0 .and. which == DATABASE_D3DUMP) then
+        call card_error(card, 'NPLTC (restart files by time) is not supported: give CYCL, '// &
+                        'the cycles between restart files')
+      else if (cycles < 1.0_wp .or. cycles /= aint(cycles) .or. cycles > real(huge(1), wp)) &
+          then
+        call card_error(card, 'field CYCL must be a whole number of cycles >= 1 (got '// &
+                        rtoa(cycles)//')')
+      else if (which == DATABASE_D3DUMP) then
+        model%controls%d3dump_cycles = int(cycles)
+      else
+        model%controls%runrsf_cycles = int(cycles)
+      end if
+    end if
+    call skip_remaining(rd)
+  end subroutine read_database_restart
 
   !> *DATABASE_HISTORY_NODE (node ids) / *DATABASE_HISTORY_NODE_SET (node-set ids):
   !> 8 x I10 per card, repeated; zeros and blanks ignored.

@@ -16,14 +16,14 @@ module mefem_hdf5_output
                   h5open_f, h5close_f, h5eset_auto_f, h5kind_to_type, &
                   h5pcreate_f, h5pclose_f, h5pset_fapl_mpio_f, h5pset_dxpl_mpio_f, &
                   h5pset_fill_time_f, h5pset_chunk_f, &
-                  h5fcreate_f, h5fclose_f, h5fflush_f, h5gcreate_f, h5gclose_f, h5lexists_f, &
+                  h5fcreate_f, h5fopen_f, h5fclose_f, h5fflush_f, h5ldelete_f, h5gcreate_f, h5gclose_f, h5lexists_f, &
                   h5screate_f, h5screate_simple_f, h5sclose_f, h5sselect_hyperslab_f, &
                   h5sselect_none_f, h5sget_simple_extent_dims_f, &
                   h5dcreate_f, h5dopen_f, h5dclose_f, h5dwrite_f, &
                   h5dset_extent_f, h5dget_space_f, h5acreate_f, h5aclose_f, h5awrite_f, &
                   h5tcopy_f, h5tset_size_f, h5tset_strpad_f, h5tclose_f, &
                   H5P_FILE_ACCESS_F, H5P_DATASET_XFER_F, H5P_DATASET_CREATE_F, &
-                  H5FD_MPIO_COLLECTIVE_F, H5F_ACC_TRUNC_F, H5F_SCOPE_GLOBAL_F, &
+                  H5FD_MPIO_COLLECTIVE_F, H5F_ACC_TRUNC_F, H5F_ACC_RDWR_F, H5F_SCOPE_GLOBAL_F, &
                   H5D_FILL_TIME_NEVER_F, H5S_SCALAR_F, H5S_SELECT_SET_F, H5S_SELECT_OR_F, &
                   H5S_UNLIMITED_F, H5T_STD_I32LE, H5T_STD_I64LE, H5T_IEEE_F64LE, H5T_C_S1, &
                   H5T_STR_NULLPAD_F
@@ -37,7 +37,7 @@ module mefem_hdf5_output
   private
 
   public :: h5_output_open, h5_output_write_mesh, h5_output_write_state, h5_output_close
-  public :: h5_output_topology_length
+  public :: h5_output_topology_length, h5_output_resume
 
   integer, parameter :: FORMAT_VERSION = 1          !< bumped when the layout changes
   integer, parameter :: ENTITY_NODE = 1, ENTITY_CELL = 2
@@ -93,6 +93,78 @@ contains
     character(len=*), intent(in) :: path   !< file name, the same on every rank
     integer(HID_T) :: access_list, group_id
     integer :: hdferr
+    call open_library(path, access_list)
+    call h5fcreate_f(file_path, H5F_ACC_TRUNC_F, file_id, hdferr, access_prp=access_list)
+    call check(hdferr, 'cannot create the file (does the directory exist and is it writable?)')
+    call h5pclose_f(access_list, hdferr)
+    file_open = .true.
+    mesh_written = .false.
+    nstates = 0
+    call create_property_lists()
+
+    call write_attribute_text(file_id, 'format', 'mefem')
+    call write_attribute_int(file_id, 'format_version', FORMAT_VERSION)
+    call create_group(file_id, '/states', group_id)
+    call h5gclose_f(group_id, hdferr)
+    call create_group(file_id, '/time_history', group_id)
+    call create_history_dataset(group_id, 'time', H5T_IEEE_F64LE)
+    call create_history_dataset(group_id, 'step', H5T_STD_I32LE)
+    call h5gclose_f(group_id, hdferr)
+    call check(hdferr, 'cannot create /time_history')
+  end subroutine h5_output_open
+
+  !> Open the result file of the run a restart continues (on all ranks), keep its first
+  !> nkept states (those its restart file lists), drop the states from step first_dropped on
+  !> (a later state of the stopped run is written again by the restarted one) and get ready
+  !> to write further states for this rank's piece (the mesh is in the file already).
+  subroutine h5_output_resume(path, mesh, nkept, first_dropped, topology)
+    character(len=*), intent(in) :: path       !< file name, the same on every rank
+    type(output_mesh_t), intent(in) :: mesh    !< this rank's piece, with global positions
+    integer, intent(in) :: nkept               !< states kept (/time_history's first rows)
+    integer, intent(in) :: first_dropped       !< first step number dropped
+    integer(i8), intent(in) :: topology        !< entries of /mesh/xdmf_topology
+    character(len=*), parameter :: HISTORY(2) = [character(len=18) :: '/time_history/time', &
+                                                 '/time_history/step']
+    integer(HID_T) :: access_list, dataset_id
+    character(len=32) :: group_name
+    logical :: exists
+    integer :: hdferr, step, k
+    call open_library(path, access_list)
+    call h5fopen_f(file_path, H5F_ACC_RDWR_F, file_id, hdferr, access_prp=access_list)
+    call check(hdferr, 'cannot open it to continue the run its restart file belongs to (a '// &
+               'restart needs that run''s results in the output directory)')
+    call h5pclose_f(access_list, hdferr)
+    file_open = .true.
+    call create_property_lists()
+    call build_maps(mesh)
+    mesh_written = .true.
+    topology_length = topology
+    step = first_dropped
+    do
+      write(group_name, '(a,i0.6)') '/states/', step
+      call h5lexists_f(file_id, trim(group_name), exists, hdferr)
+      call check(hdferr, 'cannot look for '//trim(group_name))
+      if (.not. exists) exit
+      call h5ldelete_f(file_id, trim(group_name), hdferr)
+      call check(hdferr, 'cannot drop '//trim(group_name)//' of the stopped run')
+      step = step + 1
+    end do
+    nstates = nkept
+    do k = 1, size(HISTORY)
+      call h5dopen_f(file_id, HISTORY(k), dataset_id, hdferr)
+      call check(hdferr, 'cannot open '//HISTORY(k))
+      call h5dset_extent_f(dataset_id, [int(nstates, HSIZE_T)], hdferr)
+      call check(hdferr, 'cannot cut '//HISTORY(k)//' back to the restart file''s states')
+      call h5dclose_f(dataset_id, hdferr)
+    end do
+    call flush_file()
+  end subroutine h5_output_resume
+
+  !> Start the HDF5 library (once) and make the file access list of the MPI-IO driver.
+  subroutine open_library(path, access_list)
+    character(len=*), intent(in) :: path              !< the file, the same on every rank
+    integer(HID_T), intent(out) :: access_list        !< file access property list
+    integer :: hdferr
     if (file_open) call fatal('HDF5 output: cannot open '''//trim(path)// &
                               ''': '''//file_path//''' is still open')
     file_path = trim(path)
@@ -106,13 +178,11 @@ contains
     call check(hdferr, 'cannot create a file access property list')
     call h5pset_fapl_mpio_f(access_list, comm_fortran_handle(), comm_info_null_handle(), hdferr)
     call check(hdferr, 'cannot select the MPI-IO driver')
-    call h5fcreate_f(file_path, H5F_ACC_TRUNC_F, file_id, hdferr, access_prp=access_list)
-    call check(hdferr, 'cannot create the file (does the directory exist and is it writable?)')
-    call h5pclose_f(access_list, hdferr)
-    file_open = .true.
-    mesh_written = .false.
-    nstates = 0
+  end subroutine open_library
 
+  !> The transfer (collective MPI-IO) and dataset creation (no fill values) property lists.
+  subroutine create_property_lists()
+    integer :: hdferr
     call h5pcreate_f(H5P_DATASET_XFER_F, transfer_list, hdferr)
     call check(hdferr, 'cannot create a transfer property list')
     call h5pset_dxpl_mpio_f(transfer_list, H5FD_MPIO_COLLECTIVE_F, hdferr)
@@ -121,33 +191,29 @@ contains
     call check(hdferr, 'cannot create a dataset creation property list')
     call h5pset_fill_time_f(create_list, H5D_FILL_TIME_NEVER_F, hdferr)
     call check(hdferr, 'cannot switch off fill values')
+  end subroutine create_property_lists
 
-    call write_attribute_text(file_id, 'format', 'mefem')
-    call write_attribute_int(file_id, 'format_version', FORMAT_VERSION)
-    call create_group(file_id, '/states', group_id)
-    call h5gclose_f(group_id, hdferr)
-    call create_group(file_id, '/time_history', group_id)
-    call create_history_dataset(group_id, 'time', H5T_IEEE_F64LE)
-    call create_history_dataset(group_id, 'step', H5T_STD_I32LE)
-    call h5gclose_f(group_id, hdferr)
-    call check(hdferr, 'cannot create /time_history')
-  end subroutine h5_output_open
-
-  !> Write the mesh (group /mesh) once; every rank gives its piece.
-  subroutine h5_output_write_mesh(mesh)
+  !> The rows this rank writes of the node and cell datasets (its owned nodes, its cells).
+  subroutine build_maps(mesh)
     type(output_mesh_t), intent(in) :: mesh   !< this rank's piece, with global positions
     logical, allocatable :: every_cell(:)
-    integer, allocatable :: cell_types(:)
-    integer(HID_T) :: group_id
-    integer :: hdferr, c
-    call require_open('write the mesh')
-    if (mesh_written) call fatal('HDF5 output '''//file_path//''': the mesh is written twice')
     call check_mesh_piece(mesh)
     call build_row_map(maps(ENTITY_NODE), mesh%global_node, mesh%node_owned, &
                        mesh%nnode_global, 'node')
     allocate(every_cell(mesh%ncell), source=.true.)
     call build_row_map(maps(ENTITY_CELL), mesh%global_cell, every_cell, &
                        mesh%ncell_global, 'cell')
+  end subroutine build_maps
+
+  !> Write the mesh (group /mesh) once; every rank gives its piece.
+  subroutine h5_output_write_mesh(mesh)
+    type(output_mesh_t), intent(in) :: mesh   !< this rank's piece, with global positions
+    integer, allocatable :: cell_types(:)
+    integer(HID_T) :: group_id
+    integer :: hdferr, c
+    call require_open('write the mesh')
+    if (mesh_written) call fatal('HDF5 output '''//file_path//''': the mesh is written twice')
+    call build_maps(mesh)
 
     call create_group(file_id, '/mesh', group_id)
     call write_attribute_int(group_id, 'nnode', mesh%nnode_global)

@@ -51,12 +51,20 @@
 !> node: id (i10) followed by x/y/z displacement, velocity, acceleration and coordinate.
 !> No rotation block (solids only). Units are those of the input deck.
 module mefem_history_output
-  use mefem_kinds, only: wp
+  use mefem_kinds, only: wp, i8
   use mefem_comm, only: comm_is_root
   use mefem_errors, only: fatal_local
   use mefem_text_file, only: text_open, text_put, text_flush, text_close
+  use mefem_file_system, only: truncate_file, remove_file
+  use mefem_restart_file, only: restart_file_t, restart_put_reals, restart_get_reals
   implicit none
   private
+
+  public :: HISTORY_FILES, history_restart_put, history_restart_get
+
+  !> The ASCII history files a run may write in its output directory
+  character(len=6), parameter :: HISTORY_FILES(5) = [character(len=6) :: 'glstat', 'nodout', &
+      'rcforc', 'rwforc', 'rbdout']
 
   public :: glstat_record_t
   public :: glstat_open, glstat_write, glstat_close, glstat_is_open
@@ -289,15 +297,16 @@ contains
 
   !> Open <dir>/rwforc on rank 0 (rigid wall forces): banner, title and column header
   !> "time wall# normal-force x-force y-force z-force", one row per wall and output time.
-  subroutine rwforc_open(dir, title)
+  subroutine rwforc_open(dir, title, append)
     character(len=*), intent(in) :: dir              !< output directory (must exist)
     character(len=*), intent(in), optional :: title  !< run title for line 1 (default "mefem")
+    logical, intent(in), optional :: append          !< continue an existing file (restart)
     if (.not. comm_is_root()) return
     if (rwforc_opened) call rwforc_close()
     rwforc_path = join_path(dir, 'rwforc')
     call open_table(rwforc_path, ' r i g i d   w a l l   f o r c e s', '                time'// &
         '   wall#        normal-force             x-force             y-force             '// &
-        'z-force', rwforc_unit, title)
+        'z-force', rwforc_unit, title, append)
     rwforc_opened = .true.
   end subroutine rwforc_open
 
@@ -331,9 +340,10 @@ contains
   !> body and output time: time, part id, centre displacement x y z, centre velocity x y z,
   !> reaction force x y z and reaction moment x y z (what constraints and prescribed motions
   !> apply to the body).
-  subroutine rbdout_open(dir, title)
+  subroutine rbdout_open(dir, title, append)
     character(len=*), intent(in) :: dir              !< output directory (must exist)
     character(len=*), intent(in), optional :: title  !< run title for line 1 (default "mefem")
+    logical, intent(in), optional :: append          !< continue an existing file (restart)
     if (.not. comm_is_root()) return
     if (rbdout_opened) call rbdout_close()
     rbdout_path = join_path(dir, 'rbdout')
@@ -341,7 +351,8 @@ contains
         '              x-disp              y-disp              z-disp'// &
         '               x-vel               y-vel               z-vel'// &
         '          x-reaction          y-reaction          z-reaction'// &
-        '         xx-reaction         yy-reaction         zz-reaction', rbdout_unit, title)
+        '         xx-reaction         yy-reaction         zz-reaction', rbdout_unit, title, &
+        append)
     rbdout_opened = .true.
   end subroutine rbdout_open
 
@@ -374,25 +385,33 @@ contains
   !>   "  slave        12 time  <t> x  <fx> y  <fy> z  <fz> mass  0 normal  <fn> tangential <ft>"
   !> (LS-DYNA's keywords and order; the normal and tangential magnitudes are mefem's own
   !> addition at the end of the line, for label-based parsers).
-  subroutine rcforc_open(dir, title)
+  subroutine rcforc_open(dir, title, append)
     character(len=*), intent(in) :: dir              !< output directory (must exist)
     character(len=*), intent(in), optional :: title  !< run title for line 1 (default "mefem")
+    logical, intent(in), optional :: append          !< continue an existing file (restart)
     if (.not. comm_is_root()) return
     if (rcforc_opened) call rcforc_close()
     rcforc_path = join_path(dir, 'rcforc')
     call open_table(rcforc_path, ' r e s u l t a n t   i n t e r f a c e   f o r c e s', '', &
-                    rcforc_unit, title)
+                    rcforc_unit, title, append)
     rcforc_opened = .true.
   end subroutine rcforc_open
 
   !> Create a history table on rank 0: banner (title or "mefem"), its spaced-out name and a
   !> column header (none when blank), flushed.
-  subroutine open_table(path, name, header, unit, title)
+  subroutine open_table(path, name, header, unit, title, append)
     character(len=*), intent(in) :: path             !< file path
     character(len=*), intent(in) :: name             !< the table's spaced-out name line
     character(len=*), intent(in) :: header           !< column header ('' for none)
     integer, intent(out) :: unit                     !< the open file's handle
     character(len=*), intent(in), optional :: title  !< run title for line 1
+    logical, intent(in), optional :: append          !< continue an existing file (restart)
+    if (present(append)) then
+      if (append) then
+        call open_history(path, .true., unit)
+        return
+      end if
+    end if
     call open_history(path, .false., unit)
     if (present(title)) then
       call write_banner(unit, path, title)
@@ -586,5 +605,46 @@ contains
       header(start:start + 5) = names(k)
     end do
   end function nodout_column_header
+
+  !> Record the lengths of the history files in dir (rank 0; -1 for a file not there) into a
+  !> restart file: a restart cuts them back to these lengths and goes on appending, so they
+  !> read as if the run had never stopped.
+  subroutine history_restart_put(f, dir)
+    type(restart_file_t), intent(inout) :: f          !< file being written (rank 0 writes)
+    character(len=*), intent(in) :: dir               !< output directory
+    real(wp) :: bytes(size(HISTORY_FILES))
+    integer(i8) :: length
+    logical :: found
+    integer :: k
+    bytes = -1.0_wp
+    if (comm_is_root()) then
+      do k = 1, size(HISTORY_FILES)
+        inquire(file=join_path(dir, trim(HISTORY_FILES(k))), exist=found, size=length)
+        if (found) bytes(k) = real(length, wp)
+      end do
+    end if
+    call restart_put_reals(f, 'histories.bytes', size(bytes), bytes)
+  end subroutine history_restart_put
+
+  !> Cut the history files in dir back to the lengths a restart file recorded (rank 0; a file
+  !> that was not there then is removed); the histories are then opened for appending.
+  subroutine history_restart_get(f, dir)
+    type(restart_file_t), intent(inout) :: f          !< file being read
+    character(len=*), intent(in) :: dir               !< output directory
+    real(wp) :: bytes(size(HISTORY_FILES))
+    logical :: ok
+    integer :: k
+    call restart_get_reals(f, 'histories.bytes', size(bytes), bytes)
+    if (.not. comm_is_root()) return
+    do k = 1, size(HISTORY_FILES)
+      if (bytes(k) < 0.0_wp) then
+        call remove_file(join_path(dir, trim(HISTORY_FILES(k))), ok)
+      else
+        call truncate_file(join_path(dir, trim(HISTORY_FILES(k))), int(bytes(k), i8), ok)
+        if (.not. ok) call fatal_local('restart: cannot cut '// &
+            join_path(dir, trim(HISTORY_FILES(k)))//' back to where the restart file left it')
+      end if
+    end do
+  end subroutine history_restart_get
 
 end module mefem_history_output

@@ -9,48 +9,62 @@ module mefem_results
   use mefem_kinds, only: wp
   use mefem_comm, only: comm_is_root, comm_barrier, comm_any
   use mefem_errors, only: fatal
-  use mefem_file_system, only: make_directory, remove_file
+  use mefem_kinds, only: i8
+  use mefem_file_system, only: make_directory, remove_file, canonical_path
   use mefem_errors, only: say, log_open
   use mefem_strings, only: itoa
   use mefem_model, only: model_t, SET_NODE
   use mefem_output_mesh, only: output_mesh_t, output_field_t
   use mefem_decomposition, only: decomposition_t, fill_output_mesh
-  use mefem_vtk_output, only: vtk_write_state
+  use mefem_vtk_output, only: vtk_write_state, vtk_collection_states, vtk_collection_restore
   use mefem_hdf5_output, only: h5_output_open, h5_output_write_mesh, h5_output_write_state, &
-                               h5_output_close, h5_output_topology_length
-  use mefem_xdmf_output, only: xdmf_open, xdmf_add_state
+                               h5_output_close, h5_output_topology_length, h5_output_resume
+  use mefem_xdmf_output, only: xdmf_open, xdmf_add_state, xdmf_states, xdmf_restore_states
+  use mefem_history_output, only: HISTORY_FILES, history_restart_put, history_restart_get
+  use mefem_restart_file, only: restart_file_t, restart_open, restart_close, &
+                                restart_put_text, restart_put_reals, restart_get_text, &
+                                restart_get_reals, restart_get_reals_alloc
   implicit none
   private
 
   public :: results_open, results_write_state, results_close, node_set_fields, results_directory
   public :: append_node_set_fields
+  public :: results_restart_header_put, results_restart_peek, results_restart_put, &
+            results_restart_get
 
   type(output_mesh_t), save :: piece               !< this rank's output mesh
   character(len=:), allocatable :: out_dir, stem   !< output directory and file stem
+  character(len=:), allocatable :: deck_path       !< the deck (for restart files)
 
 contains
 
   !> Create the output directory and files, and write the mesh.
-  subroutine results_open(dir, basename, model, decomp)
+  !> With resume (a restart), the results of the run being continued stay: the files are
+  !> opened by results_restart_get, which knows from the restart file what to keep.
+  subroutine results_open(dir, basename, model, decomp, deck, resume)
     character(len=*), intent(in) :: dir              !< output directory
     character(len=*), intent(in) :: basename         !< stem of the file names
     type(model_t), intent(in) :: model               !< resolved model
     type(decomposition_t), intent(in) :: decomp      !< this rank's share
+    character(len=*), intent(in) :: deck             !< the deck's path
+    logical, intent(in) :: resume                    !< continue the results of a restart file
     character(len=:), allocatable :: reason
     logical :: ok
     out_dir = dir
     stem = basename
+    deck_path = canonical_path(deck)
     ok = .true.
     if (comm_is_root()) call make_directory(dir, ok, reason)
     if (comm_any(.not. ok)) then
       if (comm_is_root()) call fatal('cannot use the output directory "'//dir//'": '//reason)
       call fatal('cannot use the output directory "'//dir//'"')
     end if
-    if (comm_is_root()) call remove_earlier_results(dir, basename)
-    call log_open(dir//'/mefem.log')
+    if (comm_is_root() .and. .not. resume) call remove_earlier_results(dir, basename, 0, .true.)
+    call log_open(dir//'/mefem.log', append=resume)
     call comm_barrier()
     call fill_output_mesh(decomp, model%nodes%x, model%nodes%id, model%elements%topology, &
                           model%elements%id, model%elements%part_id, piece)
+    if (resume) return
     call h5_output_open(dir//'/'//basename//'.h5')
     call h5_output_write_mesh(piece)
     call xdmf_open(dir//'/'//basename//'.xdmf', basename//'.h5', piece%nnode_global, &
@@ -73,17 +87,17 @@ contains
   !> otherwise stay beside them): the states stem_SSSSSS.vtu, .pvtu and their pieces
   !> stem_SSSSSS_RRRR.vtu (SSSSSS from 0 up to the first state without any file), stem.pvd,
   !> stem.h5, and the histories glstat, nodout, rcforc, rwforc, rbdout. Says how many it
-  !> removed.
-  subroutine remove_earlier_results(dir, basename)
+  !> removed. A restart removes only the states from first_step on (whole = .false.).
+  subroutine remove_earlier_results(dir, basename, first_step, whole)
     character(len=*), intent(in) :: dir              !< output directory
     character(len=*), intent(in) :: basename         !< stem of the file names
-    character(len=6), parameter :: HISTORIES(5) = [character(len=6) :: 'glstat', 'nodout', &
-        'rcforc', 'rwforc', 'rbdout']
+    integer, intent(in) :: first_step                !< first state removed
+    logical, intent(in) :: whole                     !< the collections and histories too
     character(len=:), allocatable :: state
     integer :: step, rank, count
     logical :: removed, any_file
     count = 0
-    step = 0
+    step = first_step
     do
       state = dir//'/'//basename//'_'//padded(step, 6)
       any_file = .false.
@@ -101,14 +115,19 @@ contains
       if (.not. any_file) exit
       step = step + 1
     end do
+    if (.not. whole) then
+      if (count > 0) call say('results: removed '//itoa(count)//' files of states the run '// &
+                              'wrote after its restart file')
+      return
+    end if
     call remove_file(dir//'/'//basename//'.pvd', removed)
     call tally()
     call remove_file(dir//'/'//basename//'.h5', removed)
     call tally()
     call remove_file(dir//'/'//basename//'.xdmf', removed)
     call tally()
-    do step = 1, size(HISTORIES)
-      call remove_file(dir//'/'//trim(HISTORIES(step)), removed)
+    do step = 1, size(HISTORY_FILES)
+      call remove_file(dir//'/'//trim(HISTORY_FILES(step)), removed)
       call tally()
     end do
     if (count > 0) call say('results: removed '//itoa(count)//' files of an earlier run '// &
@@ -129,6 +148,64 @@ contains
       write(text, format) n
     end function padded
   end subroutine remove_earlier_results
+
+  !> The first records of a restart file: the deck and the output directory, so that
+  !> `mefem r=FILE` finds both (results_restart_peek).
+  subroutine results_restart_header_put(f)
+    type(restart_file_t), intent(inout) :: f          !< file being written
+    call restart_put_text(f, 'run.deck', deck_path)
+    call restart_put_text(f, 'run.output', canonical_path(out_dir))
+  end subroutine results_restart_header_put
+
+  !> The deck and output directory a restart file was written for (every rank reads it).
+  subroutine results_restart_peek(path, deck, dir)
+    character(len=*), intent(in) :: path              !< the restart file
+    character(len=:), allocatable, intent(out) :: deck  !< its deck
+    character(len=:), allocatable, intent(out) :: dir   !< its output directory
+    type(restart_file_t) :: f
+    call restart_open(f, path)
+    call restart_get_text(f, 'run.deck', deck)
+    call restart_get_text(f, 'run.output', dir)
+    call restart_close(f)
+  end subroutine results_restart_peek
+
+  !> What the result files hold at a restart file's moment: the states of the .pvd and the
+  !> .xdmf, the length of the HDF5 file's topology and of every history file.
+  subroutine results_restart_put(f)
+    type(restart_file_t), intent(inout) :: f          !< file being written
+    real(wp), allocatable :: times(:)
+    character(len=:), allocatable :: files
+    call vtk_collection_states(out_dir//'/'//stem//'.pvd', times, files)
+    call restart_put_reals(f, 'results.times', size(times), times)
+    call restart_put_text(f, 'results.files', files)
+    call restart_put_text(f, 'results.xdmf', xdmf_states())
+    call restart_put_reals(f, 'results.topology', 1, [real(h5_output_topology_length(), wp)])
+    call history_restart_put(f, out_dir)
+  end subroutine results_restart_put
+
+  !> Continue the result files from a restart file's moment (after results_open with
+  !> resume): the states written until then stay, those of the stopped run after it go, and
+  !> the histories are cut back to their lengths then.
+  subroutine results_restart_get(f)
+    type(restart_file_t), intent(inout) :: f          !< file being read
+    real(wp), allocatable :: times(:)
+    real(wp) :: topology(1)
+    character(len=:), allocatable :: files, xml
+    call restart_get_reals_alloc(f, 'results.times', times)
+    call restart_get_text(f, 'results.files', files)
+    call restart_get_text(f, 'results.xdmf', xml)
+    call restart_get_reals(f, 'results.topology', 1, topology)
+    call history_restart_get(f, out_dir)
+    if (comm_is_root()) call remove_earlier_results(out_dir, stem, size(times), .false.)
+    call comm_barrier()
+    call h5_output_resume(out_dir//'/'//stem//'.h5', piece, size(times), size(times), &
+                          int(topology(1), i8))
+    call xdmf_open(out_dir//'/'//stem//'.xdmf', stem//'.h5', piece%nnode_global, &
+                   piece%ncell_global, int(topology(1), i8))
+    call xdmf_restore_states(xml)
+    call vtk_collection_restore(out_dir//'/'//stem//'.pvd', times, files)
+  end subroutine results_restart_get
+
 
   !> The output directory given to results_open (for the time-history files).
   function results_directory() result(dir)

@@ -18,6 +18,7 @@ module mefem_sense_switch
   integer, parameter, public :: SENSE_STOP = 1     !< sw1: stop, writing the state reached
   integer, parameter, public :: SENSE_STATUS = 2   !< sw2 (sw3): print the status
   integer, parameter, public :: SENSE_STATE = 4    !< sw4: write a result state now
+  integer, parameter, public :: SENSE_RESTART = 8  !< sw3: write a restart file and go on
 
   logical :: warned_directory = .false.            !< said once that a d3kil is a directory
   logical :: warned_unreadable = .false.           !< said once that a d3kil cannot be read
@@ -26,9 +27,10 @@ contains
 
   !> LS-DYNA's sense switches, read from files d3kil in the working directory and in the output
   !> directory (rank 0 reads and deletes them and tells the others; collective). The result
-  !> is a set of bits: SENSE_STOP (sw1, or an empty file: stop, writing the state reached),
-  !> SENSE_STATUS (sw2; sw3 too, as mefem writes no restart files: print the cycle or step,
-  !> time and step size), SENSE_STATE (sw4: write a result state now and go on); one switch
+  !> is a set of bits: SENSE_STOP (sw1, or an empty file: stop, writing the state reached and
+  !> a restart file), SENSE_STATUS (sw2: print the cycle or step, time and step size),
+  !> SENSE_RESTART (sw3: write a restart file and go on), SENSE_STATE (sw4: write a result
+  !> state now and go on); one switch
   !> per line. Anything else, a d3kil that is a directory or cannot be read, is ignored with a
   !> warning.
   integer function sense_switch() result(action)
@@ -104,13 +106,12 @@ contains
       case ('sw2')
         action = ior(action, SENSE_STATUS)
       case ('sw3')
-        action = ior(action, SENSE_STATUS)
-        call warn('d3kil (sw3): mefem writes no restart files; the status follows')
+        action = ior(action, SENSE_RESTART)
       case ('sw4')
         action = ior(action, SENSE_STATE)
       case default
         call warn('d3kil: unknown switch "'//trim(adjustl(line))//'" ignored (sw1 stop, '// &
-                  'sw2 status, sw4 write a state)')
+                  'sw2 status, sw3 restart file, sw4 write a state)')
       end select
     end do
     if (nline == 0) action = SENSE_STOP                  ! an empty file: LS-DYNA stops

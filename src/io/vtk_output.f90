@@ -27,7 +27,7 @@ module mefem_vtk_output
   implicit none
   private
 
-  public :: vtk_write_state, vtk_reset_collection
+  public :: vtk_write_state, vtk_reset_collection, vtk_collection_states, vtk_collection_restore
 
   character(len=*), parameter :: LF = achar(10)   !< line end in the XML text
   character(len=*), parameter :: CALLER = 'vtk_write_state'   !< prefix of error messages
@@ -109,6 +109,47 @@ contains
     if (nranks > 1) call comm_barrier()
     call record_state(join_path(dir, trim(basename)//'.pvd'), time, index_name)
   end subroutine vtk_write_state
+
+  !> The states a collection (.pvd) lists: their times and files, the files joined by line
+  !> feeds (a restart file keeps them).
+  subroutine vtk_collection_states(pvd_path, times, files)
+    character(len=*), intent(in) :: pvd_path             !< dir/basename.pvd
+    real(wp), allocatable, intent(out) :: times(:)       !< time of each state
+    character(len=:), allocatable, intent(out) :: files  !< their files, one per line
+    integer :: ic, k
+    ic = find_collection(pvd_path)
+    associate (col => collections(ic))
+      times = col%time(1:col%nstate)
+      files = ''
+      do k = 1, col%nstate
+        files = files//col%file(k)%name//LF
+      end do
+    end associate
+  end subroutine vtk_collection_states
+
+  !> Make a collection list the states given (as vtk_collection_states returned them) and
+  !> rewrite its .pvd: a restarted run goes on from the states written before its restart
+  !> file.
+  subroutine vtk_collection_restore(pvd_path, times, files)
+    character(len=*), intent(in) :: pvd_path             !< dir/basename.pvd
+    real(wp), intent(in) :: times(:)                     !< time of each state
+    character(len=*), intent(in) :: files                !< their files, one per line
+    integer :: ic, k, start, finish
+    ic = find_collection(pvd_path)
+    associate (col => collections(ic))
+      col%nstate = 0
+      start = 1
+      do k = 1, size(times)
+        finish = index(files(start:), LF) + start - 1
+        if (col%nstate == size(col%time)) call grow_collection(col)
+        col%nstate = col%nstate + 1
+        col%time(k) = times(k)
+        col%file(k)%name = files(start:finish - 1)
+        start = finish + 1
+      end do
+      if (comm_is_root()) call write_collection(col)
+    end associate
+  end subroutine vtk_collection_restore
 
   !> Forget all recorded states: the next write of a basename starts a new .pvd (tests, restarts).
   subroutine vtk_reset_collection()

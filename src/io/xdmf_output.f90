@@ -13,7 +13,7 @@ module mefem_xdmf_output
   implicit none
   private
 
-  public :: xdmf_open, xdmf_add_state
+  public :: xdmf_open, xdmf_add_state, xdmf_states, xdmf_restore_states
 
   character(len=*), parameter :: LF = achar(10)   !< line feed
 
@@ -76,6 +76,22 @@ contains
     states_xml = states_xml//'      </Grid>'//LF
     call rewrite()
   end subroutine xdmf_add_state
+
+  !> The <Grid> XML of the states written so far (rank 0; empty elsewhere), for a restart file.
+  function xdmf_states() result(xml)
+    character(len=:), allocatable :: xml
+    xml = ''
+    if (writing) xml = states_xml
+  end function xdmf_states
+
+  !> List the states given (xdmf_states of the run a restart file was written by) and
+  !> rewrite the file (after xdmf_open).
+  subroutine xdmf_restore_states(xml)
+    character(len=*), intent(in) :: xml               !< the states' <Grid> XML
+    if (.not. writing) return
+    states_xml = xml
+    call rewrite()
+  end subroutine xdmf_restore_states
 
   !> Write the whole file anew; a failure is warned about once and ends the XDMF output.
   subroutine rewrite()

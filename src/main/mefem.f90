@@ -4,7 +4,7 @@
 program mefem
   use mefem_kinds, only: wp
   use mefem_comm, only: comm_init, comm_size, comm_wtime
-  use mefem_errors, only: say, terminate
+  use mefem_errors, only: say, terminate, fatal, warn
   use mefem_signals, only: signal_exit_code
   use mefem_strings, only: itoa, rtoa
   use mefem_command_line, only: run_options_t, parse_command_line, MEFEM_VERSION
@@ -15,7 +15,8 @@ program mefem
   use mefem_decomposition, only: decomposition_t
   use mefem_model_partition, only: partition_model
   use mefem_output_mesh, only: output_field_t
-  use mefem_results, only: results_open, results_write_state, results_close, node_set_fields
+  use mefem_results, only: results_open, results_write_state, results_close, node_set_fields, &
+                           results_restart_peek
   use mefem_progress, only: peak_memory_mib
   use mefem_linear_static, only: linear_static_run
   use mefem_implicit_static, only: implicit_static_run, implicit_writes_initial_state
@@ -32,11 +33,17 @@ program mefem
   integer, allocatable :: element_rank(:), element_chunk(:)
   integer :: n_errors
   real(wp) :: t_start, t_read
+  character(len=:), allocatable :: restart_deck, restart_dir
 
   ! start MPI and read the command line
   call comm_init()
   t_start = comm_wtime()
   call parse_command_line(options)
+  if (allocated(options%restart)) then       ! the deck and results of the run it continues
+    call results_restart_peek(options%restart, restart_deck, restart_dir)
+    if (.not. allocated(options%deck)) options%deck = restart_deck
+    if (.not. allocated(options%output_dir)) options%output_dir = directory_of(options%restart)
+  end if
   call say('mefem '//MEFEM_VERSION//' on '//itoa(comm_size())//' rank(s): '//options%deck)
 
   ! read the deck (every rank reads it) and check every reference; stop on any problem
@@ -55,6 +62,13 @@ program mefem
     call say(options%deck//': deck accepted')
     call terminate(0)
   end if
+  if (allocated(options%restart) .and. .not. explicit_analysis(model)) call fatal( &
+      options%restart//': only the explicit analysis restarts; '//options%deck// &
+      ' asks for another analysis')
+  if (.not. explicit_analysis(model) .and. &
+      model%controls%d3dump_cycles + model%controls%runrsf_cycles > 0) call warn( &
+      '*DATABASE_BINARY_D3DUMP / _RUNRSF: only the explicit analysis writes restart files; '// &
+      'this analysis writes none')
 
   ! split the mesh over the ranks (METIS; the explicit solver in whole chunks of elements)
   if (explicit_analysis(model)) then
@@ -65,9 +79,10 @@ program mefem
 
   ! write the model as read: the mesh, its parts and node sets (state 0; the explicit and
   ! the nonlinear implicit analyses write state 0 themselves, with their fields at t = 0)
-  call results_open(options%output_dir, deck_stem(options%deck), model, decomp)
-  if (.not. (explicit_writes_initial_state(model) .or. implicit_writes_initial_state(model))) &
-    then
+  call results_open(options%output_dir, deck_stem(options%deck), model, decomp, options%deck, &
+                    allocated(options%restart))
+  if (.not. (explicit_writes_initial_state(model) .or. implicit_writes_initial_state(model) &
+             .or. allocated(options%restart))) then
     call node_set_fields(model, decomp, point_fields)
     allocate(cell_fields(0))
     call results_write_state(0, 0.0_wp, point_fields, cell_fields)
@@ -78,6 +93,8 @@ program mefem
     call linear_static_run(model, decomp)
   else if (model%controls%imflag == 1) then
     call implicit_static_run(model, decomp)
+  else if (explicit_analysis(model) .and. allocated(options%restart)) then
+    call explicit_dynamics_run(model, decomp, element_rank, element_chunk, options%restart)
   else if (explicit_analysis(model)) then
     call explicit_dynamics_run(model, decomp, element_rank, element_chunk)
   else
@@ -89,4 +106,16 @@ program mefem
   call say('wall time '//rtoa(comm_wtime() - t_start)//' s, peak memory '// &
            rtoa(peak_memory_mib())//' MiB per rank')
   call terminate(signal_exit_code())    ! 0, or 128 + the signal that stopped the analysis
+contains
+
+  !> The directory a file is in ('.' for a bare name): a restart file's results are beside it.
+  function directory_of(path) result(dir)
+    character(len=*), intent(in) :: path              !< the file
+    character(len=:), allocatable :: dir
+    integer :: slash
+    slash = index(path, '/', back=.true.)
+    dir = '.'
+    if (slash > 1) dir = path(1:slash - 1)
+    if (slash == 1) dir = '/'
+  end function directory_of
 end program mefem

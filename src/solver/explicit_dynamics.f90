@@ -37,7 +37,7 @@ module mefem_explicit_dynamics
   use mefem_signals, only: signals_install, signal_caught, signal_name, signal_record_stop
   use mefem_strings, only: itoa, rtoa
   use mefem_sense_switch, only: sense_switch, sense_switch_warn_leftover, SENSE_STOP, &
-                                SENSE_STATUS, SENSE_STATE
+                                SENSE_STATUS, SENSE_STATE, SENSE_RESTART
   use mefem_model, only: model_t, VAD_VELOCITY, VAD_ACCELERATION, VAD_DISPLACEMENT, ON_NODE, &
                          ON_NODE_SET, MAT_RIGID
   use mefem_decomposition, only: decomposition_t
@@ -76,6 +76,10 @@ module mefem_explicit_dynamics
   use mefem_explicit_output, only: schedule_t, write_outputs, open_histories, close_histories, &
                                    step_controlled_by, explicit_analysis, &
                                    explicit_writes_initial_state
+  use mefem_explicit_restart, only: run_point_t, explicit_restart_put, explicit_restart_get
+  use mefem_restart_file, only: restart_file_t, restart_create, restart_commit, restart_open, &
+                                restart_close
+  use mefem_results, only: results_directory
   implicit none
   private
 
@@ -107,11 +111,14 @@ module mefem_explicit_dynamics
 contains
 
   !> Run the explicit analysis from t = 0 to ENDTIM (or ENDCYC cycles).
-  subroutine explicit_dynamics_run(model, decomp, element_rank, element_chunk)
+  !> With restart_path, the run continues from that restart file instead (the results of
+  !> the run that wrote it are continued: results_open with resume).
+  subroutine explicit_dynamics_run(model, decomp, element_rank, element_chunk, restart_path)
     type(model_t), intent(in) :: model                !< resolved model
     type(decomposition_t), intent(in) :: decomp       !< this rank's output piece
     integer, intent(in) :: element_rank(:)            !< rank of every element
     integer, intent(in) :: element_chunk(:)           !< chunk of every element (assembly)
+    character(len=*), intent(in), optional :: restart_path  !< restart file to continue from
     type(cells_t) :: cells
     type(explicit_layout_t) :: layout
     type(halo_t) :: halo
@@ -119,8 +126,10 @@ contains
     type(schedule_t) :: schedule
     type(timing_t) :: timing
     type(status_t) :: status
+    type(restart_file_t) :: restart
+    type(run_point_t) :: point
     real(wp) :: t, dt, dt_old, dt_first, end_time, clock, t_start, dt_floor, dt_full
-    integer :: cycle, end_cycle, action, signum
+    integer :: cycle, end_cycle, action, signum, dumps, dump_cycle
     logical :: printed
 
     t_start = comm_wtime()
@@ -134,35 +143,30 @@ contains
              itoa(cells%n)//' cells on '//itoa(comm_size())//' rank(s)')
     call report_chunks(layout, halo, max(-1, maxval(element_chunk)) + 1)
 
-    ! initial state: forces and accelerations at t = 0, the first stable step
     t = 0.0_wp
     cycle = 0
+    dumps = 0
+    dump_cycle = -1
     end_time = model%controls%end_time
     end_cycle = model%controls%end_cycle
-    call compute_forces(model, s, halo, 0.0_wp, 0.0_wp, timing)
-    s%f_int = s%f_int_new
-    s%f_ext = s%f_ext_new
-    call accelerations(s)
-    if (s%n_moving > 0) call update_moving_frames(model, s, 0.0_wp)
-    if (s%nskew > 0) call skew_accelerations(model, s, 0.0_wp)
-    if (s%tied%n > 0) call tie_accelerations(s, s%contact%n > 0, t)
-    if (s%bodies%n > 0) then
-      call rigid_body_resultants(s)
-      call rigid_body_loads(model, s, t)
+    if (present(restart_path)) then
+      ! the state at the end of the cycle the restart file was written at
+      call restart_open(restart, restart_path)
+      call explicit_restart_get(restart, model, cells, layout, halo, s, point, schedule)
+      call restart_close(restart)
+      t = point%t
+      cycle = point%cycle
+      dt = point%dt
+      dt_old = point%dt_old
+      dt_first = point%dt_first
+      dumps = point%dumps
+      dt_floor = model%controls%dt_min_fraction*dt_first
+      call open_histories(model, schedule, resume=.true.)
+      call say('explicit: restarted from '//restart_path//' at cycle '//itoa(cycle)// &
+               ', t = '//rtoa(t)//'; next step '//rtoa(dt)//' s')
+    else
+      call initial_state()
     end if
-    call next_time_step(s, dt)
-    if (dt < 0.0_wp) call stop_on_failure(model, decomp, cells, layout, s, schedule, cycle, t, &
-                                          0.0_wp, timing)
-    call bound_step(model, t, .true., dt)
-    dt_first = dt
-    call say('explicit: first time step '//rtoa(dt_first)//' s')
-    if (s%mass_scaling) call report_added_mass(s)
-    call warn_output_every_step(model, dt_first, 'the first time step', 'cycle', .true.)
-    dt_floor = model%controls%dt_min_fraction*dt_first
-    dt_old = 0.0_wp
-    call open_histories(model, schedule)
-    call write_outputs(model, decomp, cells, layout, s, schedule, cycle, t, dt, .false., &
-                       timing%output)
     call progress_start('explicit', end_time, end_cycle)
     call sense_switch_warn_leftover()
     call signals_install()
@@ -204,7 +208,15 @@ contains
         call comm_max(signum)
         call signal_record_stop(signum)
         call say('explicit: '//signal_name(signum)//': stopped at cycle '//itoa(cycle)// &
-                 ', t = '//rtoa(t)//'; the state reached is written')
+                 ', t = '//rtoa(t)//'; the state reached and a restart file are written')
+        dt = s%dt_stable                              ! the step the reduction would have given
+        call comm_min(dt)
+        call bound_step(model, t, .false., dt)
+        if (dt > 0.0_wp) then
+          call write_outputs(model, decomp, cells, layout, s, schedule, cycle, t, dt_old, &
+                             .false., timing%output)
+          call write_restart_file(next_dump_name())
+        end if
         exit
       end if
       if (s%erosion .and. dt >= huge(1.0_wp) .and. model%controls%dt_init <= 0.0_wp .and. &
@@ -220,8 +232,17 @@ contains
       call write_outputs(model, decomp, cells, layout, s, schedule, cycle, t, dt_old, .false., &
                          timing%output)
       call progress_update(cycle, t, dt_old, printed)
+      if (model%controls%d3dump_cycles > 0) then
+        if (mod(cycle, model%controls%d3dump_cycles) == 0) &
+          call write_restart_file(next_dump_name())
+      end if
+      if (model%controls%runrsf_cycles > 0) then
+        if (mod(cycle, model%controls%runrsf_cycles) == 0) call write_restart_file('runrsf')
+      end if
       if (mod(cycle, SENSE_INTERVAL) == 0) then        ! LS-DYNA's d3kil file
         action = sense_switch()
+        if (iand(action, ior(SENSE_RESTART, SENSE_STOP)) /= 0) &
+          call write_restart_file(next_dump_name())
         if (iand(action, SENSE_STATUS) /= 0) call say('explicit: d3kil (sw2): cycle '// &
             itoa(cycle)//', t = '//rtoa(t)//', dt = '//rtoa(dt)//', wall '// &
             rtoa(comm_wtime() - t_start)//' s')
@@ -233,7 +254,7 @@ contains
         end if
         if (iand(action, SENSE_STOP) /= 0) then
           call say('explicit: d3kil (sw1): stopped at cycle '//itoa(cycle)//', t = '// &
-                   rtoa(t)//'; the state reached is written')
+                   rtoa(t)//'; the state reached and a restart file are written')
           exit
         end if
       end if
@@ -247,6 +268,8 @@ contains
                    'that time was written')
       end if
     end do
+    if (model%controls%d3dump_cycles > 0 .and. dump_cycle /= cycle) &
+      call write_restart_file(next_dump_name())       ! (at the end, as LS-DYNA does)
     call write_outputs(model, decomp, cells, layout, s, schedule, cycle, t, dt_old, .true., &
                        timing%output)
     call close_histories()
@@ -254,6 +277,64 @@ contains
     call report_timing(model, s, cycle, timing, halo%assembly_wait, comm_wtime() - t_start)
     call explicit_steal_tear_down(s)
     call halo_free(halo)
+  contains
+
+    !> The forces and accelerations at t = 0, the first stable step, state 0 and the
+    !> histories' first records.
+    subroutine initial_state()
+      call compute_forces(model, s, halo, 0.0_wp, 0.0_wp, timing)
+      s%f_int = s%f_int_new
+      s%f_ext = s%f_ext_new
+      call accelerations(s)
+      if (s%n_moving > 0) call update_moving_frames(model, s, 0.0_wp)
+      if (s%nskew > 0) call skew_accelerations(model, s, 0.0_wp)
+      if (s%tied%n > 0) call tie_accelerations(s, s%contact%n > 0, t)
+      if (s%bodies%n > 0) then
+        call rigid_body_resultants(s)
+        call rigid_body_loads(model, s, t)
+      end if
+      call next_time_step(s, dt)
+      if (dt < 0.0_wp) call stop_on_failure(model, decomp, cells, layout, s, schedule, cycle, t, &
+                                            0.0_wp, timing)
+      call bound_step(model, t, .true., dt)
+      dt_first = dt
+      call say('explicit: first time step '//rtoa(dt_first)//' s')
+      if (s%mass_scaling) call report_added_mass(s)
+      call warn_output_every_step(model, dt_first, 'the first time step', 'cycle', .true.)
+      dt_floor = model%controls%dt_min_fraction*dt_first
+      dt_old = 0.0_wp
+      call open_histories(model, schedule)
+      call write_outputs(model, decomp, cells, layout, s, schedule, cycle, t, dt, .false., &
+                         timing%output)
+    end subroutine initial_state
+
+    !> The name of the next restart file of the series: d3dump01, d3dump02, ...
+    function next_dump_name() result(name)
+      character(len=:), allocatable :: name
+      character(len=12) :: number
+      dumps = dumps + 1
+      write(number, '(i2.2)') dumps
+      if (dumps > 99) write(number, '(i0)') dumps
+      name = 'd3dump'//trim(number)
+    end function next_dump_name
+
+    !> Write a restart file of the state at the end of this cycle into the output directory
+    !> (collective; a failure to write it is warned about and the run goes on).
+    subroutine write_restart_file(name)
+      character(len=*), intent(in) :: name            !< file name (d3dump01, runrsf)
+      logical :: ok
+      clock = comm_wtime()
+      point = run_point_t(cycle=cycle, t=t, dt=dt, dt_old=dt_old, dt_first=dt_first, &
+                          dumps=dumps)
+      call restart_create(restart, results_directory()//'/'//name)
+      call explicit_restart_put(restart, model, cells, layout, s, point, schedule)
+      call restart_commit(restart, ok)
+      if (name(1:min(6, len(name))) == 'd3dump') dump_cycle = cycle
+      if (ok) call say('explicit: restart file '//name//' written at cycle '//itoa(cycle)// &
+                       ', t = '//rtoa(t)//' (mefem r='//results_directory()//'/'//name// &
+                       ' continues from it)')
+      timing%output = timing%output + (comm_wtime() - clock)
+    end subroutine write_restart_file
   end subroutine explicit_dynamics_run
 
   !> What the explicit solver takes (anything else is reported before the run starts).

@@ -431,38 +431,47 @@ contains
   end subroutine history_nodes
 
   !> Open glstat and nodout when the deck asks for them; set the output schedule.
-  subroutine open_histories(model, schedule)
+  !> With resume (a restart), the next times and the state counter the restart file gave
+  !> stay, and the files are continued.
+  subroutine open_histories(model, schedule, resume)
     type(model_t), intent(in) :: model                !< resolved model
     type(schedule_t), intent(inout) :: schedule       !< what is due when
+    logical, intent(in), optional :: resume           !< continue after a restart
     integer, allocatable :: nodes(:)
+    character(len=:), allocatable :: dir, title
+    logical :: continuing
+    continuing = .false.
+    if (present(resume)) continuing = resume
+    dir = results_directory()
+    title = title_or_default(model%controls%title)
     schedule%plot_interval = model%controls%plot_interval
     if (model%controls%plot_count > 0) schedule%plot_interval = model%controls%end_time/ &
         real(model%controls%plot_count, wp)
-    schedule%next_plot = 0.0_wp                       ! state 0 at t = 0, then every interval
-    ! (without an interval the model's state 0 is written before the run, the final state
-    ! after it is state 1)
-    schedule%plot_state = merge(0, 1, explicit_writes_initial_state(model))
     schedule%glstat_interval = model%controls%glstat_interval
-    schedule%next_glstat = 0.0_wp
-    if (schedule%glstat_interval > 0.0_wp) call glstat_open(results_directory(), &
-        title_or_default(model%controls%title))
-    if (schedule%glstat_interval > 0.0_wp .and. model%n_rigid_walls > 0) &
-      call rwforc_open(results_directory(), title_or_default(model%controls%title))
-    if (schedule%glstat_interval > 0.0_wp .and. (any(is_rigid_part(model)) .or. &
-        any(model%rigid_constraints(1:model%n_rigid_constraints)%kind == RIGID_NODAL))) &
-      call rbdout_open(results_directory(), title_or_default(model%controls%title))
-    call history_nodes(model, nodes)
     schedule%rcforc_interval = 0.0_wp
     if (model%n_contacts + model%n_transducers > 0) &
       schedule%rcforc_interval = model%controls%rcforc_interval
-    schedule%next_rcforc = 0.0_wp
-    if (schedule%rcforc_interval > 0.0_wp) call rcforc_open(results_directory(), &
-        title_or_default(model%controls%title))
+    call history_nodes(model, nodes)
     schedule%nodout_interval = 0.0_wp
     if (size(nodes) > 0) schedule%nodout_interval = model%controls%nodout_interval
-    schedule%next_nodout = 0.0_wp
-    if (schedule%nodout_interval > 0.0_wp) call nodout_open(results_directory(), &
-        model%nodes%id(nodes), title_or_default(model%controls%title))
+    if (.not. continuing) then
+      schedule%next_plot = 0.0_wp                     ! state 0 at t = 0, then every interval
+      ! (without an interval the model's state 0 is written before the run, the final state
+      ! after it is state 1)
+      schedule%plot_state = merge(0, 1, explicit_writes_initial_state(model))
+      schedule%next_glstat = 0.0_wp
+      schedule%next_rcforc = 0.0_wp
+      schedule%next_nodout = 0.0_wp
+    end if
+    if (schedule%glstat_interval > 0.0_wp) call glstat_open(dir, title, continuing)
+    if (schedule%glstat_interval > 0.0_wp .and. model%n_rigid_walls > 0) &
+      call rwforc_open(dir, title, continuing)
+    if (schedule%glstat_interval > 0.0_wp .and. (any(is_rigid_part(model)) .or. &
+        any(model%rigid_constraints(1:model%n_rigid_constraints)%kind == RIGID_NODAL))) &
+      call rbdout_open(dir, title, continuing)
+    if (schedule%rcforc_interval > 0.0_wp) call rcforc_open(dir, title, continuing)
+    if (schedule%nodout_interval > 0.0_wp) call nodout_open(dir, model%nodes%id(nodes), &
+                                                            title, continuing)
   end subroutine open_histories
 
   !> Close the history files (no-op where none is open).

@@ -227,14 +227,17 @@ contains
 
   !> The run's log file (rank 0): open path, write the lines printed so far, and tee every
   !> later line into it. A log that cannot be written stops the run (as the histories do).
-  subroutine log_open(path)
+  subroutine log_open(path, append)
     character(len=*), intent(in) :: path     !< e.g. <output>/mefem.log
-    logical :: ok
+    logical, intent(in), optional :: append  !< keep what it holds (a restarted run)
+    logical :: ok, appending
     character(len=:), allocatable :: reason
     integer :: start, finish
     if (.not. comm_is_root()) return
     if (log_handle > 0) call text_close(log_handle, ok, reason)
-    call text_open(path, .false., log_handle, ok, reason)
+    appending = .false.
+    if (present(append)) appending = append
+    call text_open(path, appending, log_handle, ok, reason)
     if (.not. ok) call log_failed(path, reason)
     if (allocated(early_log)) then
       start = 1

@@ -1,11 +1,13 @@
 !> File-system helpers: create a directory (with its parents), as `mkdir -p` does, and say what
 !> is in the way when it cannot be made or written.
 module mefem_file_system
-  use, intrinsic :: iso_c_binding, only: c_int, c_char, c_null_char, c_ptr, c_associated
+  use, intrinsic :: iso_c_binding, only: c_int, c_char, c_null_char, c_ptr, c_associated, &
+                                         c_long
+  use mefem_kinds, only: i8
   implicit none
   private
 
-  public :: make_directory, canonical_path, remove_file
+  public :: make_directory, canonical_path, remove_file, truncate_file, rename_file
 
   integer, parameter :: PATH_BUFFER = 4096                 !< PATH_MAX of Linux
 
@@ -23,6 +25,17 @@ module mefem_file_system
       import :: c_int, c_char
       character(kind=c_char), intent(in) :: path(*)
     end function c_remove
+    !> POSIX truncate(2) (off_t is a long on the 64-bit Linux targets).
+    integer(c_int) function c_truncate(path, length) bind(C, name='truncate')
+      import :: c_int, c_char, c_long
+      character(kind=c_char), intent(in) :: path(*)
+      integer(c_long), value :: length
+    end function c_truncate
+    !> C rename(3): atomically replaces the new path on POSIX systems.
+    integer(c_int) function c_rename(old_path, new_path) bind(C, name='rename')
+      import :: c_int, c_char
+      character(kind=c_char), intent(in) :: old_path(*), new_path(*)
+    end function c_rename
     !> POSIX realpath(3) into a caller's buffer of PATH_BUFFER bytes.
     type(c_ptr) function c_realpath(path, resolved) bind(C, name='realpath')
       import :: c_ptr, c_char
@@ -136,5 +149,21 @@ contains
     character(len=*), intent(in) :: path   !< path to test
     inquire(file=path, exist=exists)
   end function exists
+
+  !> Cut a file to its first nbytes bytes (a history file back to where a restart file left
+  !> it); ok = .false. when it cannot be done.
+  subroutine truncate_file(path, nbytes, ok)
+    character(len=*), intent(in) :: path                 !< the file
+    integer(i8), intent(in) :: nbytes                !< bytes kept
+    logical, intent(out) :: ok                           !< done
+    ok = c_truncate(path//c_null_char, int(nbytes, c_long)) == 0
+  end subroutine truncate_file
+
+  !> Rename a file over another (atomic on POSIX file systems); ok = .false. on failure.
+  subroutine rename_file(old_path, new_path, ok)
+    character(len=*), intent(in) :: old_path, new_path   !< from, to
+    logical, intent(out) :: ok                           !< done
+    ok = c_rename(old_path//c_null_char, new_path//c_null_char) == 0
+  end subroutine rename_file
 
 end module mefem_file_system
