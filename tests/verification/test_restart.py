@@ -22,8 +22,9 @@ add in another order after a restart).
 3. Eroding contact: hexahedra (ELFORM 1, hourglass energy) whose top layer erodes, a rigid
    punch with a prescribed velocity meeting the exposed faces; restarts before and after the
    erosion.
-4. A run killed (SIGKILL) while it runs is continued from the last restart file it left:
-   the same bits at the end.
+4. A run killed (SIGKILL) while it runs is continued from the last restart file it left, and
+   one stopped by SIGTERM from the restart file it writes when stopping: the same bits at the
+   end.
 5. d3kil sw1 stops a run with a restart file, sw3 writes one and goes on; *DATABASE_BINARY_RUNRSF
    keeps one file (runrsf), overwritten.
 6. Wrong use: a restart file of another deck, a missing one, a cut one, the implicit analysis,
@@ -295,6 +296,27 @@ if dumps:
         if rc == 0 else text[-800:]
     checks.check(why == '', 'killed: continued from its last restart file (%s) on 2 ranks: '
                  'the whole run\'s results' % dumps[-1], why)
+
+# a run stopped by SIGTERM (a batch system's wall-clock limit) writes a restart file
+process = subprocess.Popen([EXE, '-o', 'term', STEM + '.k'], cwd=killed_dir, env=ENV,
+                           stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+start = time.time()
+while not os.path.exists(os.path.join(killed_dir, 'term', 'd3dump01')) and \
+        process.poll() is None and time.time() - start < 300:
+    time.sleep(0.02)
+process.send_signal(signal.SIGTERM)
+log = process.communicate()[0]
+stop = re.search(r'SIGTERM: stopped at cycle (\d+)', log)
+written = re.findall(r'restart file (d3dump\d+) written at cycle (\d+)', log)
+checks.check(process.returncode == 143 and stop and written and
+             written[-1][1] == stop.group(1),
+             'SIGTERM: exit 143 with a restart file of the cycle it stopped at', log[-600:])
+if written:
+    rc, text = mefem(['r=' + os.path.join('term', written[-1][0])], ranks=3, cwd=killed_dir)
+    why = results_agree(os.path.join(killed_dir, 'whole'), os.path.join(killed_dir, 'term')) \
+        if rc == 0 else text[-800:]
+    checks.check(why == '', 'SIGTERM: continued from %s on 3 ranks: the whole run\'s results'
+                 % written[-1][0], why)
 
 # ---- 5. sense switches, runrsf ----------------------------------------------------------------
 sw = os.path.join(WORK, 'switches')
