@@ -151,6 +151,7 @@ contains
     end_cycle = model%controls%end_cycle
     if (present(restart_path)) then
       ! the state at the end of the cycle the restart file was written at
+      clock = comm_wtime()
       call restart_open(restart, restart_path)
       call explicit_restart_get(restart, model, cells, layout, halo, s, point, schedule)
       call restart_close(restart)
@@ -163,7 +164,8 @@ contains
       dt_floor = model%controls%dt_min_fraction*dt_first
       call open_histories(model, schedule, resume=.true.)
       call say('explicit: restarted from '//restart_path//' at cycle '//itoa(cycle)// &
-               ', t = '//rtoa(t)//'; next step '//rtoa(dt)//' s')
+               ', t = '//rtoa(t)//'; next step '//rtoa(dt)//' s (read in '// &
+               rtoa(comm_wtime() - clock)//' s)')
     else
       call initial_state()
     end if
@@ -330,10 +332,11 @@ contains
       call explicit_restart_put(restart, model, cells, layout, s, point, schedule)
       call restart_commit(restart, ok)
       if (name(1:min(6, len(name))) == 'd3dump') dump_cycle = cycle
+      clock = comm_wtime() - clock
       if (ok) call say('explicit: restart file '//name//' written at cycle '//itoa(cycle)// &
-                       ', t = '//rtoa(t)//' (mefem r='//results_directory()//'/'//name// &
-                       ' continues from it)')
-      timing%output = timing%output + (comm_wtime() - clock)
+                       ', t = '//rtoa(t)//' in '//rtoa(clock)//' s (mefem r='// &
+                       results_directory()//'/'//name//' continues from it)')
+      timing%output = timing%output + clock
     end subroutine write_restart_file
   end subroutine explicit_dynamics_run
 
