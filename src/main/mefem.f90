@@ -62,13 +62,13 @@ program mefem
     call say(options%deck//': deck accepted')
     call terminate(0)
   end if
-  if (allocated(options%restart) .and. .not. explicit_analysis(model)) call fatal( &
-      options%restart//': only the explicit analysis restarts; '//options%deck// &
-      ' asks for another analysis')
-  if (.not. explicit_analysis(model) .and. &
+  if (allocated(options%restart) .and. .not. restartable(model)) call fatal( &
+      options%restart//': the explicit and the nonlinear implicit analyses restart; '// &
+      options%deck//' asks for another analysis')
+  if (.not. restartable(model) .and. &
       model%controls%d3dump_cycles + model%controls%runrsf_cycles > 0) call warn( &
-      '*DATABASE_BINARY_D3DUMP / _RUNRSF: only the explicit analysis writes restart files; '// &
-      'this analysis writes none')
+      '*DATABASE_BINARY_D3DUMP / _RUNRSF: the explicit and the nonlinear implicit analyses '// &
+      'write restart files; this analysis writes none')
 
   ! split the mesh over the ranks (METIS; the explicit solver in whole chunks of elements)
   if (explicit_analysis(model)) then
@@ -91,6 +91,8 @@ program mefem
   ! the analysis the deck asks for
   if (model%controls%imflag == 1 .and. model%controls%nsolvr == 1) then
     call linear_static_run(model, decomp)
+  else if (model%controls%imflag == 1 .and. allocated(options%restart)) then
+    call implicit_static_run(model, decomp, options%restart)
   else if (model%controls%imflag == 1) then
     call implicit_static_run(model, decomp)
   else if (explicit_analysis(model) .and. allocated(options%restart)) then
@@ -107,6 +109,14 @@ program mefem
            rtoa(peak_memory_mib())//' MiB per rank')
   call terminate(signal_exit_code())    ! 0, or 128 + the signal that stopped the analysis
 contains
+
+  !> Whether the deck's analysis writes restart files and continues from them: the explicit
+  !> and the nonlinear implicit analyses.
+  logical function restartable(deck_model)
+    type(model_t), intent(in) :: deck_model           !< resolved model
+    restartable = explicit_analysis(deck_model) .or. (deck_model%controls%imflag == 1 .and. &
+                                                      deck_model%controls%nsolvr /= 1)
+  end function restartable
 
   !> The directory a file is in ('.' for a bare name): a restart file's results are beside it.
   function directory_of(path) result(dir)

@@ -34,7 +34,7 @@ module mefem_explicit_restart
   use mefem_explicit_output, only: schedule_t
   use mefem_restart_file, only: restart_file_t, restart_put_reals, restart_put_ints, &
                                 restart_put_text, restart_get_reals, restart_get_ints, &
-                                restart_get_text
+                                restart_get_text, restart_checksum
   use mefem_results, only: results_restart_header_put, results_restart_put, &
                            results_restart_get
   implicit none
@@ -74,7 +74,8 @@ contains
     call results_restart_header_put(f)
     call restart_put_text(f, 'analysis', 'explicit')
     call restart_put_ints(f, 'model.sizes', 6, model_sizes(model, cells, layout, s))
-    call restart_put_reals(f, 'model.coordinates', 1, [coordinate_sum(model)])
+    call restart_put_reals(f, 'model.coordinates', 1, &
+                           [restart_checksum(model%nodes%x(:, 1:model%nodes%n))])
     call restart_put_ints(f, 'run.cycle', 2, [point%cycle, point%dumps])
     call restart_put_reals(f, 'run.times', 4, [point%t, point%dt, point%dt_old, point%dt_first])
     call restart_put_reals(f, 'schedule.times', 9, [schedule%next_plot, schedule%next_glstat, &
@@ -179,8 +180,9 @@ contains
         f%path//'" was written for another model (nodes, elements, cells, contacts or '// &
         'rigid bodies differ): restart with the deck it was written with')
     call restart_get_reals(f, 'model.coordinates', 1, scalar(1:1))
-    if (scalar(1) /= coordinate_sum(model)) call fatal('restart file "'//f%path//'" was '// &
-        'written for a mesh with other coordinates: restart with the deck it was written with')
+    if (scalar(1) /= restart_checksum(model%nodes%x(:, 1:model%nodes%n))) call fatal( &
+        'restart file "'//f%path//'" was written for a mesh with other coordinates: restart '// &
+        'with the deck it was written with')
     call restart_get_ints(f, 'run.cycle', 2, counters)
     point%cycle = counters(1)
     point%dumps = counters(2)
@@ -341,17 +343,6 @@ contains
     sizes = [model%nodes%n, model%elements%n, layout%nnode_global, cells%n, s%contact%n, &
              s%bodies%n]
   end function model_sizes
-
-  !> A sum of the reference coordinates (every rank alike): a restart file of another mesh
-  !> with the same sizes is told apart.
-  real(wp) function coordinate_sum(model)
-    type(model_t), intent(in) :: model                !< resolved model
-    integer :: n
-    coordinate_sum = 0.0_wp
-    do n = 1, model%nodes%n
-      coordinate_sum = coordinate_sum + real(mod(n, 7) + 1, wp)*sum(abs(model%nodes%x(:, n)))
-    end do
-  end function coordinate_sum
 
   !> Gather a nodal array (ncomp, local nodes) of the owned nodes in global node order on rank 0
   !> and write it.

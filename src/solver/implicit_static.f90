@@ -45,13 +45,19 @@ module mefem_implicit_static
                          ordering_name
   use mefem_progress, only: peak_memory_mib
   use mefem_output_mesh, only: output_field_t
-  use mefem_results, only: results_write_state, append_node_set_fields, results_directory
+  use mefem_results, only: results_write_state, append_node_set_fields, results_directory, &
+                           results_restart_header_put, results_restart_put, results_restart_get
   use mefem_sense_switch, only: sense_switch, sense_switch_warn_leftover, SENSE_STOP, &
-                                SENSE_STATUS, SENSE_STATE
+                                SENSE_STATUS, SENSE_STATE, SENSE_RESTART
+  use mefem_restart_file, only: restart_file_t, restart_create, restart_commit, restart_open, &
+                                restart_close, restart_put_text, restart_put_ints, &
+                                restart_put_reals, restart_get_text, restart_get_ints, &
+                                restart_get_reals, restart_checksum
   use mefem_solver_common, only: number_equations, cell_result_fields, schedule_after, &
                                  warn_output_every_step, title_or_default
   use mefem_mortar_contact, only: mortar_contact_t, mortar_contact_setup, mortar_contact_forces, &
-                                  mortar_contact_slave_rows
+                                  mortar_contact_slave_rows, mortar_contact_restart_put, &
+                                  mortar_contact_restart_get
   use mefem_curves, only: curve_value
   use mefem_history_output, only: rcforc_open, rcforc_write, rcforc_close, glstat_record_t, &
                                   glstat_open, glstat_write, glstat_close, &
@@ -145,9 +151,12 @@ module mefem_implicit_static
 contains
 
   !> Run the nonlinear quasi-static analysis and write output states along the way.
-  subroutine implicit_static_run(model, decomp)
+  !> With restart_path, the run continues after the step its restart file was written at (the
+  !> results of the run that wrote it are continued: results_open with resume).
+  subroutine implicit_static_run(model, decomp, restart_path)
     type(model_t), intent(in) :: model              !< resolved model
     type(decomposition_t), intent(in) :: decomp     !< this rank's share
+    character(len=*), intent(in), optional :: restart_path  !< restart file to continue from
     type(cells_t) :: cells
     type(status_t) :: status
     type(tied_nodes_t) :: tied
@@ -161,9 +170,12 @@ contains
     real(wp) :: dt_last
     real(wp) :: t, dt, dt_min, dt_max, end_time, next_output, t0, dt_planned
     integer :: dim, n_all, n_equations, step, iterations, output_step, c, cuts, action, signum, k
-    logical :: converged, written
+    integer :: dumps, dump_step
+    logical :: converged, written, resume
+    type(restart_file_t) :: restart
 
     t0 = comm_wtime()
+    resume = present(restart_path)
     call cells_build(model, cells, status, static=.true.)
     if (.not. status%ok) call fatal('element set-up: '//status%message)
     call check_supported(model)
@@ -247,10 +259,10 @@ contains
     if (n_equations == 0) call fatal('implicit: nothing to solve: every degree of freedom is '// &
         'fixed or belongs to a rigid part (the analysis needs deformable elements with free '// &
         'degrees of freedom)')
-    call set_up_tools(model, cells)
+    call set_up_tools(model, cells, resume)
     call set_up_body_loads(model, cells)
-    call set_up_histories(model, cells, equation)
-    call write_state(model, decomp, cells, u, hist, equation, 0.0_wp, 0)   ! state 0, t = 0
+    call set_up_histories(model, cells, equation, resume)
+    if (.not. resume) call write_state(model, decomp, cells, u, hist, equation, 0.0_wp, 0)
     call mumps_init(solver, MUMPS_UNSYMMETRIC, status)
     if (.not. status%ok) call fatal('implicit: '//status%message)
 
@@ -270,6 +282,9 @@ contains
     cuts = 0
     dt_last = 0.0_wp
     u_last = u
+    dumps = 0
+    dump_step = -1
+    if (resume) call read_restart_file()
     call sense_switch_warn_leftover()
     call signals_install()
     ! progress lines (% of ENDTIM, wall time, ETA) at every tenth of the run or every 5 s;
@@ -333,6 +348,10 @@ contains
         energy%next_glstat = schedule_after(energy%next_glstat, energy%glstat_interval, t)
       end if
       if (dt < dt_planned) dt = dt_planned
+      ! step growth when the Newton loop was easy (*CONTROL_IMPLICIT_AUTO ITEOPT/ITEWIN): the
+      ! next step's size, as a restart file written after this step keeps it
+      if (model%controls%iauto /= 0 .and. iterations <= max(1, model%controls%iteopt - &
+          model%controls%itewin)) dt = min(dt_max, 1.5_wp*dt)
       written = .false.
       if (t >= next_output*(1.0_wp - 1.0e-9_wp) .or. t >= end_time*(1.0_wp - 1.0e-12_wp)) then
         call write_state(model, decomp, cells, u, hist, equation, t, output_step)
@@ -340,19 +359,32 @@ contains
         next_output = schedule_after(next_output, output_interval(model), t)
         written = .true.
       end if
-      ! a signal caught on any rank (mefem_signals): stop, the state reached written
+      ! restart files every CYCL steps (*DATABASE_BINARY_D3DUMP, _RUNRSF)
+      if (model%controls%d3dump_cycles > 0) then
+        if (mod(step, model%controls%d3dump_cycles) == 0) &
+          call write_restart_file(next_dump_name())
+      end if
+      if (model%controls%runrsf_cycles > 0) then
+        if (mod(step, model%controls%runrsf_cycles) == 0) call write_restart_file('runrsf')
+      end if
+      ! a signal caught on any rank (mefem_signals): stop, the state reached and a restart
+      ! file written
       signum = signal_caught()
       call comm_max(signum)
       if (signum /= 0) then
+        if (dump_step /= step) call write_restart_file(next_dump_name())
         if (.not. written) call write_state(model, decomp, cells, u, hist, equation, t, &
                                             output_step)
         call signal_record_stop(signum)
         call say('implicit: '//signal_name(signum)//': stopped after step '//itoa(step)// &
-                 ', t = '//rtoa(t)//'; the state reached is written')
+                 ', t = '//rtoa(t)//'; the state reached and a restart file are written')
         exit
       end if
-      ! LS-DYNA's d3kil file: stop (the state reached written), status, or a state now
+      ! LS-DYNA's d3kil file: stop (the state reached and a restart file written), status, a
+      ! restart file or a state now
       action = sense_switch()
+      if (iand(action, ior(SENSE_STOP, SENSE_RESTART)) /= 0 .and. dump_step /= step) &
+        call write_restart_file(next_dump_name())
       if (iand(action, SENSE_STOP + SENSE_STATE) /= 0 .and. .not. written) then
         call write_state(model, decomp, cells, u, hist, equation, t, output_step)
         output_step = output_step + 1
@@ -363,13 +395,12 @@ contains
         call say('implicit: d3kil (sw4): result state written at t = '//rtoa(t))
       if (iand(action, SENSE_STOP) /= 0) then
         call say('implicit: d3kil (sw1): stopped after step '//itoa(step)//', t = '//rtoa(t)// &
-                 '; the state reached is written')
+                 '; the state reached and a restart file are written')
         exit
       end if
-      ! step growth when the Newton loop was easy (*CONTROL_IMPLICIT_AUTO ITEOPT/ITEWIN)
-      if (model%controls%iauto /= 0 .and. iterations <= max(1, model%controls%iteopt - &
-          model%controls%itewin)) dt = min(dt_max, 1.5_wp*dt)
     end do
+    if (model%controls%d3dump_cycles > 0 .and. dump_step /= step) &
+      call write_restart_file(next_dump_name())         ! (at the end, as LS-DYNA does)
     call report_solver_memory(solver)
     call mumps_free(solver)
     call coo_free(tangent)
@@ -382,6 +413,132 @@ contains
         rtoa(timing%assembly/timing%iterations)//' s, MUMPS factorisation '// &
         rtoa(timing%factorisation/timing%iterations)//' s, solve '// &
         rtoa(timing%solve/timing%iterations)//' s')
+  contains
+
+    !> The name of the next restart file of the series: d3dump01, d3dump02, ...
+    function next_dump_name() result(name)
+      character(len=:), allocatable :: name
+      character(len=12) :: number
+      dumps = dumps + 1
+      write(number, '(i2.2)') dumps
+      if (dumps > 99) write(number, '(i0)') dumps
+      name = 'd3dump'//trim(number)
+    end function next_dump_name
+
+    !> Write a restart file of the state after this converged step into the output directory
+    !> (collective; the state is on every rank, rank 0 writes it): the time and step sizes, u
+    !> of this and of the last step (the predictor's), the cells' histories, the energy sums,
+    !> the tools' contact (and its committed copy with friction), the output schedule.
+    subroutine write_restart_file(name)
+      character(len=*), intent(in) :: name            !< file name (d3dump01, runrsf)
+      real(wp) :: clock
+      logical :: ok
+      clock = comm_wtime()
+      call restart_create(restart, results_directory()//'/'//name)
+      call results_restart_header_put(restart)
+      call restart_put_text(restart, 'analysis', 'implicit')
+      call restart_put_ints(restart, 'model.sizes', 5, restart_sizes())
+      call restart_put_reals(restart, 'model.coordinates', 1, &
+                             [restart_checksum(model%nodes%x(:, 1:model%nodes%n))])
+      call restart_put_ints(restart, 'run.steps', 4, [step, cuts, output_step, dumps])
+      call restart_put_reals(restart, 'run.times', 5, [t, dt, dt_last, next_output, &
+                             energy%next_glstat])
+      call restart_put_reals(restart, 'nodes.u', size(u), u)
+      call restart_put_reals(restart, 'nodes.u_last', size(u_last), u_last)
+      call restart_put_reals(restart, 'cells.history', size(hist), hist)
+      call restart_put_reals(restart, 'energies', 3, [energy%internal, energy%external, &
+                                                      energy%contact])
+      call restart_put_reals(restart, 'energy.f_int', size(energy%f_int), energy%f_int)
+      call restart_put_reals(restart, 'energy.u', size(energy%u), energy%u)
+      call restart_put_reals(restart, 'energy.g', size(energy%g), energy%g)
+      if (tools%interfaces%n > 0) then
+        call restart_put_reals(restart, 'energy.f_contact', size(energy%f_contact), &
+                               energy%f_contact)
+        call restart_put_reals(restart, 'energy.x_contact', size(energy%x_contact), &
+                               energy%x_contact)
+      end if
+      if (allocated(energy%tool_d)) call restart_put_reals(restart, 'energy.tool_d', &
+          size(energy%tool_d), energy%tool_d)
+      call mortar_contact_restart_put(tools%interfaces, restart)
+      if (tools%friction) call mortar_contact_restart_put(tools%committed, restart)
+      call results_restart_put(restart)
+      call restart_commit(restart, ok)
+      dump_step = step
+      if (ok) call say('implicit: restart file '//name//' written after step '//itoa(step)// &
+                       ', t = '//rtoa(t)//' in '//rtoa(comm_wtime() - clock)//' s (mefem r='// &
+                       results_directory()//'/'//name//' continues from it)')
+    end subroutine write_restart_file
+
+    !> Continue from a restart file of this model (every rank reads it all), and open the
+    !> histories after it (cut back to where the file left them).
+    subroutine read_restart_file()
+      character(len=:), allocatable :: text
+      integer :: sizes(5), steps(4)
+      real(wp) :: times(5), sums(3), checksum(1)
+      call restart_open(restart, restart_path)
+      call restart_get_text(restart, 'run.deck', text)
+      call restart_get_text(restart, 'run.output', text)
+      call restart_get_text(restart, 'analysis', text)
+      if (text /= 'implicit') call fatal('restart file "'//restart_path//'" was written by '// &
+          'the '//text//' analysis; this deck runs the nonlinear implicit analysis')
+      call restart_get_ints(restart, 'model.sizes', 5, sizes)
+      call restart_get_reals(restart, 'model.coordinates', 1, checksum)
+      if (any(sizes /= restart_sizes()) .or. &
+          checksum(1) /= restart_checksum(model%nodes%x(:, 1:model%nodes%n))) &
+        call fatal('restart file "'//restart_path//'" was written for another model (nodes, '// &
+                   'elements, cells, contacts or coordinates differ): restart with the deck '// &
+                   'it was written with')
+      call restart_get_ints(restart, 'run.steps', 4, steps)
+      step = steps(1)
+      cuts = steps(2)
+      output_step = steps(3)
+      dumps = steps(4)
+      call restart_get_reals(restart, 'run.times', 5, times)
+      t = times(1)
+      dt = times(2)
+      dt_last = times(3)
+      next_output = times(4)
+      energy%next_glstat = times(5)
+      call restart_get_reals(restart, 'nodes.u', size(u), u)
+      call restart_get_reals(restart, 'nodes.u_last', size(u_last), u_last)
+      call restart_get_reals(restart, 'cells.history', size(hist), hist)
+      call restart_get_reals(restart, 'energies', 3, sums)
+      energy%internal = sums(1)
+      energy%external = sums(2)
+      energy%contact = sums(3)
+      call restart_get_reals(restart, 'energy.f_int', size(energy%f_int), energy%f_int)
+      call restart_get_reals(restart, 'energy.u', size(energy%u), energy%u)
+      call restart_get_reals(restart, 'energy.g', size(energy%g), energy%g)
+      if (tools%interfaces%n > 0) then
+        call restart_get_reals(restart, 'energy.f_contact', size(energy%f_contact), &
+                               energy%f_contact)
+        call restart_get_reals(restart, 'energy.x_contact', size(energy%x_contact), &
+                               energy%x_contact)
+      end if
+      if (allocated(energy%tool_d)) call restart_get_reals(restart, 'energy.tool_d', &
+          size(energy%tool_d), energy%tool_d)
+      call mortar_contact_restart_get(tools%interfaces, restart)
+      if (tools%friction) call mortar_contact_restart_get(tools%committed, restart)
+      call results_restart_get(restart)
+      call restart_close(restart)
+      dump_step = step
+      ! the histories, continued
+      if (energy%glstat_interval > 0.0_wp) call glstat_open(results_directory(), &
+          title_or_default(model%controls%title), append=.true.)
+      if (energy%glstat_interval > 0.0_wp .and. energy%rbdout) call rbdout_open( &
+          results_directory(), title_or_default(model%controls%title), append=.true.)
+      if (tools%interfaces%n > 0 .and. model%controls%rcforc_interval > 0.0_wp) &
+        call rcforc_open(results_directory(), title_or_default(model%controls%title), &
+                         append=.true.)
+      call say('implicit: restarted from '//restart_path//' after step '//itoa(step)// &
+               ', t = '//rtoa(t)//'; next step '//rtoa(dt))
+    end subroutine read_restart_file
+
+    !> Sizes that identify the model a restart file belongs to.
+    function restart_sizes() result(sizes)
+      integer :: sizes(5)
+      sizes = [model%nodes%n, model%elements%n, n_all, cells%n, tools%interfaces%n]
+    end function restart_sizes
   end subroutine implicit_static_run
 
   !> The implicit analyses (this one and the linear static one) write their state 0
@@ -394,10 +551,12 @@ contains
   !> glstat and rbdout of the quasi-static run (at *DATABASE_GLSTAT's interval, as the explicit
   !> analysis writes them): the files opened, the first record at t = 0, the energies' start
   !> (energy_t) and each tool's reference centroid (rbdout's moments are taken about it).
-  subroutine set_up_histories(model, cells, equation)
+  subroutine set_up_histories(model, cells, equation, resume)
     type(model_t), intent(in) :: model                 !< resolved model
     type(cells_t), intent(in) :: cells                 !< cells
     integer, intent(in) :: equation(:,:)               !< equation numbers
+    logical, intent(in) :: resume                      !< a restart: the files are continued
+                                                       !< (opened by open_histories_again)
     real(wp), allocatable :: zero(:,:)
     integer, allocatable :: count(:)
     integer :: n, p
@@ -406,7 +565,7 @@ contains
     zero = 0.0_wp
     call account_energy(model, cells, equation, zero, 0.0_wp, zero)
     if (energy%glstat_interval <= 0.0_wp) return
-    call glstat_open(results_directory(), title_or_default(model%controls%title))
+    if (.not. resume) call glstat_open(results_directory(), title_or_default(model%controls%title))
     allocate(energy%tool_centre(3, model%n_parts), energy%tool_d(3, model%n_parts), &
              count(model%n_parts))
     energy%tool_centre = 0.0_wp
@@ -422,6 +581,7 @@ contains
       if (count(p) > 0) energy%tool_centre(:, p) = energy%tool_centre(:, p)/count(p)
     end do
     energy%rbdout = any(count > 0)
+    if (resume) return
     if (energy%rbdout) call rbdout_open(results_directory(), &
                                         title_or_default(model%controls%title))
     call write_histories(model, 0, 0.0_wp, 0.0_wp)
@@ -802,9 +962,11 @@ contains
   end subroutine set_up_body_loads
 
   !> Contact with rigid tools: the interfaces, the rigid part of every mesh node, rcforc.
-  subroutine set_up_tools(model, cells)
+  subroutine set_up_tools(model, cells, resume)
     type(model_t), intent(in) :: model                 !< resolved model
     type(cells_t), intent(in) :: cells                 !< cells (for the node count)
+    logical, intent(in) :: resume                      !< a restart: rcforc is continued (opened
+                                                       !< after the restart file is read)
     real(wp), allocatable :: no_mass(:)
     integer :: e, p, k
     allocate(tools%rigid_part(model%nodes%n))
@@ -836,8 +998,8 @@ contains
       end associate
     end do
     if (tools%friction) tools%committed = tools%interfaces
-    if (model%controls%rcforc_interval > 0.0_wp) call rcforc_open(results_directory(), &
-        title_or_default(model%controls%title))
+    if (model%controls%rcforc_interval > 0.0_wp .and. .not. resume) &
+      call rcforc_open(results_directory(), title_or_default(model%controls%title))
   contains
     !> Contact nodes on a master surface.
     function is_master_node() result(mask)
