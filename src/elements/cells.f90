@@ -34,7 +34,8 @@ module mefem_cells
   use mefem_material_update, only: material_elastic_moduli
   use mefem_cell_finite_strain, only: inverse_3x3
   use mefem_enrichment, only: enrichment_t, enrichment_setup
-  use mefem_smoothing_domains, only: smoothing_domains_t, smoothing_domains_build
+  use mefem_smoothing_domains, only: smoothing_domains_t, smoothing_domains_build, &
+                                      smoothing_domains_count
   implicit none
   private
 
@@ -96,6 +97,7 @@ contains
                                              !< physical stiffness form IHQ 6 at their QM, as
                                              !< LS-DYNA's implicit analyses switch to type 6
     integer :: p, e, count_cells, count_enriched, dim, nv
+    integer, allocatable :: elems(:), conn(:,:)
     logical :: mefem
     dim = model%dimension
     nv = dim + 1
@@ -108,18 +110,25 @@ contains
                             model%controls%bubble_mass, cells%enrichment, status)
       if (.not. status%ok) return
     end if
-    ! upper bound of the cell count: sides per element (ME-FEM) or one per element
+    ! the cell count: the smoothing domains of each ME-FEM part (its distinct sides, about
+    ! 2.1 per tetrahedron, counted without building them: the arrays below are the largest of
+    ! the set-up, every rank holds them) or one per element
     count_cells = 0
     count_enriched = 0
     do e = 1, model%elements%n
       if (.not. is_deformable(model, e)) cycle
       if (is_mefem_part(model, model%elements%part(e))) then
-        count_cells = count_cells + nv
         count_enriched = count_enriched + 1
         cells%enriched_of(e) = model%nodes%n + count_enriched
       else
         count_cells = count_cells + 1
       end if
+    end do
+    do p = 1, model%n_parts
+      if (.not. is_mefem_part(model, p) .or. is_hexahedral_part(model, p)) cycle
+      call part_simplices(model, p, elems, conn)
+      if (size(elems) > 0) count_cells = count_cells + smoothing_domains_count(conn, &
+                                                                                model%nodes%n)
     end do
     cells%n_enriched = count_enriched
     allocate(cells%hex_of(count_cells))
@@ -334,14 +343,9 @@ contains
     real(wp) :: grad_n(cells%dim, cells%dim + 1), grad_enr(cells%dim), share
     dim = cells%dim
     nv = dim + 1
-    elems = pack([(e, e = 1, model%elements%n)], model%elements%part(1:model%elements%n) == p)
-    ne = 0
-    do i = 1, size(elems)
-      if (is_deformable(model, elems(i))) ne = ne + 1
-    end do
+    call part_simplices(model, p, elems, conn)
+    ne = size(elems)
     if (ne == 0) return
-    elems = pack(elems, [(is_deformable(model, elems(i)), i = 1, size(elems))])
-    conn = model%elements%conn(1:nv, elems)
     call smoothing_domains_build(conn, model%nodes%x, domains, status, &
                                  element_ids=model%elements%id(elems))
     if (.not. status%ok) then
@@ -388,6 +392,19 @@ contains
       end do
     end do
   end subroutine add_part_cells
+
+  !> The deformable elements of part p (model indices, ascending) and their corners (the
+  !> simplices' dim + 1 corners).
+  subroutine part_simplices(model, p, elems, conn)
+    type(model_t), intent(in) :: model                !< resolved model
+    integer, intent(in) :: p                          !< part index
+    integer, allocatable, intent(out) :: elems(:)     !< its deformable elements
+    integer, allocatable, intent(out) :: conn(:,:)    !< (dim + 1, size(elems)) their corners
+    integer :: e, i
+    elems = pack([(e, e = 1, model%elements%n)], model%elements%part(1:model%elements%n) == p)
+    elems = pack(elems, [(is_deformable(model, elems(i)), i = 1, size(elems))])
+    conn = model%elements%conn(1:model%dimension + 1, elems)
+  end subroutine part_simplices
 
   !> Gradients of the linear shape functions of element i: grad N_I = n_I / H_I.
   pure subroutine linear_gradients(domains, i, grad_n)

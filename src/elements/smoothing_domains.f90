@@ -32,7 +32,7 @@ module mefem_smoothing_domains
   implicit none
   private
 
-  public :: smoothing_domains_build, smoothing_domains_geometry
+  public :: smoothing_domains_build, smoothing_domains_geometry, smoothing_domains_count
 
   !> Corners of triangle edge k (opposite corner k), counter-clockwise (outward to the right).
   integer, parameter, public :: TRIANGLE_EDGE_CORNERS(2, 3) = &
@@ -200,6 +200,24 @@ contains
       end do
     end do
   end subroutine check_corners
+
+  !> The number of smoothing domains (distinct edges/faces) smoothing_domains_build would make
+  !> of a mesh, without building them (cells_build sizes its arrays with it): the sides grouped
+  !> as the build groups them. A mesh the build rejects (bad corners, a side of three
+  !> elements) gets the upper bound nvert x nelem.
+  integer function smoothing_domains_count(conn, nnode) result(ndomain)
+    integer, intent(in) :: conn(:,:)                 !< (nvert, nelem) corners
+    integer, intent(in) :: nnode                     !< number of nodes
+    integer, allocatable :: side_group(:)
+    type(status_t) :: status
+    integer :: nproblem
+    ndomain = size(conn)
+    nproblem = 0
+    call check_corners(conn, nnode, status, nproblem)
+    if (nproblem > 0) return
+    call group_sides(conn, side_group, ndomain, status, nproblem)
+    if (nproblem > 0) ndomain = size(conn)
+  end function smoothing_domains_count
 
   !> Group the element sides (side s = (e-1)*nvert + k) into edges/faces: side_group(s) is
   !> the group of side s, groups numbered in sorted order of their node tuples. Reports sides

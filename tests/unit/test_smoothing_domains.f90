@@ -7,7 +7,7 @@ program test_smoothing_domains
   use mefem_kinds, only: wp, i8
   use mefem_errors, only: status_t
   use mefem_smoothing_domains, only: smoothing_domains_t, smoothing_domains_build, &
-      TRIANGLE_EDGE_CORNERS, TETRAHEDRON_FACE_CORNERS
+      smoothing_domains_count, TRIANGLE_EDGE_CORNERS, TETRAHEDRON_FACE_CORNERS
   use mefem_testing, only: test_start, test_finish, check, check_close, check_equal
   implicit none
 
@@ -334,6 +334,8 @@ contains
     if (.not. status%ok) return
     call check_equal(d%ndim, 2, trim(what)//': ndim')
     call check_equal(d%ndomain, 3*nx*ny + nx + ny, trim(what)//': edges = 3 nx ny + nx + ny')
+    call check_equal(smoothing_domains_count(conn, size(x, 2)), d%ndomain, &
+                     trim(what)//': smoothing_domains_count = the domains built')
     call check_equal(d%ndomain, size(x, 2) + size(conn, 2) - 1, &
                      trim(what)//': Euler E = V + F - 1')
     call check_equal(d%nboundary, 2*(nx + ny), trim(what)//': boundary edges = 2(nx+ny)')
@@ -392,6 +394,8 @@ contains
     call check(status%ok, trim(what)//': build succeeds')
     if (.not. status%ok) return
     call check_equal(d%ndim, 3, trim(what)//': ndim')
+    call check_equal(smoothing_domains_count(conn, size(x, 2)), d%ndomain, &
+                     trim(what)//': smoothing_domains_count = the domains built')
     nbox_faces = 2*(nx*ny + ny*nz + nx*nz)
     call check_equal(d%nboundary, 2*nbox_faces, trim(what)//': boundary faces = 2 x squares')
     call check_equal(4*size(conn, 2), 2*(d%ndomain - d%nboundary) + d%nboundary, &
@@ -472,6 +476,8 @@ contains
     call smoothing_domains_build(bad, x, d, status)
     call check(.not. status%ok .and. has(status, 'shared by 3 elements: element 1, element 2, '// &
                'element '//itoa(n + 1)), 'edge of three triangles: reported', message(status))
+    call check_equal(smoothing_domains_count(bad, size(x, 2)), 3*(n + 1), &
+                     'edge of three triangles: smoothing_domains_count gives the upper bound')
 
     ! one element turned over (clockwise among counter-clockwise neighbours)
     bad = conn
