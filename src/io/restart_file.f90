@@ -20,7 +20,7 @@ module mefem_restart_file
   public :: restart_create, restart_commit, restart_open, restart_close
   public :: restart_put_reals, restart_put_ints, restart_put_logicals, restart_put_text
   public :: restart_get_reals, restart_get_ints, restart_get_logicals, restart_get_text
-  public :: restart_get_reals_alloc, restart_get_ints_alloc, restart_checksum
+  public :: restart_get_reals_alloc, restart_get_ints_alloc, restart_checksum, restart_dump_name
 
   character(len=16), parameter :: MAGIC = 'MEFEM RESTART   '  !< the file's first bytes
   integer, parameter :: FORMAT_VERSION = 1                    !< bumped when records change
@@ -295,6 +295,16 @@ contains
     call fatal('restart file "'//f%path//'" ends or cannot be read at record "'//name// &
                '" (a truncated file?)')
   end subroutine read_failed
+
+  !> LS-DYNA's name of the k-th restart file of a run: d3dump01, d3dump02, ..., d3dump100.
+  pure function restart_dump_name(k) result(name)
+    integer, intent(in) :: k                          !< its number
+    character(len=:), allocatable :: name
+    character(len=12) :: number
+    write(number, '(i2.2)') k
+    if (k > 99) write(number, '(i0)') k
+    name = 'd3dump'//trim(number)
+  end function restart_dump_name
 
   !> A sum of the reference coordinates (every rank alike), kept in a restart file so that a
   !> file of another mesh with the same sizes is told apart.

@@ -78,7 +78,7 @@ module mefem_explicit_dynamics
                                    explicit_writes_initial_state
   use mefem_explicit_restart, only: run_point_t, explicit_restart_put, explicit_restart_get
   use mefem_restart_file, only: restart_file_t, restart_create, restart_commit, restart_open, &
-                                restart_close
+                                restart_close, restart_dump_name
   use mefem_results, only: results_directory
   implicit none
   private
@@ -313,11 +313,8 @@ contains
     !> The name of the next restart file of the series: d3dump01, d3dump02, ...
     function next_dump_name() result(name)
       character(len=:), allocatable :: name
-      character(len=12) :: number
       dumps = dumps + 1
-      write(number, '(i2.2)') dumps
-      if (dumps > 99) write(number, '(i0)') dumps
-      name = 'd3dump'//trim(number)
+      name = restart_dump_name(dumps)
     end function next_dump_name
 
     !> Write a restart file of the state at the end of this cycle into the output directory

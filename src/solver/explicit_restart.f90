@@ -400,13 +400,7 @@ contains
     type(explicit_layout_t), intent(in) :: layout     !< this rank's share
     integer, intent(in) :: ncomp                      !< components per node
     real(wp), intent(inout) :: values(:,:)            !< (ncomp, local nodes)
-    real(wp), allocatable :: global(:,:)
-    integer :: l
-    allocate(global(ncomp, layout%nnode_global))
-    call restart_get_reals(f, name, size(global), global)
-    do l = 1, s%nnode
-      values(:, l) = global(:, s%node_global(l))
-    end do
+    call get_rows(f, name, ncomp, layout%nnode_global, s%node_global(1:s%nnode), values)
   end subroutine get_nodal
 
   !> Read a cell array written by put_cells into this rank's cells.
@@ -417,13 +411,24 @@ contains
     type(cells_t), intent(in) :: cells                !< all cells
     integer, intent(in) :: ncomp                      !< components per cell
     real(wp), intent(inout) :: values(:,:)            !< (ncomp, local cells)
+    call get_rows(f, name, ncomp, cells%n, s%cell_global(1:s%ncell), values)
+  end subroutine get_cells
+
+  !> Read a record of nglobal rows (ncomp values each) and keep the rows given.
+  subroutine get_rows(f, name, ncomp, nglobal, rows, values)
+    type(restart_file_t), intent(inout) :: f          !< file being read
+    character(len=*), intent(in) :: name              !< record name
+    integer, intent(in) :: ncomp                      !< values per row
+    integer, intent(in) :: nglobal                    !< rows in the file
+    integer, intent(in) :: rows(:)                    !< the global rows wanted
+    real(wp), intent(inout) :: values(:,:)            !< (ncomp, size(rows))
     real(wp), allocatable :: global(:,:)
     integer :: l
-    allocate(global(ncomp, cells%n))
+    allocate(global(ncomp, nglobal))
     call restart_get_reals(f, name, size(global), global)
-    do l = 1, s%ncell
-      values(:, l) = global(:, s%cell_global(l))
+    do l = 1, size(rows)
+      values(:, l) = global(:, rows(l))
     end do
-  end subroutine get_cells
+  end subroutine get_rows
 
 end module mefem_explicit_restart

@@ -52,7 +52,7 @@ module mefem_implicit_static
   use mefem_restart_file, only: restart_file_t, restart_create, restart_commit, restart_open, &
                                 restart_close, restart_put_text, restart_put_ints, &
                                 restart_put_reals, restart_get_text, restart_get_ints, &
-                                restart_get_reals, restart_checksum
+                                restart_get_reals, restart_checksum, restart_dump_name
   use mefem_solver_common, only: number_equations, cell_result_fields, schedule_after, &
                                  warn_output_every_step, title_or_default
   use mefem_mortar_contact, only: mortar_contact_t, mortar_contact_setup, mortar_contact_forces, &
@@ -418,11 +418,8 @@ contains
     !> The name of the next restart file of the series: d3dump01, d3dump02, ...
     function next_dump_name() result(name)
       character(len=:), allocatable :: name
-      character(len=12) :: number
       dumps = dumps + 1
-      write(number, '(i2.2)') dumps
-      if (dumps > 99) write(number, '(i0)') dumps
-      name = 'd3dump'//trim(number)
+      name = restart_dump_name(dumps)
     end function next_dump_name
 
     !> Write a restart file of the state after this converged step into the output directory

@@ -158,3 +158,48 @@ def all_histories_blocks(plot_interval):
         ['*CONTROL_TERMINATION', f10(2.0e-4), '*DATABASE_BINARY_D3PLOT', f10(plot_interval),
          '*DATABASE_GLSTAT', f10(1.0e-5), '*DATABASE_RCFORC', f10(1.0e-5),
          '*DATABASE_NODOUT', f10(1.0e-5), '*DATABASE_HISTORY_NODE', f10(probe + 1)]]
+
+
+def _eroding_punch_mesh():
+    """The mesh of eroding_punch_blocks (see there)."""
+    speed, gap, press, t_erode = 1.0e4, 0.1, 0.02, 1.0e-6
+    xb, cb = box_hexes(4.0, 4.0, 2.0, 4, 4, 2)
+    xp, cp = box_hexes(2.0, 2.0, 1.0, 1, 1, 1)
+    top = [k for k, c in enumerate(cb) if xb[c, 2].min() > 0.5]
+    return {'speed': speed, 'gap': gap, 'press': press, 't_erode': t_erode,
+            'end': (gap + 1.0 + press) / speed, 'block_nodes': xb,
+            'x': np.vstack([xb, xp + [1.0, 1.0, 2.0 + gap]]),
+            'punch': np.asarray(cp) + len(xb), 'top_layer': [cb[k] for k in top],
+            'low_layer': [c for k, c in enumerate(cb) if k not in top],
+            'base': np.nonzero(xb[:, 2] < 1e-9)[0]}
+
+
+#: The eroding-contact punch: a steel block 4 x 4 x 2 mm of 1 mm hexahedra held at its base,
+#: its top layer (part 2) eroding at t_erode (*MAT_ADD_EROSION FAILTM) before a rigid punch
+#: (2 x 2 mm, part 3, 'gap' above it) moving down at 'speed' arrives and presses 'press' into
+#: the lower layer (part 1) by 'end'. Units mm, s.
+ERODING_PUNCH = _eroding_punch_mesh()
+
+
+def eroding_punch_blocks(contact):
+    """The deck blocks of ERODING_PUNCH with the given contact card lines (part sets 1 = {1, 2},
+    2 = {1, 2, 3})."""
+    m = ERODING_PUNCH
+    return [nodes_card(m['x']),
+            elements_card('ELEMENT_SOLID', m['low_layer'], pid=1),
+            elements_card('ELEMENT_SOLID', m['top_layer'], pid=2, first_id=100),
+            elements_card('ELEMENT_SOLID', m['punch'], pid=3, first_id=200),
+            ['*PART', 'lower layer', f10(1, 1, 1), '*PART', 'top layer', f10(2, 1, 2),
+             '*PART', 'punch', f10(3, 1, 3), '*SECTION_SOLID', f10(1, 1),
+             '*MAT_ELASTIC', free(1, DENSITY, YOUNG, 0.3),
+             '*MAT_ELASTIC', free(2, DENSITY, YOUNG, 0.3),
+             '*MAT_ADD_EROSION', f10(2), f10(0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, m['t_erode']),
+             # the punch moves along z only (x, y and the rotations held)
+             '*MAT_RIGID', free(3, DENSITY, YOUNG, 0.3), f10(1.0, 4, 7)],
+            ['*SET_PART_LIST', f10(1), f10(1, 2), '*SET_PART_LIST', f10(2), f10(1, 2, 3)],
+            node_set(1, m['base']), ['*BOUNDARY_SPC_SET', f10(1, 0, 1, 1, 1, 1, 1, 1)],
+            ['*BOUNDARY_PRESCRIBED_MOTION_RIGID', f10(3, 3, 0, 1, -m['speed'])],
+            curve(1, [(0.0, 1.0), (1.0, 1.0)]),
+            contact,
+            ['*CONTROL_TERMINATION', f10(m['end']), '*DATABASE_BINARY_D3PLOT',
+             f10(m['end'] / 4), '*DATABASE_RCFORC', f10(m['end'] / 100)]]

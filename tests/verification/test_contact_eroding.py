@@ -29,50 +29,18 @@ sys.path.insert(0, os.path.dirname(__file__))
 sys.path.insert(0, os.path.join(os.path.dirname(__file__), '..', '..', 'post'))
 from deck_writer import Checks, f10, free, nodes_card, elements_card
 from lsdyna_ascii import read_rcforc
-from explicit_cases import DENSITY, YOUNG, box_hexes, curve, run_case
+from explicit_cases import run_case, eroding_punch_blocks, ERODING_PUNCH
 
 checks = Checks('contact_eroding')
-SPEED = 1.0e4                  # mm/s (10 m/s), the punch downwards
-GAP = 0.1                      # mm, punch above the block's top
-PRESS = 0.02                   # mm, into the lower layer by the end
-T_ERODE = 1.0e-6               # s, the top layer's FAILTM
-END = (GAP + 1.0 + PRESS) / SPEED
-
-xb, cb = box_hexes(4.0, 4.0, 2.0, 4, 4, 2)
-xp, cp = box_hexes(2.0, 2.0, 1.0, 1, 1, 1)
-xp = xp + [1.0, 1.0, 2.0 + GAP]
-x = np.vstack([xb, xp])
-cp = np.asarray(cp) + len(xb)
-top_layer = [k for k, c in enumerate(cb) if xb[c, 2].min() > 0.5]
-low_layer = [k for k, c in enumerate(cb) if k not in top_layer]
-base = np.nonzero(xb[:, 2] < 1e-9)[0]
+PRESS = ERODING_PUNCH['press']            # mm, into the lower layer by the end
+xb = ERODING_PUNCH['block_nodes']
 middle = int(np.nonzero((abs(xb[:, 0] - 2) < 1e-9) & (abs(xb[:, 1] - 2) < 1e-9) &
                         (abs(xb[:, 2] - 1) < 1e-9))[0][0])
 
 
 def deck(contact, name, ranks=1):
     """Run the punch with the given contact card lines; returns (rc, text, out)."""
-    blocks = [nodes_card(x),
-              elements_card('ELEMENT_SOLID', [cb[k] for k in low_layer], pid=1),
-              elements_card('ELEMENT_SOLID', [cb[k] for k in top_layer], pid=2, first_id=100),
-              elements_card('ELEMENT_SOLID', cp, pid=3, first_id=200),
-              ['*PART', 'lower layer', f10(1, 1, 1), '*PART', 'top layer', f10(2, 1, 2),
-               '*PART', 'punch', f10(3, 1, 3), '*SECTION_SOLID', f10(1, 1),
-               '*MAT_ELASTIC', free(1, DENSITY, YOUNG, 0.3),
-               '*MAT_ELASTIC', free(2, DENSITY, YOUNG, 0.3),
-               '*MAT_ADD_EROSION', f10(2), f10(0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, T_ERODE),
-               # the punch moves along z only (x, y and the rotations held)
-               '*MAT_RIGID', free(3, DENSITY, YOUNG, 0.3), f10(1.0, 4, 7)],
-              ['*SET_PART_LIST', f10(1), f10(1, 2), '*SET_PART_LIST', f10(2), f10(1, 2, 3)],
-              ['*SET_NODE_LIST', f10(1)] + [''.join('%10d' % (n + 1) for n in base[i:i + 8])
-                                            for i in range(0, len(base), 8)],
-              ['*BOUNDARY_SPC_SET', f10(1, 0, 1, 1, 1, 1, 1, 1)],
-              ['*BOUNDARY_PRESCRIBED_MOTION_RIGID', f10(3, 3, 0, 1, -SPEED)],
-              curve(1, [(0.0, 1.0), (1.0, 1.0)]),
-              contact,
-              ['*CONTROL_TERMINATION', f10(END), '*DATABASE_BINARY_D3PLOT', f10(END / 4),
-               '*DATABASE_RCFORC', f10(END / 100)]]
-    return run_case(name, blocks, ranks)
+    return run_case(name, eroding_punch_blocks(contact), ranks)
 
 
 def results(out, name):

@@ -46,8 +46,8 @@ import numpy as np
 
 sys.path.insert(0, os.path.dirname(__file__))
 from deck_writer import Checks, ROOT, MPIRUN, f10, free, nodes_card, elements_card, write_deck
-from explicit_cases import (OUT, DENSITY, YOUNG, box_hexes, curve, face_segments, node_set,
-                            smooth_ramp, block_on_plate, block_on_plate_cards)
+from explicit_cases import (OUT, curve, face_segments, node_set, smooth_ramp, block_on_plate,
+                            block_on_plate_cards, eroding_punch_blocks, ERODING_PUNCH)
 from tied_cases import tiebreak_shear_blocks
 from implicit_cases import tool_block_deck
 
@@ -238,32 +238,10 @@ checks.check(len(dumped) == 2 and min(released) < dumped[0] < max(released) < du
              '%s %s' % (released, dumped))
 
 # ---- 3. eroding contact, hexahedra ------------------------------------------------------------
-SPEED, GAP, PRESS, T_ERODE = 1.0e4, 0.1, 0.02, 1.0e-6
-END = (GAP + 1.0 + PRESS) / SPEED
-xb, hb = box_hexes(4.0, 4.0, 2.0, 4, 4, 2)
-xp, hp = box_hexes(2.0, 2.0, 1.0, 1, 1, 1)
-xh = np.vstack([xb, xp + [1.0, 1.0, 2.0 + GAP]])
-hp = np.asarray(hp) + len(xb)
-top_layer = [k for k, c in enumerate(hb) if xb[c, 2].min() > 0.5]
-low_layer = [k for k, c in enumerate(hb) if k not in top_layer]
-base = np.nonzero(xb[:, 2] < 1e-9)[0]
-eroding = [nodes_card(xh),
-           elements_card('ELEMENT_SOLID', [hb[k] for k in low_layer], pid=1),
-           elements_card('ELEMENT_SOLID', [hb[k] for k in top_layer], pid=2, first_id=100),
-           elements_card('ELEMENT_SOLID', hp, pid=3, first_id=200),
-           ['*PART', 'lower layer', f10(1, 1, 1), '*PART', 'top layer', f10(2, 1, 2),
-            '*PART', 'punch', f10(3, 1, 3), '*SECTION_SOLID', f10(1, 1),
-            '*MAT_ELASTIC', free(1, DENSITY, YOUNG, 0.3),
-            '*MAT_ELASTIC', free(2, DENSITY, YOUNG, 0.3),
-            '*MAT_ADD_EROSION', f10(2), f10(0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, T_ERODE),
-            '*MAT_RIGID', free(3, DENSITY, YOUNG, 0.3), f10(1.0, 4, 7)],
-           ['*SET_PART_LIST', f10(1), f10(1, 2)],
-           node_set(1, base), ['*BOUNDARY_SPC_SET', f10(1, 0, 1, 1, 1, 1, 1, 1)],
-           ['*BOUNDARY_PRESCRIBED_MOTION_RIGID', f10(3, 3, 0, 1, -SPEED)],
-           curve(1, [(0.0, 1.0), (1.0, 1.0)]),
-           ['*CONTACT_ERODING_SURFACE_TO_SURFACE', f10(1, 3, 2, 3), f10(0.0), '', f10(0, 1, 1)],
-           ['*CONTROL_TERMINATION', f10(END), '*DATABASE_BINARY_D3PLOT', f10(END / 4),
-            '*DATABASE_GLSTAT', f10(END / 50), '*DATABASE_RCFORC', f10(END / 100)]]
+T_ERODE = ERODING_PUNCH['t_erode']
+eroding = eroding_punch_blocks(['*CONTACT_ERODING_SURFACE_TO_SURFACE', f10(1, 3, 2, 3),
+                                f10(0.0), '', f10(0, 1, 1)])
+eroding[-1] += ['*DATABASE_GLSTAT', f10(ERODING_PUNCH['end'] / 50)]
 whole, _ = restart_case('eroding', eroding, 150)
 if whole:
     rc, text = mefem(['-o', os.path.join(WORK, 'eroding', 'probe'),
