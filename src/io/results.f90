@@ -29,8 +29,8 @@ module mefem_results
 
   public :: results_open, results_write_state, results_close, node_set_fields, results_directory
   public :: append_node_set_fields
-  public :: results_restart_header_put, results_restart_peek, results_restart_put, &
-            results_restart_get
+  public :: results_restart_header_put, results_restart_header_skip, results_restart_peek, &
+            results_restart_put, results_restart_get
 
   type(output_mesh_t), save :: piece               !< this rank's output mesh
   character(len=:), allocatable :: out_dir, stem   !< output directory and file stem
@@ -155,17 +155,31 @@ contains
     type(restart_file_t), intent(inout) :: f          !< file being written
     call restart_put_text(f, 'run.deck', deck_path)
     call restart_put_text(f, 'run.output', canonical_path(out_dir))
+    call restart_put_text(f, 'run.stem', stem)
   end subroutine results_restart_header_put
 
-  !> The deck and output directory a restart file was written for (every rank reads it).
-  subroutine results_restart_peek(path, deck, dir)
+  !> Read past the first records of a restart file (results_restart_peek gave them).
+  subroutine results_restart_header_skip(f)
+    type(restart_file_t), intent(inout) :: f          !< file being read
+    character(len=:), allocatable :: text
+    call restart_get_text(f, 'run.deck', text)
+    call restart_get_text(f, 'run.output', text)
+    call restart_get_text(f, 'run.stem', text)
+  end subroutine results_restart_header_skip
+
+  !> The deck, output directory and result files' stem a restart file was written for (every
+  !> rank reads it): the continued run writes on into the files of that stem, whatever the
+  !> name of the deck it is given.
+  subroutine results_restart_peek(path, deck, dir, basename)
     character(len=*), intent(in) :: path              !< the restart file
     character(len=:), allocatable, intent(out) :: deck  !< its deck
     character(len=:), allocatable, intent(out) :: dir   !< its output directory
+    character(len=:), allocatable, intent(out) :: basename  !< its result files' stem
     type(restart_file_t) :: f
     call restart_open(f, path)
     call restart_get_text(f, 'run.deck', deck)
     call restart_get_text(f, 'run.output', dir)
+    call restart_get_text(f, 'run.stem', basename)
     call restart_close(f)
   end subroutine results_restart_peek
 

@@ -33,14 +33,14 @@ program mefem
   integer, allocatable :: element_rank(:), element_chunk(:)
   integer :: n_errors
   real(wp) :: t_start, t_read
-  character(len=:), allocatable :: restart_deck, restart_dir
+  character(len=:), allocatable :: restart_deck, restart_dir, stem
 
   ! start MPI and read the command line
   call comm_init()
   t_start = comm_wtime()
   call parse_command_line(options)
   if (allocated(options%restart)) then       ! the deck and results of the run it continues
-    call results_restart_peek(options%restart, restart_deck, restart_dir)
+    call results_restart_peek(options%restart, restart_deck, restart_dir, stem)
     if (.not. allocated(options%deck)) options%deck = restart_deck
     if (.not. allocated(options%output_dir)) options%output_dir = directory_of(options%restart)
   end if
@@ -79,7 +79,8 @@ program mefem
 
   ! write the model as read: the mesh, its parts and node sets (state 0; the explicit and
   ! the nonlinear implicit analyses write state 0 themselves, with their fields at t = 0)
-  call results_open(options%output_dir, deck_stem(options%deck), model, decomp, options%deck, &
+  if (.not. allocated(stem)) stem = deck_stem(options%deck)   ! (a restart: its run's stem)
+  call results_open(options%output_dir, stem, model, decomp, options%deck, &
                     allocated(options%restart))
   if (.not. (explicit_writes_initial_state(model) .or. implicit_writes_initial_state(model) &
              .or. allocated(options%restart))) then
@@ -103,8 +104,8 @@ program mefem
     call say('no *CONTROL_TERMINATION: nothing to run; the model was read, checked and written')
   end if
   call results_close()
-  call say('results: '//options%output_dir//'/'//deck_stem(options%deck)//'.pvd (ParaView), '// &
-           options%output_dir//'/'//deck_stem(options%deck)//'.h5 (HDF5)')
+  call say('results: '//options%output_dir//'/'//stem//'.pvd (ParaView), '// &
+           options%output_dir//'/'//stem//'.h5 (HDF5)')
   call say('wall time '//rtoa(comm_wtime() - t_start)//' s, peak memory '// &
            rtoa(peak_memory_mib())//' MiB per rank')
   call terminate(signal_exit_code())    ! 0, or 128 + the signal that stopped the analysis

@@ -35,8 +35,8 @@ module mefem_explicit_restart
   use mefem_restart_file, only: restart_file_t, restart_put_reals, restart_put_ints, &
                                 restart_put_text, restart_get_reals, restart_get_ints, &
                                 restart_get_text, restart_checksum
-  use mefem_results, only: results_restart_header_put, results_restart_put, &
-                           results_restart_get
+  use mefem_results, only: results_restart_header_put, results_restart_header_skip, &
+                           results_restart_put, results_restart_get
   implicit none
   private
 
@@ -170,8 +170,7 @@ contains
     integer :: sizes(6), counters(2), l, k, d, j, e, c, one(1)
     integer, allocatable :: held(:)
     d = s%dim
-    call restart_get_text(f, 'run.deck', analysis)      ! (read by results_restart_peek)
-    call restart_get_text(f, 'run.output', analysis)
+    call results_restart_header_skip(f)
     call restart_get_text(f, 'analysis', analysis)
     if (analysis /= 'explicit') call fatal('restart file "'//f%path//'" was written by the '// &
         analysis//' analysis; this deck runs the explicit analysis')

@@ -46,7 +46,8 @@ module mefem_implicit_static
   use mefem_progress, only: peak_memory_mib
   use mefem_output_mesh, only: output_field_t
   use mefem_results, only: results_write_state, append_node_set_fields, results_directory, &
-                           results_restart_header_put, results_restart_put, results_restart_get
+                           results_restart_header_put, results_restart_header_skip, &
+                           results_restart_put, results_restart_get
   use mefem_sense_switch, only: sense_switch, sense_switch_warn_leftover, SENSE_STOP, &
                                 SENSE_STATUS, SENSE_STATE, SENSE_RESTART
   use mefem_restart_file, only: restart_file_t, restart_create, restart_commit, restart_open, &
@@ -473,8 +474,7 @@ contains
       integer :: sizes(5), steps(4)
       real(wp) :: times(5), sums(3), checksum(1)
       call restart_open(restart, restart_path)
-      call restart_get_text(restart, 'run.deck', text)
-      call restart_get_text(restart, 'run.output', text)
+      call results_restart_header_skip(restart)
       call restart_get_text(restart, 'analysis', text)
       if (text /= 'implicit') call fatal('restart file "'//restart_path//'" was written by '// &
           'the '//text//' analysis; this deck runs the nonlinear implicit analysis')

@@ -11,7 +11,8 @@ numbers within 1e-10 of their quantity's largest in the file, as the energy sums
 add in another order after a restart).
 
 1. Taylor bar (input/taylor_bar.k, ME-FEM tets, J2 plasticity, rigid wall, initial velocity,
-   nodout and rwforc), 15 us.
+   nodout and rwforc), 15 us; and continued from its last restart file (written at its end)
+   with a deck whose ENDTIM is 20 us: it runs on to 20 us.
 2. Sliding block with friction: the block pressed onto a rigid plate (a rigid body, rbdout)
    and pulled sideways, FS = 0.3 (the friction's tractions carry over), the contact work
    divided among the ranks (MEFEM_CONTACT_DIVIDE_MIN = 0), selective mass scaling (DT2MS < 0:
@@ -193,6 +194,22 @@ with open(os.path.join(ROOT, 'input', 'taylor_bar.k')) as f:
 checks.check('1.5e-5' in bar, 'Taylor bar: deck shortened to 15 us')
 bar_blocks = [bar.splitlines()[3:]]          # (write_deck adds *KEYWORD and the title)
 restart_case('taylor_bar', bar_blocks, 100)
+
+# a run goes on past its ENDTIM from its last restart file, with a deck that asks for more
+longer = os.path.join(WORK, 'taylor_bar', 'longer.k')
+write_deck(longer, [[line.replace('    1.5e-5', '    2.0e-5') for line in bar_blocks[0]],
+                    ['*DATABASE_BINARY_D3DUMP', f10(100)]], title='taylor_bar')
+dumps = sorted(d for d in os.listdir(os.path.join(WORK, 'taylor_bar', 'whole'))
+               if re.fullmatch(r'd3dump\d+', d))
+extended = os.path.join(WORK, 'taylor_bar', 'extended')
+shutil.rmtree(extended, ignore_errors=True)
+shutil.copytree(os.path.join(WORK, 'taylor_bar', 'whole'), extended)
+rc, text = mefem(['r=' + os.path.join(extended, dumps[-1]), longer], ranks=2)
+times = pvd_times(os.path.join(extended, STEM + '.pvd'))
+checks.check(rc == 0 and 'time reached 2.00000E-05' in text and len(times) == 5 and
+             abs(times[-1] - 2.0e-5) < 1e-12 and abs(times[3] - 1.5e-5) < 1e-12,
+             'Taylor bar: continued from its last restart file (%s, t = 15 us) with ENDTIM 20 us: '
+             'runs to 20 us, states at 0, 5, 10, 15, 20 us' % dumps[-1], str(times) + text[-400:])
 
 # ---- 2. sliding block with friction, mass scaling, rigid plate and wall -----------------------
 T1, T2, P, MU = 5.0e-5, 2.0e-4, 10.0, 0.3
