@@ -39,7 +39,7 @@ module mefem_cells
   implicit none
   private
 
-  public :: cells_build, cells_summary
+  public :: cells_build, cells_summary, cell_grad_column
 
   integer, parameter, public :: CELL_MAX_NODES = 8   !< a hexahedron
   integer, parameter, public :: MEFEM_FACE_NODES = 7 !< 3D interior face: 5 corners + 2 enriched
@@ -61,7 +61,12 @@ module mefem_cells
     integer :: n_enriched = 0                 !< enriched nodes (numbered after the mesh nodes)
     integer, allocatable :: nnodes(:)         !< (n) nodes of each cell
     integer, allocatable :: nodes(:,:)        !< (CELL_MAX_NODES, n) node numbers
-    real(wp), allocatable :: grad(:,:,:)      !< (dim, CELL_MAX_NODES, n) reference gradients
+    real(wp), allocatable :: grad(:,:,:)      !< (dim, CELL_MAX_NODES, :) reference gradients:
+                                              !< column c for cell c, or, when cells_build was
+                                              !< given the elements wanted, column
+                                              !< grad_column(c) (cell_grad_column)
+    integer, allocatable :: grad_column(:)    !< (n) with elements wanted: the column of a
+                                              !< cell whose first element is wanted, else 0
     real(wp), allocatable :: weight(:)        !< (n) area (2D, unit thickness) or volume
     integer, allocatable :: material(:)       !< (n) material index
     logical, allocatable :: nodal_pressure(:) !< (n) a nodal-pressure tetrahedron (ELFORM 13)
@@ -84,11 +89,18 @@ module mefem_cells
                                               !< pentahedron's repeated corners share one)
   end type cells_t
 
+  ! while cells_build runs with elements wanted: which, and the gradient columns given out
+  logical, allocatable :: want(:)             !< (model elements) the gradients kept
+  integer :: n_kept = 0                       !< columns of grad given out so far
+
 contains
 
   !> Build the cells of every deformable part, part by part (smoothing domains do not cross
-  !> part boundaries, so every cell has one material).
-  subroutine cells_build(model, cells, status, static)
+  !> part boundaries, so every cell has one material). With `wanted` (the explicit analysis:
+  !> this rank's elements) every cell is built, numbered as without it, but the reference
+  !> gradients, the largest array of the cells, are kept only for the cells whose first
+  !> element is wanted (the cells this rank computes; cell_grad_column).
+  subroutine cells_build(model, cells, status, static, wanted)
     type(model_t), intent(in) :: model       !< resolved model
     type(cells_t), intent(out) :: cells      !< the cells
     type(status_t), intent(out) :: status    !< failure (bad mesh) and its reason
@@ -96,8 +108,10 @@ contains
                                              !< hourglass form (no static resistance) get the
                                              !< physical stiffness form IHQ 6 at their QM, as
                                              !< LS-DYNA's implicit analyses switch to type 6
-    integer :: p, e, count_cells, count_enriched, dim, nv
+    logical, intent(in), optional :: wanted(:)  !< (model elements) the gradients kept
+    integer :: p, e, count_cells, count_enriched, dim, nv, count_kept
     integer, allocatable :: elems(:), conn(:,:)
+    real(wp), allocatable :: kept(:,:,:)
     logical :: mefem
     dim = model%dimension
     nv = dim + 1
@@ -143,8 +157,21 @@ contains
     do e = 1, model%elements%n
       if (cells%enriched_of(e) > 0) cells%enriched_element(cells%enriched_of(e) - model%nodes%n) = e
     end do
+    count_kept = count_cells
+    if (present(wanted)) then            ! (at most the sides of each wanted element)
+      count_kept = 0
+      do e = 1, model%elements%n
+        if (.not. (wanted(e) .and. is_deformable(model, e))) cycle
+        count_kept = count_kept + merge(nv, 1, is_mefem_part(model, model%elements%part(e)))
+      end do
+      allocate(cells%grad_column(count_cells))
+      cells%grad_column = 0
+      allocate(want(model%elements%n))
+      want = wanted(1:model%elements%n)
+      n_kept = 0
+    end if
     allocate(cells%nnodes(count_cells), cells%nodes(CELL_MAX_NODES, count_cells), &
-             cells%grad(dim, CELL_MAX_NODES, count_cells), cells%weight(count_cells), &
+             cells%grad(dim, CELL_MAX_NODES, count_kept), cells%weight(count_cells), &
              cells%material(count_cells), cells%elements(2, count_cells), &
              cells%nodal_pressure(count_cells))
     cells%nodal_pressure = .false.
@@ -160,7 +187,35 @@ contains
       call add_part_cells(model, p, mefem, cells, status)
       if (.not. status%ok) return
     end do
+    if (present(wanted)) then            ! the kept columns, to their number
+      kept = cells%grad(:, :, 1:n_kept)
+      call move_alloc(kept, cells%grad)
+      deallocate(want)
+    end if
   end subroutine cells_build
+
+  !> The column of cells%grad that holds cell c's reference gradients (0: not kept, the cells
+  !> were built with elements wanted and c's first element is not one of them).
+  pure integer function cell_grad_column(cells, c) result(column)
+    type(cells_t), intent(in) :: cells        !< cells
+    integer, intent(in) :: c                  !< cell
+    column = c
+    if (allocated(cells%grad_column)) column = cells%grad_column(c)
+  end function cell_grad_column
+
+  !> Start cell c of model element e (its first): its gradient column, if kept.
+  subroutine start_cell(cells, c, e)
+    type(cells_t), intent(inout) :: cells     !< cells
+    integer, intent(in) :: c                  !< the new cell
+    integer, intent(in) :: e                  !< its first element
+    cells%elements(1, c) = e
+    cells%nnodes(c) = 0
+    if (.not. allocated(cells%grad_column)) return
+    if (.not. want(e)) return
+    n_kept = n_kept + 1
+    cells%grad_column(c) = n_kept
+    cells%grad(:, :, n_kept) = 0.0_wp
+  end subroutine start_cell
 
   !> Number of hexahedral cells: the non-tetrahedral elements of hexahedral parts.
   subroutine count_hexahedra(model, n_hex)
@@ -197,6 +252,7 @@ contains
     integer :: e, c, h, a, k, nn, corners(8), ihq, material
     real(wp) :: x(3, 8), volume, grad(3, 8), node_volume(8), gamma(8, HOURGLASS_MODES)
     real(wp) :: lambda, mu, young, rho, wave_speed, sum_bb(6), node_mass(CELL_MAX_NODES), qm
+    real(wp) :: cell_grad(3, CELL_MAX_NODES)
     material = model%parts(p)%material
     rho = model%materials(material)%density
     call material_elastic_moduli(model%materials(material), lambda, mu)
@@ -233,8 +289,8 @@ contains
       cells%n = c
       cells%weight(c) = volume
       cells%material(c) = material
-      cells%elements(1, c) = e
-      cells%nnodes(c) = 0
+      call start_cell(cells, c, e)
+      cell_grad = 0.0_wp
       h = 0
       if (model%elements%topology(e) /= TOPO_TET4) then
         cells%n_hex = cells%n_hex + 1
@@ -245,8 +301,9 @@ contains
       end if
       do a = 1, 8                       ! the corners, a repeated one merged into its first
         call add_gradient(cells, c, corners(a), grad(:, a))
-        if (h == 0) cycle
         k = findloc(cells%nodes(1:cells%nnodes(c), c), corners(a), dim=1)
+        cell_grad(:, k) = cell_grad(:, k) + grad(:, a)
+        if (h == 0) cycle
         cells%hg_corner(a, h) = k
         cells%hg_gamma(k, :, h) = cells%hg_gamma(k, :, h) + gamma(a, :)
         cells%node_volume(k, h) = cells%node_volume(k, h) + node_volume(a)
@@ -257,7 +314,7 @@ contains
       ! (viscous forms): doc/theory.md 2.8
       sum_bb = 0.0_wp
       do a = 1, nn
-        associate (b => cells%grad(:, a, c))
+        associate (b => cell_grad(:, a))
           sum_bb = sum_bb + [b(1)*b(1), b(2)*b(2), b(3)*b(3), b(1)*b(2), b(2)*b(3), b(1)*b(3)]
         end associate
       end do
@@ -339,7 +396,7 @@ contains
     type(status_t), intent(out) :: status     !< failure and its reason
     integer, allocatable :: elems(:), conn(:,:)
     type(smoothing_domains_t) :: domains
-    integer :: dim, nv, ne, i, e, m, k, slot, c, local
+    integer :: dim, nv, ne, i, e, m, k, slot, c, local, column
     real(wp) :: grad_n(cells%dim, cells%dim + 1), grad_enr(cells%dim), share
     dim = cells%dim
     nv = dim + 1
@@ -358,14 +415,15 @@ contains
         c = cells%n + 1
         cells%n = c
         call linear_gradients(domains, i, grad_n)
+        call start_cell(cells, c, elems(i))
         cells%nnodes(c) = nv
         cells%nodes(1:nv, c) = conn(:, i)
-        cells%grad(:, 1:nv, c) = grad_n
+        column = cell_grad_column(cells, c)
+        if (column > 0) cells%grad(:, 1:nv, column) = grad_n
         cells%weight(c) = domains%elem_measure(i)
         cells%material(c) = model%parts(p)%material
         cells%nodal_pressure(c) = dim == 3 .and. &
             model%sections(model%parts(p)%section)%elform == ELFORM_TET_NODAL_PRESSURE
-        cells%elements(1, c) = elems(i)
       end do
       return
     end if
@@ -374,7 +432,7 @@ contains
       cells%n = c
       cells%weight(c) = domains%domain_weight(m)
       cells%material(c) = model%parts(p)%material
-      cells%nnodes(c) = 0
+      call start_cell(cells, c, elems(domains%domain_elem(1, m)))
       do slot = 1, 2
         i = domains%domain_elem(slot, m)
         if (i == 0) cycle
@@ -418,23 +476,25 @@ contains
     end do
   end subroutine linear_gradients
 
-  !> Add a gradient contribution of node to cell c (appending the node if new).
+  !> Add a gradient contribution of node to cell c (appending the node if new; the gradient
+  !> is kept only where the cell's column is).
   pure subroutine add_gradient(cells, c, node, g)
     type(cells_t), intent(inout) :: cells   !< cells
     integer, intent(in) :: c                !< cell
     integer, intent(in) :: node             !< node number
     real(wp), intent(in) :: g(:)            !< contribution
-    integer :: j
+    integer :: j, column
+    column = cell_grad_column(cells, c)
     do j = 1, cells%nnodes(c)
       if (cells%nodes(j, c) == node) then
-        cells%grad(:, j, c) = cells%grad(:, j, c) + g
+        if (column > 0) cells%grad(:, j, column) = cells%grad(:, j, column) + g
         return
       end if
     end do
     j = cells%nnodes(c) + 1
     cells%nnodes(c) = j
     cells%nodes(j, c) = node
-    cells%grad(:, j, c) = g
+    if (column > 0) cells%grad(:, j, column) = g
   end subroutine add_gradient
 
 end module mefem_cells

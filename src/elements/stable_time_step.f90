@@ -20,7 +20,7 @@
 module mefem_stable_time_step
   use mefem_kinds, only: wp
   use mefem_model, only: model_t
-  use mefem_cells, only: cells_t, CELL_MAX_NODES
+  use mefem_cells, only: cells_t, CELL_MAX_NODES, cell_grad_column
   use mefem_lumped_mass, only: simplex_measure
   use mefem_material_state, only: BLOCK_POINTS
   use mefem_cell_finite_strain, only: adjugate_3x3
@@ -141,8 +141,8 @@ contains
     allocate(w0(dim, dim, size(list)))
     do k = 1, size(list)
       c = list(k)
-      call inverse_mass_metric(dim, cells%nnodes(c), cells%grad(:, :, c), share(:, k), &
-                               w0(:, :, k))
+      call inverse_mass_metric(dim, cells%nnodes(c), cells%grad(:, :, cell_grad_column(cells, &
+                               c)), share(:, k), w0(:, :, k))
     end do
   end subroutine cell_inverse_mass_metric
 

@@ -18,7 +18,7 @@ module mefem_explicit_cell_forces
   use mefem_model, only: model_t, material_t
   use mefem_halo, only: halo_t, halo_assemble, halo_assemble_start, halo_assembly_push_nodes, &
                         halo_assemble_summed
-  use mefem_cells, only: cells_t, CELL_MAX_NODES, MEFEM_FACE_NODES
+  use mefem_cells, only: cells_t, CELL_MAX_NODES, MEFEM_FACE_NODES, cell_grad_column
   use mefem_hexahedron, only: HOURGLASS_MODES, block_hourglass_forces, &
                               block_hexahedron_frequency
   use mefem_cell_finite_strain, only: cell_deformation_gradient, cell_internal_force, &
@@ -585,7 +585,7 @@ contains
         c = s%cell_global(l)
         s%cell_block(l) = b
         s%cell_slot(l) = i
-        s%block_grad(i, :, :, b) = cells%grad(:, :, c)
+        s%block_grad(i, :, :, b) = cells%grad(:, :, cell_grad_column(cells, c))
         s%block_w0(i, :, b) = reshape(w0(:, :, l), [9])
         s%block_weight(i, b) = s%weight(l)
         call material_state_init(s%block_hist(i, :, b))

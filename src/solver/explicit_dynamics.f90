@@ -31,7 +31,8 @@
 module mefem_explicit_dynamics
   use, intrinsic :: iso_fortran_env, only: error_unit
   use mefem_kinds, only: wp
-  use mefem_comm, only: comm_sum, comm_min, comm_max, comm_wtime, comm_size, comm_min_start, &
+  use mefem_comm, only: comm_sum, comm_min, comm_max, comm_wtime, comm_size, comm_rank, &
+                        comm_min_start, &
                         comm_allgatherv_int, comm_min_progress, comm_min_finish
   use mefem_errors, only: status_t, fatal, say, warn
   use mefem_signals, only: signals_install, signal_caught, signal_name, signal_record_stop
@@ -46,7 +47,7 @@ module mefem_explicit_dynamics
                                    explicit_layout_local_node, explicit_layout_release_plan
   use mefem_halo, only: halo_t, halo_build, halo_assemble_finish, halo_assemble, &
                         halo_assembly_share_on_node, halo_free
-  use mefem_cells, only: cells_t, cells_build, cells_summary, CELL_MAX_NODES
+  use mefem_cells, only: cells_t, cells_build, cells_summary, CELL_MAX_NODES, cell_grad_column
   use mefem_lumped_mass, only: lumped_mass
   use mefem_stable_time_step, only: cell_mass_shares, cell_inverse_mass_metric
   use mefem_material_state, only: NHIST, material_state_init
@@ -134,7 +135,9 @@ contains
 
     t_start = comm_wtime()
     call check_supported(model)
-    call cells_build(model, cells, status)
+    ! every cell is built on every rank, but with its gradients only on the rank that
+    ! computes it (that of its first element)
+    call cells_build(model, cells, status, wanted=element_rank == comm_rank())
     if (.not. status%ok) call fatal('element set-up: '//status%message)
     call cells_summary(cells)
     call set_up(model, decomp, element_rank, element_chunk, cells, layout, halo, s)
@@ -457,7 +460,7 @@ contains
       call material_elastic_moduli(model%materials(s%material(l)), lambda, mu)
       s%lame(:, l) = [lambda, mu]
       if (dim == 2) then
-        s%grad(:, :, l) = cells%grad(:, :, c)
+        s%grad(:, :, l) = cells%grad(:, :, cell_grad_column(cells, c))
         s%w0(:, :, l) = w0(:, :, l)
         call material_state_init(s%hist(:, l))
       end if

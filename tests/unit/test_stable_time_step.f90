@@ -22,7 +22,7 @@ program test_stable_time_step
                          SECTION_SHELL, MAT_ELASTIC, MAT_PIECEWISE_LINEAR, MAT_POWER_LAW, &
                          MAT_MOONEY_RIVLIN, MAT_RIGID, TOPO_TET4, TOPO_TRI3
   use mefem_model_resolve, only: ELFORM_MEFEM, ELFORM_TET_STANDARD, ELFORM_TRI_PLANE_STRAIN
-  use mefem_cells, only: cells_t, cells_build, CELL_MAX_NODES
+  use mefem_cells, only: cells_t, cells_build, CELL_MAX_NODES, cell_grad_column
   use mefem_lumped_mass, only: lumped_mass
   use mefem_material_state, only: NHIST, material_state_init
   use mefem_material_update, only: material_update, material_elastic_moduli
@@ -30,7 +30,7 @@ program test_stable_time_step
                                     cell_critical_omega_squared, symmetric_max_eigenvalue, &
                                     cell_split_weights, inverse_mass_metric, &
                                     cell_rebalance_weights
-  use mefem_testing, only: test_start, test_finish, check, check_close
+  use mefem_testing, only: test_start, test_finish, check, check_close, check_equal
   implicit none
 
   interface
@@ -72,6 +72,8 @@ program test_stable_time_step
   call check_mesh('tri distorted ME-FEM', 2, 8, 0.3_wp, PART_MEFEM, 2.5_wp)
   call check_mesh('tri distorted standard', 2, 8, 0.3_wp, PART_STANDARD, 2.75_wp)
   call check_mesh('tri regular mixed', 2, 6, 0.0_wp, PART_MIXED, 3.1_wp)
+  call check_kept_gradients(3, 3, 0.25_wp)
+  call check_kept_gradients(2, 6, 0.3_wp)
   call test_finish()
 
 contains
@@ -335,6 +337,48 @@ contains
     tri_area = 0.5_wp*((xc(1, 2) - xc(1, 1))*(xc(2, 3) - xc(2, 1)) - &
                        (xc(2, 2) - xc(2, 1))*(xc(1, 3) - xc(1, 1)))
   end function tri_area
+
+  !> cells_build with elements wanted (the explicit analysis: a rank's own): the same cells,
+  !> numbered alike, and the gradients of exactly those whose first element is wanted, equal
+  !> to the full build's (mixed ME-FEM and standard parts; every other element wanted).
+  subroutine check_kept_gradients(dim, n, jitter)
+    integer, intent(in) :: dim, n                         !< dimension, mesh divisions
+    real(wp), intent(in) :: jitter                        !< node jitter
+    type(model_t) :: model
+    type(cells_t) :: full, kept
+    type(status_t) :: status
+    logical, allocatable :: wanted(:)
+    character(len=40) :: what
+    integer :: c, e, columns, bad
+    write(what, '(a,i0,a)') 'kept gradients, ', dim, 'D'
+    call make_mesh(dim, n, jitter, PART_MIXED, model)
+    wanted = [(mod(e, 2) == 0, e = 1, model%elements%n)]
+    call cells_build(model, full, status)
+    call cells_build(model, kept, status, wanted=wanted)
+    call check(status%ok, trim(what)//': built')
+    if (.not. status%ok) return
+    call check_equal(kept%n, full%n, trim(what)//': the same cells')
+    call check(all(kept%nodes(:, 1:kept%n) == full%nodes(:, 1:full%n)) .and. &
+               all(kept%elements(:, 1:kept%n) == full%elements(:, 1:full%n)), &
+               trim(what)//': numbered alike, the same nodes and elements')
+    columns = 0
+    bad = 0
+    do c = 1, kept%n
+      if (wanted(kept%elements(1, c))) then
+        columns = columns + 1
+        if (cell_grad_column(kept, c) /= columns) then
+          bad = bad + 1
+        else if (any(kept%grad(:, :, columns) /= full%grad(:, :, c))) then
+          bad = bad + 1
+        end if
+      else if (cell_grad_column(kept, c) /= 0) then
+        bad = bad + 1
+      end if
+    end do
+    call check(columns > 0 .and. columns < kept%n, trim(what)//': some cells kept, not all')
+    call check_equal(bad, 0, trim(what)//': the wanted cells'' gradients, the full build''s')
+    call check_equal(size(kept%grad, 3), columns, trim(what)//': no more columns than kept')
+  end subroutine check_kept_gradients
 
   !> Cells, lumped masses, shares and inverse-mass metrics of a model.
   subroutine cell_set_up(model, cells, mass, share, w0, ok)
