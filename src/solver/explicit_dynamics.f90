@@ -55,7 +55,7 @@ module mefem_explicit_dynamics
   use mefem_curves, only: curve_value
   use mefem_boundary_conditions, only: fixed_dofs, external_forces, target_nodes, &
                                        initial_velocities
-  use mefem_solver_common, only: warn_output_every_step
+  use mefem_solver_common, only: warn_output_every_step, restart_files_due
   use mefem_progress, only: progress_start, progress_update, progress_finish
   use mefem_rigid_walls, only: rigid_wall_nodes
   use mefem_rigid_bodies, only: rigid_bodies_build, rigid_bodies_set_velocity, &
@@ -131,7 +131,7 @@ contains
     type(run_point_t) :: point
     real(wp) :: t, dt, dt_old, dt_first, end_time, clock, t_start, dt_floor, dt_full
     integer :: cycle, end_cycle, action, signum, dumps, dump_cycle
-    logical :: printed
+    logical :: printed, dump_due, runrsf_due
 
     t_start = comm_wtime()
     call check_supported(model)
@@ -237,13 +237,9 @@ contains
       call write_outputs(model, decomp, cells, layout, s, schedule, cycle, t, dt_old, .false., &
                          timing%output)
       call progress_update(cycle, t, dt_old, printed)
-      if (model%controls%d3dump_cycles > 0) then
-        if (mod(cycle, model%controls%d3dump_cycles) == 0) &
-          call write_restart_file(next_dump_name())
-      end if
-      if (model%controls%runrsf_cycles > 0) then
-        if (mod(cycle, model%controls%runrsf_cycles) == 0) call write_restart_file('runrsf')
-      end if
+      call restart_files_due(model, cycle, dump_due, runrsf_due)
+      if (dump_due) call write_restart_file(next_dump_name())
+      if (runrsf_due) call write_restart_file('runrsf')
       if (mod(cycle, SENSE_INTERVAL) == 0) then        ! LS-DYNA's d3kil file
         action = sense_switch()
         if (iand(action, ior(SENSE_RESTART, SENSE_STOP)) /= 0) &

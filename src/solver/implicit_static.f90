@@ -55,7 +55,7 @@ module mefem_implicit_static
                                 restart_put_reals, restart_get_text, restart_get_ints, &
                                 restart_get_reals, restart_checksum, restart_dump_name
   use mefem_solver_common, only: number_equations, cell_result_fields, schedule_after, &
-                                 warn_output_every_step, title_or_default
+                                 warn_output_every_step, title_or_default, restart_files_due
   use mefem_mortar_contact, only: mortar_contact_t, mortar_contact_setup, mortar_contact_forces, &
                                   mortar_contact_slave_rows, mortar_contact_restart_put, &
                                   mortar_contact_restart_get
@@ -172,7 +172,7 @@ contains
     real(wp) :: t, dt, dt_min, dt_max, end_time, next_output, t0, dt_planned
     integer :: dim, n_all, n_equations, step, iterations, output_step, c, cuts, action, signum, k
     integer :: dumps, dump_step
-    logical :: converged, written, resume
+    logical :: converged, written, resume, dump_due, runrsf_due
     type(restart_file_t) :: restart
 
     t0 = comm_wtime()
@@ -361,13 +361,9 @@ contains
         written = .true.
       end if
       ! restart files every CYCL steps (*DATABASE_BINARY_D3DUMP, _RUNRSF)
-      if (model%controls%d3dump_cycles > 0) then
-        if (mod(step, model%controls%d3dump_cycles) == 0) &
-          call write_restart_file(next_dump_name())
-      end if
-      if (model%controls%runrsf_cycles > 0) then
-        if (mod(step, model%controls%runrsf_cycles) == 0) call write_restart_file('runrsf')
-      end if
+      call restart_files_due(model, step, dump_due, runrsf_due)
+      if (dump_due) call write_restart_file(next_dump_name())
+      if (runrsf_due) call write_restart_file('runrsf')
       ! a signal caught on any rank (mefem_signals): stop, the state reached and a restart
       ! file written
       signum = signal_caught()

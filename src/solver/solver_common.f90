@@ -12,7 +12,7 @@ module mefem_solver_common
   private
 
   public :: number_equations, stress_fields, cell_result_fields, schedule_after
-  public :: warn_output_every_step, title_or_default
+  public :: warn_output_every_step, title_or_default, restart_files_due
 
 contains
 
@@ -189,5 +189,17 @@ contains
     end subroutine check_one
 
   end subroutine warn_output_every_step
+
+  !> The restart files due after cycle (explicit) or converged step (implicit) n: a d3dump
+  !> every *DATABASE_BINARY_D3DUMP CYCL, runrsf every *DATABASE_BINARY_RUNRSF CYCL.
+  pure subroutine restart_files_due(model, n, d3dump, runrsf)
+    type(model_t), intent(in) :: model                !< resolved model
+    integer, intent(in) :: n                          !< cycles or steps done
+    logical, intent(out) :: d3dump, runrsf            !< due
+    d3dump = .false.
+    runrsf = .false.
+    if (model%controls%d3dump_cycles > 0) d3dump = mod(n, model%controls%d3dump_cycles) == 0
+    if (model%controls%runrsf_cycles > 0) runrsf = mod(n, model%controls%runrsf_cycles) == 0
+  end subroutine restart_files_due
 
 end module mefem_solver_common
