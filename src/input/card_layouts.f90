@@ -139,7 +139,7 @@ module mefem_card_layouts
     field_layout_t('DATABASE_BINARY_D3PLOT', 1, 'BEAM', 21, 30, 'I', 0.0_wp, .false., .false.), &
     field_layout_t('DATABASE_BINARY_D3PLOT', 1, 'NPLTC', 31, 40, 'I', 0.0_wp, .false., .false.), &
     field_layout_t('DATABASE_BINARY_D3PLOT', 1, 'PSETID', 41, 50, 'I', 0.0_wp, .false., .false.), &
-    field_layout_t('DATABASE_BINARY_D3DUMP', 1, 'CYCL', 1, 10, 'F', 0.0_wp, .true., .false.), &
+    field_layout_t('DATABASE_BINARY_D3DUMP', 1, 'CYCL', 1, 10, 'F', 0.0_wp, .false., .false.), &
     field_layout_t('DATABASE_BINARY_D3DUMP', 1, 'LCDT', 11, 20, 'I', 0.0_wp, .false., .false.), &
     field_layout_t('DATABASE_BINARY_D3DUMP', 1, 'BEAM', 21, 30, 'I', 0.0_wp, .false., .false.), &
     field_layout_t('DATABASE_BINARY_D3DUMP', 1, 'NPLTC', 31, 40, 'I', 0.0_wp, .false., .false.), &

@@ -562,7 +562,8 @@ contains
   end subroutine read_database_interval
 
   !> *DATABASE_BINARY_D3DUMP / *DATABASE_BINARY_RUNRSF: CYCL LCDT BEAM NPLTC PSETID CID NSKIP:
-  !> a restart file every CYCL cycles (d3dump01, d3dump02, ... each kept; runrsf overwritten).
+  !> a restart file every CYCL cycles (d3dump01, d3dump02, ... each kept; runrsf overwritten);
+  !> D3DUMP's NPLTC > 0 also at every ENDTIM / NPLTC.
   subroutine read_database_restart(rd, which, model)
     type(reader_t), intent(inout) :: rd      !< reading state
     integer, intent(in) :: which             !< DATABASE_D3DUMP or DATABASE_RUNRSF
@@ -581,15 +582,24 @@ contains
     cycles = real_field(f, 'CYCL')
     npltc = int_field(f, 'NPLTC')
     if (.not. card%bad) then
-      if (npltc /= 0 .and. which == DATABASE_D3DUMP) then
-        call card_error(card, 'NPLTC (restart files by time) is not supported: give CYCL, '// &
-                        'the cycles between restart files')
-      else if (cycles < 1.0_wp .or. cycles /= aint(cycles) .or. cycles > real(huge(1), wp)) &
-          then
+      if (which == DATABASE_RUNRSF) npltc = 0          ! (NPLTC is D3DUMP's only)
+      if (npltc < 0) then
+        call card_error(card, 'field NPLTC (restart files over ENDTIM) must not be negative '// &
+                        '(got '//itoa(npltc)//')')
+      else if (cycles == 0.0_wp .and. npltc == 0) then
+        if (which == DATABASE_D3DUMP) then
+          call card_error(card, 'give CYCL, the cycles between restart files (or NPLTC, '// &
+                          'their number over ENDTIM)')
+        else
+          call card_error(card, 'give CYCL, the cycles between restart files')
+        end if
+      else if (cycles /= 0.0_wp .and. (cycles < 1.0_wp .or. cycles /= aint(cycles) .or. &
+                                       cycles > real(huge(1), wp))) then
         call card_error(card, 'field CYCL must be a whole number of cycles >= 1 (got '// &
                         rtoa(cycles)//')')
       else if (which == DATABASE_D3DUMP) then
         model%controls%d3dump_cycles = int(cycles)
+        model%controls%d3dump_count = npltc
       else
         model%controls%runrsf_cycles = int(cycles)
       end if

@@ -463,6 +463,7 @@ module mefem_model
     real(wp) :: plot_interval = 0.0_wp        !< *DATABASE_BINARY_D3PLOT DT (0: none)
     integer :: plot_count = 0                 !< NPLTC
     integer :: d3dump_cycles = 0              !< *DATABASE_BINARY_D3DUMP CYCL (0: none)
+    integer :: d3dump_count = 0               !< its NPLTC: restart files at ENDTIM / NPLTC
     integer :: runrsf_cycles = 0              !< *DATABASE_BINARY_RUNRSF CYCL (0: none)
     real(wp) :: glstat_interval = 0.0_wp, rcforc_interval = 0.0_wp, nodout_interval = 0.0_wp
     type(source_t) :: plot_src, glstat_src, rcforc_src, nodout_src   !< where each DT was given

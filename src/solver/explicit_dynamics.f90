@@ -237,7 +237,7 @@ contains
       call write_outputs(model, decomp, cells, layout, s, schedule, cycle, t, dt_old, .false., &
                          timing%output)
       call progress_update(cycle, t, dt_old, printed)
-      call restart_files_due(model, cycle, dump_due, runrsf_due)
+      call restart_files_due(model, cycle, t, schedule%next_dump, dump_due, runrsf_due)
       if (dump_due) call write_restart_file(next_dump_name())
       if (runrsf_due) call write_restart_file('runrsf')
       if (mod(cycle, SENSE_INTERVAL) == 0) then        ! LS-DYNA's d3kil file

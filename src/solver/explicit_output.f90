@@ -19,7 +19,8 @@ module mefem_explicit_output
   use mefem_explicit_cell_forces, only: block_cell_data, volume_scale
   use mefem_output_mesh, only: output_field_t
   use mefem_results, only: results_write_state, results_directory, append_node_set_fields
-  use mefem_solver_common, only: cell_result_fields, schedule_after, title_or_default
+  use mefem_solver_common, only: cell_result_fields, schedule_after, title_or_default, &
+                                 first_dump_time
   use mefem_history_output, only: glstat_record_t, glstat_open, glstat_write, glstat_close, &
                                   glstat_total_energy, glstat_energy_ratio, nodout_open, &
                                   nodout_write, nodout_close, rbdout_open, rbdout_write, &
@@ -42,6 +43,7 @@ module mefem_explicit_output
     real(wp) :: rcforc_interval = 0.0_wp, next_rcforc = 0.0_wp
     real(wp) :: last_plot = -1.0_wp, last_glstat = -1.0_wp, last_nodout = -1.0_wp
     real(wp) :: last_rcforc = -1.0_wp
+    real(wp) :: next_dump = huge(1.0_wp)       !< next restart file by time (D3DUMP NPLTC)
     integer :: plot_state = 0                  !< next output state number (0: t = 0)
     real(wp) :: initial_energy = 0.0_wp        !< total energy at t = 0
     logical :: have_initial_energy = .false.
@@ -462,6 +464,7 @@ contains
       schedule%next_glstat = 0.0_wp
       schedule%next_rcforc = 0.0_wp
       schedule%next_nodout = 0.0_wp
+      schedule%next_dump = first_dump_time(model)
     end if
     if (schedule%glstat_interval > 0.0_wp) call glstat_open(dir, title, continuing)
     if (schedule%glstat_interval > 0.0_wp .and. model%n_rigid_walls > 0) &

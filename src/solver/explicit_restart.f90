@@ -78,9 +78,9 @@ contains
                            [restart_checksum(model%nodes%x(:, 1:model%nodes%n))])
     call restart_put_ints(f, 'run.cycle', 2, [point%cycle, point%dumps])
     call restart_put_reals(f, 'run.times', 4, [point%t, point%dt, point%dt_old, point%dt_first])
-    call restart_put_reals(f, 'schedule.times', 9, [schedule%next_plot, schedule%next_glstat, &
+    call restart_put_reals(f, 'schedule.times', 10, [schedule%next_plot, schedule%next_glstat, &
         schedule%next_nodout, schedule%next_rcforc, schedule%last_plot, schedule%last_glstat, &
-        schedule%last_nodout, schedule%last_rcforc, schedule%initial_energy])
+        schedule%last_nodout, schedule%last_rcforc, schedule%initial_energy, schedule%next_dump])
     call restart_put_ints(f, 'schedule.counters', 2, [schedule%plot_state, &
         merge(1, 0, schedule%have_initial_energy)])
     energies = [s%internal_energy, s%contact_energy, s%external_work, s%wall_work, &
@@ -165,7 +165,7 @@ contains
     type(run_point_t), intent(out) :: point           !< where the run stood
     type(schedule_t), intent(inout) :: schedule       !< output schedule (intervals set)
     character(len=:), allocatable :: analysis
-    real(wp) :: energies(N_ENERGIES), times(9), scalar(4)
+    real(wp) :: energies(N_ENERGIES), times(10), scalar(4)
     real(wp), allocatable :: local(:,:), body(:), resultants(:), eroded(:)
     integer :: sizes(6), counters(2), l, k, d, j, e, c, one(1)
     integer, allocatable :: held(:)
@@ -190,7 +190,7 @@ contains
     point%dt = scalar(2)
     point%dt_old = scalar(3)
     point%dt_first = scalar(4)
-    call restart_get_reals(f, 'schedule.times', 9, times)
+    call restart_get_reals(f, 'schedule.times', 10, times)
     schedule%next_plot = times(1)
     schedule%next_glstat = times(2)
     schedule%next_nodout = times(3)
@@ -200,6 +200,7 @@ contains
     schedule%last_nodout = times(7)
     schedule%last_rcforc = times(8)
     schedule%initial_energy = times(9)
+    schedule%next_dump = times(10)
     call restart_get_ints(f, 'schedule.counters', 2, counters)
     schedule%plot_state = counters(1)
     schedule%have_initial_energy = counters(2) == 1

@@ -55,7 +55,8 @@ module mefem_implicit_static
                                 restart_put_reals, restart_get_text, restart_get_ints, &
                                 restart_get_reals, restart_checksum, restart_dump_name
   use mefem_solver_common, only: number_equations, cell_result_fields, schedule_after, &
-                                 warn_output_every_step, title_or_default, restart_files_due
+                                 warn_output_every_step, title_or_default, restart_files_due, &
+                                 first_dump_time
   use mefem_mortar_contact, only: mortar_contact_t, mortar_contact_setup, mortar_contact_forces, &
                                   mortar_contact_slave_rows, mortar_contact_restart_put, &
                                   mortar_contact_restart_get
@@ -169,7 +170,7 @@ contains
     real(wp), allocatable :: prescribed(:,:), force(:,:), u(:,:), u_step(:,:), hist(:,:)
     real(wp), allocatable :: u_last(:,:), internal(:,:)
     real(wp) :: dt_last
-    real(wp) :: t, dt, dt_min, dt_max, end_time, next_output, t0, dt_planned
+    real(wp) :: t, dt, dt_min, dt_max, end_time, next_output, t0, dt_planned, next_dump
     integer :: dim, n_all, n_equations, step, iterations, output_step, c, cuts, action, signum, k
     integer :: dumps, dump_step
     logical :: converged, written, resume, dump_due, runrsf_due
@@ -285,6 +286,7 @@ contains
     u_last = u
     dumps = 0
     dump_step = -1
+    next_dump = first_dump_time(model)
     if (resume) call read_restart_file()
     call sense_switch_warn_leftover()
     call signals_install()
@@ -361,7 +363,7 @@ contains
         written = .true.
       end if
       ! restart files every CYCL steps (*DATABASE_BINARY_D3DUMP, _RUNRSF)
-      call restart_files_due(model, step, dump_due, runrsf_due)
+      call restart_files_due(model, step, t, next_dump, dump_due, runrsf_due)
       if (dump_due) call write_restart_file(next_dump_name())
       if (runrsf_due) call write_restart_file('runrsf')
       ! a signal caught on any rank (mefem_signals): stop, the state reached and a restart
@@ -435,8 +437,8 @@ contains
       call restart_put_reals(restart, 'model.coordinates', 1, &
                              [restart_checksum(model%nodes%x(:, 1:model%nodes%n))])
       call restart_put_ints(restart, 'run.steps', 4, [step, cuts, output_step, dumps])
-      call restart_put_reals(restart, 'run.times', 5, [t, dt, dt_last, next_output, &
-                             energy%next_glstat])
+      call restart_put_reals(restart, 'run.times', 6, [t, dt, dt_last, next_output, &
+                             energy%next_glstat, next_dump])
       call restart_put_reals(restart, 'nodes.u', size(u), u)
       call restart_put_reals(restart, 'nodes.u_last', size(u_last), u_last)
       call restart_put_reals(restart, 'cells.history', size(hist), hist)
@@ -468,7 +470,7 @@ contains
     subroutine read_restart_file()
       character(len=:), allocatable :: text
       integer :: sizes(5), steps(4)
-      real(wp) :: times(5), sums(3), checksum(1)
+      real(wp) :: times(6), sums(3), checksum(1)
       call restart_open(restart, restart_path)
       call results_restart_header_skip(restart)
       call restart_get_text(restart, 'analysis', text)
@@ -486,12 +488,13 @@ contains
       cuts = steps(2)
       output_step = steps(3)
       dumps = steps(4)
-      call restart_get_reals(restart, 'run.times', 5, times)
+      call restart_get_reals(restart, 'run.times', 6, times)
       t = times(1)
       dt = times(2)
       dt_last = times(3)
       next_output = times(4)
       energy%next_glstat = times(5)
+      next_dump = times(6)
       call restart_get_reals(restart, 'nodes.u', size(u), u)
       call restart_get_reals(restart, 'nodes.u_last', size(u_last), u_last)
       call restart_get_reals(restart, 'cells.history', size(hist), hist)

@@ -12,7 +12,7 @@ module mefem_solver_common
   private
 
   public :: number_equations, stress_fields, cell_result_fields, schedule_after
-  public :: warn_output_every_step, title_or_default, restart_files_due
+  public :: warn_output_every_step, title_or_default, restart_files_due, first_dump_time
 
 contains
 
@@ -190,16 +190,36 @@ contains
 
   end subroutine warn_output_every_step
 
-  !> The restart files due after cycle (explicit) or converged step (implicit) n: a d3dump
-  !> every *DATABASE_BINARY_D3DUMP CYCL, runrsf every *DATABASE_BINARY_RUNRSF CYCL.
-  pure subroutine restart_files_due(model, n, d3dump, runrsf)
+  !> The restart files due after cycle (explicit) or converged step (implicit) n, at time t:
+  !> a d3dump every *DATABASE_BINARY_D3DUMP CYCL and at every ENDTIM / NPLTC (next_dump, the
+  !> next of those times, advanced), runrsf every *DATABASE_BINARY_RUNRSF CYCL.
+  pure subroutine restart_files_due(model, n, t, next_dump, d3dump, runrsf)
     type(model_t), intent(in) :: model                !< resolved model
     integer, intent(in) :: n                          !< cycles or steps done
+    real(wp), intent(in) :: t                         !< time reached
+    real(wp), intent(inout) :: next_dump              !< next d3dump time (NPLTC)
     logical, intent(out) :: d3dump, runrsf            !< due
+    real(wp) :: interval
     d3dump = .false.
     runrsf = .false.
     if (model%controls%d3dump_cycles > 0) d3dump = mod(n, model%controls%d3dump_cycles) == 0
+    if (model%controls%d3dump_count > 0) then
+      interval = model%controls%end_time/real(model%controls%d3dump_count, wp)
+      if (t >= next_dump - 1.0e-9_wp*interval) then
+        d3dump = .true.
+        next_dump = schedule_after(next_dump, interval, t)
+      end if
+    end if
     if (model%controls%runrsf_cycles > 0) runrsf = mod(n, model%controls%runrsf_cycles) == 0
   end subroutine restart_files_due
+
+  !> The first time *DATABASE_BINARY_D3DUMP's NPLTC asks for a restart file: ENDTIM / NPLTC
+  !> (huge without NPLTC).
+  pure real(wp) function first_dump_time(model)
+    type(model_t), intent(in) :: model                !< resolved model
+    first_dump_time = huge(1.0_wp)
+    if (model%controls%d3dump_count > 0) first_dump_time = model%controls%end_time/ &
+                                                           real(model%controls%d3dump_count, wp)
+  end function first_dump_time
 
 end module mefem_solver_common

@@ -12,7 +12,9 @@ add in another order after a restart).
 
 1. Taylor bar (input/taylor_bar.k, ME-FEM tets, J2 plasticity, rigid wall, initial velocity,
    nodout and rwforc), 15 us; and continued from its last restart file (written at its end)
-   with a deck whose ENDTIM is 20 us: it runs on to 20 us.
+   with a deck whose ENDTIM is 20 us: it runs on to 20 us. With NPLTC = 3 instead of CYCL, the
+   restart files come at 5, 10 and 15 us, and the run continued from the second ends as the
+   whole one.
 2. Sliding block with friction: the block pressed onto a rigid plate (a rigid body, rbdout)
    and pulled sideways, FS = 0.3 (the friction's tractions carry over), the contact work
    divided among the ranks (MEFEM_CONTACT_DIVIDE_MIN = 0), selective mass scaling (DT2MS < 0:
@@ -210,6 +212,28 @@ checks.check(rc == 0 and 'time reached 2.00000E-05' in text and len(times) == 5 
              abs(times[-1] - 2.0e-5) < 1e-12 and abs(times[3] - 1.5e-5) < 1e-12,
              'Taylor bar: continued from its last restart file (%s, t = 15 us) with ENDTIM 20 us: '
              'runs to 20 us, states at 0, 5, 10, 15, 20 us' % dumps[-1], str(times) + text[-400:])
+
+# NPLTC: restart files at ENDTIM / NPLTC (5, 10, 15 us), the run continued from the second
+npltc_blocks = [bar_blocks[0], ['*DATABASE_BINARY_D3DUMP', f10(0, 0, 0, 3)]]
+deck = os.path.join(WORK, 'npltc', STEM + '.k')
+write_deck(deck, npltc_blocks, title='npltc')
+whole = os.path.join(WORK, 'npltc', 'whole')
+shutil.rmtree(whole, ignore_errors=True)
+rc, text = mefem(['-o', whole, deck], ranks=2)
+at = [float(v) for v in re.findall(r'restart file d3dump\d+ written at cycle \d+, t = (\S+)',
+                                   text)]
+checks.check(rc == 0 and len(at) == 3 and abs(at[0] - 5e-6) < 1e-7 and
+             abs(at[1] - 1e-5) < 1e-7 and at[2] == 1.5e-5,
+             'NPLTC 3: restart files at the first cycles past 5, 10 and 15 us', str(at))
+if rc == 0:
+    copy = os.path.join(WORK, 'npltc', 'from_d3dump02')
+    shutil.rmtree(copy, ignore_errors=True)
+    shutil.copytree(whole, copy)
+    rc, text = mefem(['r=' + os.path.join(copy, 'd3dump02')], ranks=3)
+    why = results_agree(whole, copy) if rc == 0 else text[-600:]
+    checks.check(why == '' and 'restart file d3dump03 written' in text,
+                 'NPLTC 3: continued from d3dump02 on 3 ranks: the same results, d3dump03 at '
+                 'the end', why)
 
 # ---- 2. sliding block with friction, mass scaling, rigid plate and wall -----------------------
 T1, T2, P, MU = 5.0e-5, 2.0e-4, 10.0, 0.3
