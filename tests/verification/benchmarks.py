@@ -54,8 +54,10 @@ def prism_tets(v):
 def extrude_to_tets(x2, n_i, n_j, layers, thickness, split='hex6', pattern='right'):
     """Tets of the slab x2 (grid nodes, i fastest) x [0, thickness] with `layers` layers.
     split 'hex6': every hexahedron cut into 6 tets around its main diagonal; 'prism3': the
-    triangles of quad_grid_triangles(pattern) extruded to prisms, each cut into 3 tets.
-    Both conform between neighbours; every tet is oriented positively."""
+    triangles of quad_grid_triangles(pattern) extruded to prisms, each cut into 3 tets;
+    'hex': the hexahedra themselves (8 nodes, LS-DYNA's order: bottom face counter-clockwise
+    seen from +z, then the top face). The tets conform between neighbours and are oriented
+    positively."""
     nz = layers + 1
     z = np.linspace(0.0, thickness, nz)
     n2 = len(x2)
@@ -68,16 +70,21 @@ def extrude_to_tets(x2, n_i, n_j, layers, thickness, split='hex6', pattern='righ
             for t in tris:
                 conn += prism_tets([int(v) + k * n2 for v in t] +
                                    [int(v) + (k + 1) * n2 for v in t])
-    for k in range(layers if split == 'hex6' else 0):
+    for k in range(layers if split in ('hex6', 'hex') else 0):
         for j in range(n_j):
             for i in range(n_i):
                 v = [idx(i, j, k), idx(i + 1, j, k), idx(i + 1, j + 1, k), idx(i, j + 1, k),
                      idx(i, j, k + 1), idx(i + 1, j, k + 1), idx(i + 1, j + 1, k + 1),
                      idx(i, j + 1, k + 1)]
+                if split == 'hex':
+                    conn.append(v)
+                    continue
                 for t in ([0, 1, 2, 6], [0, 2, 3, 6], [0, 3, 7, 6], [0, 7, 4, 6],
                           [0, 4, 5, 6], [0, 5, 1, 6]):
                     conn.append([v[q] for q in t])
     conn = np.array(conn)
+    if split == 'hex':
+        return x, conn
     for e, c in enumerate(conn):
         if np.linalg.det(np.array([x[c[1]] - x[c[0]], x[c[2]] - x[c[0]],
                                    x[c[3]] - x[c[0]]])) < 0:
@@ -85,28 +92,38 @@ def extrude_to_tets(x2, n_i, n_j, layers, thickness, split='hex6', pattern='righ
     return x, conn
 
 
+HEX_FACES = ((0, 3, 2, 1), (4, 5, 6, 7), (0, 1, 5, 4), (1, 2, 6, 5), (2, 3, 7, 6), (3, 0, 4, 7))
+
+
 def boundary_facets(conn):
-    """Facets (edges of triangles, faces of tets) that belong to one element only."""
+    """Facets (edges of triangles, faces of tets, quadrilateral faces of hexahedra, in
+    cyclic order) that belong to one element only."""
     nv = conn.shape[1]
-    count = {}
+    count, faces = {}, {}
     for c in conn:
-        for k in range(nv):
-            f = tuple(sorted(np.delete(c, k)))
-            count[f] = count.get(f, 0) + 1
-    return [list(f) for f, m in count.items() if m == 1]
+        local = HEX_FACES if nv == 8 else [np.delete(np.arange(nv), k) for k in range(nv)]
+        for q in local:
+            f = [int(c[a]) for a in q]
+            key = tuple(sorted(f))
+            count[key] = count.get(key, 0) + 1
+            faces[key] = f
+    return [faces[k] for k, m in count.items() if m == 1]
 
 
 def facet_measure(x, f):
-    """Length of an edge or area of a triangle."""
+    """Length of an edge, area of a triangle or of a planar quadrilateral (cyclic order)."""
     if len(f) == 2:
         return np.linalg.norm(x[f[1]] - x[f[0]])
+    if len(f) == 4:
+        return 0.5 * np.linalg.norm(np.cross(x[f[2]] - x[f[0]], x[f[3]] - x[f[1]]))
     return 0.5 * np.linalg.norm(np.cross(x[f[1]] - x[f[0]], x[f[2]] - x[f[0]]))
 
 
 def uniform_traction_forces(x, facets, traction):
-    """Consistent nodal forces of a uniform traction vector on linear facets: each facet gives
-    measure/n_vertices of its resultant to each vertex (trapezoid rule, exact for linear
-    shape functions; the ME-FEM enrichment functions vanish on element boundaries)."""
+    """Consistent nodal forces of a uniform traction vector on linear facets and on
+    parallelogram quadrilaterals: each facet gives measure/n_vertices of its resultant to each
+    vertex (exact for linear and bilinear shape functions; the ME-FEM enrichment functions
+    vanish on element boundaries)."""
     force = np.zeros((len(x), len(traction)))
     for f in facets:
         share = facet_measure(x, f) / len(f)
@@ -228,13 +245,14 @@ def cook_grid(n):
 
 
 def cook_case(n, elform, dim=2, layers=1, pattern='right', split='hex6', thickness=1.0,
-              poisson=None, support=None, ranks=1, outdir=OUT, tag=''):
+              poisson=None, support=None, ranks=1, outdir=OUT, tag='', hourglass=None):
     """Cook's membrane on an n x n grid (n even: node at (48, 52)); 2D triangles or an
     extruded slab (`thickness`, `layers` layers) of tets with u_z = 0 on both faces; the
     load is the traction 1/16 per unit area (total force 1 per unit thickness). Material of
     the reference (G = 0.375, lambda = 7500) unless `poisson` is given (then G = 0.375 and
     that nu). `support`: a/L of the ME-FEM enrichment (*MEFEM_ENRICHMENT; default of the code
-    when None). Returns (v at (48, 52), state, text)."""
+    when None). split 'hex': the hexahedra themselves (ELFORM 1 or 2); `hourglass` = (IHQ, QM)
+    writes *CONTROL_HOURGLASS. Returns (v at (48, 52), state, text)."""
     young = COOK_YOUNG if poisson is None else 2 * COOK_SHEAR * (1 + poisson)
     poisson = COOK_POISSON if poisson is None else poisson
     x2 = cook_grid(n)
@@ -262,6 +280,9 @@ def cook_case(n, elform, dim=2, layers=1, pattern='right', split='hex6', thickne
     blocks = [nodes_card(x), elements_card(keyword, conn),
               elastic_part(elform, young, poisson, dim), linear_static_controls(),
               unit_curve(), spc_block(dofs), nodal_force_block(force)]
+    if hourglass is not None:
+        blocks.append(['*CONTROL_HOURGLASS', free(int(hourglass[0]), float(hourglass[1]))])
+        name += '_ihq%d_qm%g' % hourglass
     if support is not None:
         blocks.append(['*MEFEM_ENRICHMENT', free(float(support), 1)])
         name += '_support%g' % support

@@ -134,6 +134,48 @@ if None not in slab.values():
                      'ME-FEM slab N=%d more accurate than standard tets' % n, '%.3f %% vs %.3f %%'
                      % (100 * error(slab[n, 1.0, 43]), 100 * error(slab[n, 1.0, 10])))
 
+# ---- 3D slab with hexahedra (1, 2) and nodal-pressure tets (13) --------------------------
+# The same one-layer slab (thickness 1, N = 24 and 48) with the other solid elements of real
+# decks. Measured when written: one-point hexahedra (static hourglass stiffness IHQ 6 at the
+# default QM 0.1) -0.07 % (24), +0.03 % (48); at IHQ 6, QM 1 -1.07 %, -0.34 %; ELFORM 2, which
+# mefem computes as ELFORM 1 with IHQ 6, QM 1 (warned; a fully integrated selectively reduced
+# hexahedron would not lock either, a fully integrated one would), the same bits; ELFORM 13 on
+# the hexahedra cut around one diagonal -5.70 %, -1.92 % (ME-FEM -15.94 %, -4.42 %; the
+# standard tet -71 %), on alternating prisms -2.30 %, -0.74 %. Tolerances: issue 20's slab
+# targets (5 % at 24, 2 % at 48); where ELFORM 13 misses the first on the one-diagonal cut,
+# it is checked to converge (error at least 2.5 times smaller at 48: measured 2.97; a locking
+# element stays near its error, as the standard tet's -71 %, -69 % show).
+hexslab = {}
+for n in (24, 48):
+    for label, elform, split, pattern, hourglass in (
+            ('hex', 1, 'hex', 'right', None), ('hex qm1', 1, 'hex', 'right', (6, 1.0)),
+            ('elform2', 2, 'hex', 'right', None), ('13 diagonal', 13, 'hex6', 'right', None),
+            ('13 alternate', 13, 'prism3', 'alternate', None)):
+        if n == 48 and label in ('hex qm1', 'elform2'):
+            continue
+        v, s, text = cook_case(n, elform, dim=3, split=split, pattern=pattern,
+                               hourglass=hourglass, outdir=out)
+        checks.check(v is not None, 'slab N=%d %s: run succeeds' % (n, label), text[-400:])
+        hexslab[n, label] = (v, s, text)
+if all(r[0] is not None for r in hexslab.values()):
+    for (n, label), (v, s, text) in sorted(hexslab.items()):
+        print('    slab N=%d %-13s v = %.5f, error %.3f %%' % (n, label, v, 100 * error(v)))
+    for n, target in ((24, 0.05), (48, 0.02)):
+        for label in ('hex', '13 alternate') + (('hex qm1',) if n == 24 else ()):
+            e = error(hexslab[n, label][0])
+            checks.check(e < target, 'slab N=%d %s within %g %%' % (n, label, 100 * target),
+                         'error %.3f %%' % (100 * e))
+    e24, e48 = error(hexslab[24, '13 diagonal'][0]), error(hexslab[48, '13 diagonal'][0])
+    checks.check(e48 < 0.02 and e24 / e48 > 2.5, 'slab ELFORM 13, one diagonal: within 2 % at '
+                 'N=48, error 2.5 times smaller than at 24', '%.3f %%, %.3f %%'
+                 % (100 * e24, 100 * e48))
+    v2, s2, text2 = hexslab[24, 'elform2']
+    checks.check(np.array_equal(s2['displacement'], hexslab[24, 'hex qm1'][1]['displacement']),
+                 'slab ELFORM 2 = ELFORM 1 with IHQ 6, QM 1 (same bits)')
+    checks.check('solid ELFORM 2 (fully integrated hexahedron) is computed as ELFORM 1' in text2
+                 and 'part 1' in text2, 'slab ELFORM 2: the substitution is warned, naming the '
+                 'part', text2[-600:])
+
 # ---- 1 and 2 MPI ranks -----------------------------------------------------------------
 # Same deck, 2D ME-FEM, N=16. Rank counts change how MUMPS distributes the factorisation
 # and the summation order of the assembly (the METIS pivot order is the same), so the
