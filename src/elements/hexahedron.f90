@@ -18,7 +18,7 @@
 !> Node order is LS-DYNA's: N1-N4 the bottom face, N5-N8 the top, N1-N2-N3 counter-clockwise
 !> seen from N5.
 module mefem_hexahedron
-  use mefem_kinds, only: wp
+  use mefem_kinds, only: wp, i1
   use mefem_material_state, only: BLOCK_POINTS
   use mefem_cell_finite_strain, only: adjugate_3x3
   implicit none
@@ -31,6 +31,13 @@ module mefem_hexahedron
   !> Faces of the hexahedron (corners, each a cycle around the face).
   integer, parameter :: HEX_FACES(4, 6) = reshape([1, 2, 3, 4,  5, 6, 7, 8,  1, 2, 6, 5, &
                                                    2, 3, 7, 6,  3, 4, 8, 7,  4, 1, 5, 8], [4, 6])
+
+  !> The hourglass base vectors h_a at the corners (xi eta, eta zeta, zeta xi, xi eta zeta),
+  !> corner by corner.
+  integer(i1), parameter, public :: HOURGLASS_VECTORS(8, HOURGLASS_MODES) = reshape(int([ &
+       1, -1,  1, -1,  1, -1,  1, -1,    1,  1, -1, -1, -1, -1,  1,  1, &
+       1, -1, -1,  1, -1,  1,  1, -1,   -1,  1, -1,  1,  1, -1,  1, -1], i1), &
+      [8, HOURGLASS_MODES])
 
   !> Natural coordinates of the nodes (xi, eta, zeta), node by node.
   real(wp), parameter :: NODE_XI(3, 8) = reshape([ &
@@ -51,7 +58,7 @@ contains
     real(wp), intent(out) :: node_volume(8)     !< V_I = int N_I dV
     real(wp), intent(out) :: gamma(8, HOURGLASS_MODES)  !< gamma_aI, node by node
     real(wp), parameter :: G = 0.577350269189625764509148780502_wp   ! 1/sqrt(3)
-    real(wp) :: dn(3, 8), n(8), jac(3, 3), adj(3, 3), det, xi(3), h(8, HOURGLASS_MODES), hx(3)
+    real(wp) :: dn(3, 8), n(8), jac(3, 3), adj(3, 3), det, xi(3), hx(3)
     integer :: p, a, k, m
     volume = 0.0_wp
     grad = 0.0_wp
@@ -84,16 +91,13 @@ contains
       end do
     end do
     if (volume > 0.0_wp) grad = grad/volume
-    h(:, 1) = NODE_XI(1, :)*NODE_XI(2, :)
-    h(:, 2) = NODE_XI(2, :)*NODE_XI(3, :)
-    h(:, 3) = NODE_XI(3, :)*NODE_XI(1, :)
-    h(:, 4) = NODE_XI(1, :)*NODE_XI(2, :)*NODE_XI(3, :)
     do k = 1, HOURGLASS_MODES
       do m = 1, 3
-        hx(m) = sum(h(:, k)*x(m, :))
+        hx(m) = sum(HOURGLASS_VECTORS(:, k)*x(m, :))
       end do
       do a = 1, 8
-        gamma(a, k) = h(a, k) - (hx(1)*grad(1, a) + hx(2)*grad(2, a) + hx(3)*grad(3, a))
+        gamma(a, k) = HOURGLASS_VECTORS(a, k) - (hx(1)*grad(1, a) + hx(2)*grad(2, a) + &
+                                                 hx(3)*grad(3, a))
       end do
     end do
   end subroutine hexahedron_reference
@@ -121,15 +125,19 @@ contains
   !> Hourglass forces of n hexahedral cells (structure of arrays, entry i cell i): the
   !> stiffness and viscous forces of the module header added to force; per cell the stored
   !> energy W and the dissipated power c sum |qdot|^2. Cells with J <= 0 get none (their
-  !> step bound stops the run).
-  pure subroutine block_hourglass_forces(n, nn, u, v, grad, gamma, stiffness, viscosity, adj, &
+  !> step bound stops the run). The shape vectors are formed here from the cells' base
+  !> vectors and hX (gamma_aI = h_aI - hX_a . B_I: the module header), which streams 128
+  !> bytes per cell where the vectors themselves would be 256.
+  pure subroutine block_hourglass_forces(n, nn, u, v, grad, h, hx, stiffness, viscosity, adj, &
                                          det, force, energy, power)
     integer, intent(in) :: n, nn                  !< cells (<= BLOCK_POINTS), nodes per cell
     integer, parameter :: ld = BLOCK_POINTS       !< leading dimension
     real(wp), intent(in) :: u(ld, 3, nn)          !< displacements of the cells' nodes
     real(wp), intent(in) :: v(ld, 3, nn)          !< their velocities
     real(wp), intent(in) :: grad(ld, 3, nn)       !< uniform gradients B_I
-    real(wp), intent(in) :: gamma(ld, nn, HOURGLASS_MODES)  !< hourglass shape vectors
+    integer(i1), intent(in) :: h(ld, nn, HOURGLASS_MODES)  !< base vectors h_aI (a repeated
+                                                  !< corner's added into its node)
+    real(wp), intent(in) :: hx(ld, 3, HOURGLASS_MODES)     !< hX_a = sum_I h_aI X_I
     real(wp), intent(in) :: stiffness(ld, 6)      !< K (XX YY ZZ XY YZ ZX)
     real(wp), intent(in) :: viscosity(ld)         !< c
     real(wp), intent(in) :: adj(ld, 9)            !< adj(F), column by column
@@ -137,10 +145,20 @@ contains
     real(wp), intent(inout) :: force(ld, 3, nn)   !< nodal forces, hourglass forces added
     real(wp), intent(out) :: energy(ld)           !< W of each cell
     real(wp), intent(out) :: power(ld)            !< c sum |qdot|^2 of each cell
-    real(wp), dimension(ld) :: q1, q2, q3, d1, d2, d3, big1, big2, big3, s1, s2, s3, t1, t2, &
-                               t3, inverse_det, r
-    real(wp) :: finv(ld, 9)
-    integer :: i, a, k
+    real(wp), dimension(ld) :: s1, s2, s3, inverse_det, r
+    real(wp) :: finv(ld, 9), gamma(ld, nn, HOURGLASS_MODES), q(ld, 3, HOURGLASS_MODES), &
+                d(ld, 3, HOURGLASS_MODES), big(ld, 3, HOURGLASS_MODES), t(ld, 3, HOURGLASS_MODES)
+    integer :: i, a, k, c
+    ! gamma_aI = h_aI - hX_a . B_I
+    do k = 1, HOURGLASS_MODES
+      do a = 1, nn
+        do i = 1, n
+          gamma(i, a, k) = real(h(i, a, k), wp) - (grad(i, 1, a)*hx(i, 1, k) + &
+                                                   grad(i, 2, a)*hx(i, 2, k) + &
+                                                   grad(i, 3, a)*hx(i, 3, k))
+        end do
+      end do
+    end do
     ! F^-1 = adj/J (cells with J <= 0: zero, so they get no forces); the loops run over the
     ! cells innermost (vectorised), selects and divisions in loops of their own
     do i = 1, n
@@ -157,53 +175,59 @@ contains
         finv(i, k) = adj(i, k)*inverse_det(i)
       end do
     end do
+    ! hourglass displacements q_a and velocities qdot_a, every mode in one pass over the nodes
+    q(1:n, :, :) = 0.0_wp
+    d(1:n, :, :) = 0.0_wp
+    do a = 1, nn
+      do k = 1, HOURGLASS_MODES
+        do c = 1, 3
+          do i = 1, n
+            q(i, c, k) = q(i, c, k) + gamma(i, a, k)*u(i, c, a)
+            d(i, c, k) = d(i, c, k) + gamma(i, a, k)*v(i, c, a)
+          end do
+        end do
+      end do
+    end do
     do i = 1, n
       energy(i) = 0.0_wp
       power(i) = 0.0_wp
     end do
     do k = 1, HOURGLASS_MODES
       do i = 1, n
-        q1(i) = 0.0_wp
-        q2(i) = 0.0_wp
-        q3(i) = 0.0_wp
-        d1(i) = 0.0_wp
-        d2(i) = 0.0_wp
-        d3(i) = 0.0_wp
+        ! Q = F^-1 q, s = K Q, t = F^-T s
+        big(i, 1, k) = finv(i, 1)*q(i, 1, k) + finv(i, 4)*q(i, 2, k) + finv(i, 7)*q(i, 3, k)
+        big(i, 2, k) = finv(i, 2)*q(i, 1, k) + finv(i, 5)*q(i, 2, k) + finv(i, 8)*q(i, 3, k)
+        big(i, 3, k) = finv(i, 3)*q(i, 1, k) + finv(i, 6)*q(i, 2, k) + finv(i, 9)*q(i, 3, k)
+        s1(i) = stiffness(i, 1)*big(i, 1, k) + stiffness(i, 4)*big(i, 2, k) + &
+                stiffness(i, 6)*big(i, 3, k)
+        s2(i) = stiffness(i, 4)*big(i, 1, k) + stiffness(i, 2)*big(i, 2, k) + &
+                stiffness(i, 5)*big(i, 3, k)
+        s3(i) = stiffness(i, 6)*big(i, 1, k) + stiffness(i, 5)*big(i, 2, k) + &
+                stiffness(i, 3)*big(i, 3, k)
+        t(i, 1, k) = finv(i, 1)*s1(i) + finv(i, 2)*s2(i) + finv(i, 3)*s3(i)
+        t(i, 2, k) = finv(i, 4)*s1(i) + finv(i, 5)*s2(i) + finv(i, 6)*s3(i)
+        t(i, 3, k) = finv(i, 7)*s1(i) + finv(i, 8)*s2(i) + finv(i, 9)*s3(i)
+        energy(i) = energy(i) + 0.5_wp*(big(i, 1, k)*s1(i) + big(i, 2, k)*s2(i) + &
+                                        big(i, 3, k)*s3(i))
+        power(i) = power(i) + viscosity(i)*(d(i, 1, k)**2 + d(i, 2, k)**2 + d(i, 3, k)**2)
       end do
-      do a = 1, nn
+      do c = 1, 3
         do i = 1, n
-          q1(i) = q1(i) + gamma(i, a, k)*u(i, 1, a)
-          q2(i) = q2(i) + gamma(i, a, k)*u(i, 2, a)
-          q3(i) = q3(i) + gamma(i, a, k)*u(i, 3, a)
-          d1(i) = d1(i) + gamma(i, a, k)*v(i, 1, a)
-          d2(i) = d2(i) + gamma(i, a, k)*v(i, 2, a)
-          d3(i) = d3(i) + gamma(i, a, k)*v(i, 3, a)
+          d(i, c, k) = viscosity(i)*d(i, c, k)
         end do
       end do
-      do i = 1, n
-        ! Q = F^-1 q, s = K Q, t = F^-T s
-        big1(i) = finv(i, 1)*q1(i) + finv(i, 4)*q2(i) + finv(i, 7)*q3(i)
-        big2(i) = finv(i, 2)*q1(i) + finv(i, 5)*q2(i) + finv(i, 8)*q3(i)
-        big3(i) = finv(i, 3)*q1(i) + finv(i, 6)*q2(i) + finv(i, 9)*q3(i)
-        s1(i) = stiffness(i, 1)*big1(i) + stiffness(i, 4)*big2(i) + stiffness(i, 6)*big3(i)
-        s2(i) = stiffness(i, 4)*big1(i) + stiffness(i, 2)*big2(i) + stiffness(i, 5)*big3(i)
-        s3(i) = stiffness(i, 6)*big1(i) + stiffness(i, 5)*big2(i) + stiffness(i, 3)*big3(i)
-        t1(i) = finv(i, 1)*s1(i) + finv(i, 2)*s2(i) + finv(i, 3)*s3(i)
-        t2(i) = finv(i, 4)*s1(i) + finv(i, 5)*s2(i) + finv(i, 6)*s3(i)
-        t3(i) = finv(i, 7)*s1(i) + finv(i, 8)*s2(i) + finv(i, 9)*s3(i)
-        energy(i) = energy(i) + 0.5_wp*(big1(i)*s1(i) + big2(i)*s2(i) + big3(i)*s3(i))
-        power(i) = power(i) + viscosity(i)*(d1(i)*d1(i) + d2(i)*d2(i) + d3(i)*d3(i))
-        d1(i) = viscosity(i)*d1(i)
-        d2(i) = viscosity(i)*d2(i)
-        d3(i) = viscosity(i)*d3(i)
-      end do
-      do a = 1, nn
+    end do
+    ! f_I = sum_a (gamma_aI - B_I . Q_a) t_a + gamma_aI c qdot_a, every mode in one pass
+    do a = 1, nn
+      do k = 1, HOURGLASS_MODES
         do i = 1, n
-          r(i) = gamma(i, a, k) - (grad(i, 1, a)*big1(i) + grad(i, 2, a)*big2(i) + &
-                                   grad(i, 3, a)*big3(i))
-          force(i, 1, a) = force(i, 1, a) + r(i)*t1(i) + gamma(i, a, k)*d1(i)
-          force(i, 2, a) = force(i, 2, a) + r(i)*t2(i) + gamma(i, a, k)*d2(i)
-          force(i, 3, a) = force(i, 3, a) + r(i)*t3(i) + gamma(i, a, k)*d3(i)
+          r(i) = gamma(i, a, k) - (grad(i, 1, a)*big(i, 1, k) + grad(i, 2, a)*big(i, 2, k) + &
+                                   grad(i, 3, a)*big(i, 3, k))
+        end do
+        do c = 1, 3
+          do i = 1, n
+            force(i, c, a) = force(i, c, a) + r(i)*t(i, c, k) + gamma(i, a, k)*d(i, c, k)
+          end do
         end do
       end do
     end do

@@ -12,14 +12,14 @@
 !> the cell's chunk) when the blocks reach that column's cells in ascending order (pushed
 !> assembly: plan_pushed_assembly); the others are stored per cell and summed by mefem_halo.
 module mefem_explicit_cell_forces
-  use mefem_kinds, only: wp
+  use mefem_kinds, only: wp, i1
   use mefem_errors, only: status_t
   use mefem_strings, only: itoa
   use mefem_model, only: model_t, material_t
   use mefem_halo, only: halo_t, halo_assemble, halo_assemble_start, halo_assembly_push_nodes, &
                         halo_assemble_summed
   use mefem_cells, only: cells_t, CELL_MAX_NODES, MEFEM_FACE_NODES, cell_grad_column
-  use mefem_hexahedron, only: HOURGLASS_MODES, block_hourglass_forces, &
+  use mefem_hexahedron, only: HOURGLASS_MODES, HOURGLASS_VECTORS, block_hourglass_forces, &
                               block_hexahedron_frequency
   use mefem_cell_finite_strain, only: cell_deformation_gradient, cell_internal_force, &
                                       block_deformation_gradient, block_adjugate, &
@@ -629,12 +629,12 @@ contains
     real(wp) :: u(LD, 3, CELL_MAX_NODES), force(LD, 3, CELL_MAX_NODES)
     real(wp) :: f(LD, 9), adj(LD, 9), det(LD), tau(LD, 6), omega2(LD), dt_block(LD)
     real(wp) :: fbar(LD, 9), jbar(LD), scale(LD)
-    real(wp) :: v(LD, 3, CELL_MAX_NODES), gamma(LD, CELL_MAX_NODES, HOURGLASS_MODES)
+    real(wp) :: v(LD, 3, CELL_MAX_NODES)
     real(wp) :: stiffness(LD, 6), viscosity(LD), energy(LD), power(LD), c_inverse(6)
     real(wp) :: position(LD, 3, 8), rule(LD), rate(LD), kept(LD, NHIST)
     logical :: ok(LD), finite(LD), steps_at_once, averaged, hexahedral, rated, erodes, &
                failed(LD)
-    integer :: n, nn, i, a, l, node, first, h, k
+    integer :: n, nn, i, a, l, node, first, hb, k
     first = s%block_start(b)
     n = s%block_start(b + 1) - first
     if (n == 0) return
@@ -673,7 +673,7 @@ contains
     ! from the velocities v^{n+1/2} (the hexahedra's hourglass forces use these too)
     rated = rate_dependent(model%materials(s%material(l)))
     hexahedral = s%hourglass
-    if (hexahedral) hexahedral = s%hg_slot(l) > 0
+    if (hexahedral) hexahedral = s%block_hex(b) > 0
     if (rated .or. hexahedral) then
       do i = 1, n
         do a = 1, nn
@@ -752,34 +752,42 @@ contains
       ! one-point hexahedra: the hourglass forces (velocities of the padded slots: the first
       ! node's, their gamma is zero) and the step: the larger of the element bound's and
       ! LS-DYNA's characteristic length rule's (the bound's alone for an element without a
-      ! node inside the body, hg_rule), plus the hourglass stiffness' bound over the 8
+      ! node inside the body, hex_rule), plus the hourglass stiffness' bound over the 8
       ! elements that share a node of a regular mesh, (K : C^-1) lambda_max(G)/8, C^-1 =
       ! adj adj^T / J^2 (doc/theory.md 2.8)
+      hb = s%block_hex(b)
+      do a = 1, 8                               ! the corners' current positions
+        do i = 1, n
+          k = s%hex_corner(i, a, hb)
+          node = s%nodes(k, s%block_cell(first + i - 1))
+          position(i, 1, a) = s%x0(1, node) + u(i, 1, k)
+          position(i, 2, a) = s%x0(2, node) + u(i, 2, k)
+          position(i, 3, a) = s%x0(3, node) + u(i, 3, k)
+        end do
+      end do
+      do k = 1, 6
+        do i = 1, n
+          stiffness(i, k) = s%hex_stiffness(i, k, hb)
+        end do
+      end do
       do i = 1, n
-        l = s%block_cell(first + i - 1)
-        h = s%hg_slot(l)
-        do a = 1, nn
-          gamma(i, a, :) = s%hg_gamma(a, :, h)
-        end do
-        do a = 1, 8                             ! the corners' current positions
-          node = s%nodes(s%hg_corner(a, h), l)
-          position(i, :, a) = s%x0(:, node) + u(i, :, s%hg_corner(a, h))
-        end do
-        stiffness(i, :) = s%hg_stiffness(:, h)
-        viscosity(i) = s%hg_viscosity(h)
-        if (failed(i)) then                  ! no hourglass force on a failed cell
+        viscosity(i) = s%hex_viscosity(i, hb)
+      end do
+      if (erodes) then                        ! no hourglass force on a failed cell
+        do i = 1, n
+          if (.not. failed(i)) cycle
           stiffness(i, :) = 0.0_wp
           viscosity(i) = 0.0_wp
-        end if
-      end do
-      call block_hourglass_forces(n, nn, u, v, s%block_grad(:, :, :, b), gamma, stiffness, &
-                                  viscosity, adj, det, force, energy, power)
+        end do
+      end if
+      call block_hourglass_forces(n, nn, u, v, s%block_grad(:, :, :, b), s%hex_h(:, :, :, hb), &
+                                  s%hex_hx(:, :, :, hb), stiffness, viscosity, adj, det, force, &
+                                  energy, power)
       l = s%block_cell(first)
       call block_hexahedron_frequency(n, position, s%block_weight(:, b), det, &
           s%lame(1, l) + 2.0_wp*s%lame(2, l), model%materials(s%material(l))%density, rule)
       do i = 1, n
-        if (s%hg_rule(s%hg_slot(s%block_cell(first + i - 1)))) omega2(i) = min(omega2(i), &
-                                                                                rule(i))
+        if (s%hex_rule(i, hb)) omega2(i) = min(omega2(i), rule(i))
       end do
       do i = 1, n
         s%hourglass_stored = s%hourglass_stored + energy(i)
@@ -791,7 +799,7 @@ contains
         c_inverse(4) = adj(i, 1)*adj(i, 2) + adj(i, 4)*adj(i, 5) + adj(i, 7)*adj(i, 8)
         c_inverse(5) = adj(i, 2)*adj(i, 3) + adj(i, 5)*adj(i, 6) + adj(i, 8)*adj(i, 9)
         c_inverse(6) = adj(i, 1)*adj(i, 3) + adj(i, 4)*adj(i, 6) + adj(i, 7)*adj(i, 9)
-        omega2(i) = omega2(i) + s%hg_metric(s%hg_slot(s%block_cell(first + i - 1)))* &
+        omega2(i) = omega2(i) + s%hex_metric(i, hb)* &
             (sum(stiffness(i, 1:3)*c_inverse(1:3)) + &
              2.0_wp*sum(stiffness(i, 4:6)*c_inverse(4:6)))/(8.0_wp*det(i)**2)
       end do
@@ -1053,30 +1061,55 @@ contains
   end subroutine keep_area_vectors
 
   !> One-point hexahedra: the local copies of their hourglass data (cells' hexahedron
-  !> arrays; every rank learns whether the model has any, which turns off work stealing).
+  !> arrays; every rank learns whether the model has any, which turns off work stealing), the
+  !> shape vectors' parts in the blocks' layout: each node's base vectors h_aI (those of a
+  !> repeated corner added together) and hX_a = sum_I h_aI X_I, from which the kernel forms
+  !> gamma_aI = h_aI - hX_a . B_I (doc/theory.md 2.8).
   subroutine hourglass_set_up(s, cells)
     type(explicit_state_t), intent(inout) :: s        !< local state (blocks built)
     type(cells_t), intent(in) :: cells                !< all cells
-    integer :: l, h, nh
+    integer :: l, h, b, hb, k, i, a, slot, nhb
     s%hourglass = cells%n_hex > 0
     if (.not. s%hourglass) return
-    allocate(s%hg_slot(s%ncell))
-    nh = count(cells%hex_of(s%cell_global) > 0)
-    allocate(s%hg_gamma(CELL_MAX_NODES, HOURGLASS_MODES, nh), s%hg_stiffness(6, nh), &
-             s%hg_viscosity(nh), s%hg_metric(nh), s%hg_corner(8, nh), s%hg_rule(nh))
-    s%hg_rule = .true.                   ! (explicit_dynamics' set-up decides)
-    nh = 0
-    do l = 1, s%ncell
-      h = cells%hex_of(s%cell_global(l))
-      s%hg_slot(l) = 0
-      if (h == 0) cycle
-      nh = nh + 1
-      s%hg_slot(l) = nh
-      s%hg_gamma(:, :, nh) = cells%hg_gamma(:, :, h)
-      s%hg_stiffness(:, nh) = cells%hg_stiffness(:, h)
-      s%hg_viscosity(nh) = cells%hg_viscosity(h)
-      s%hg_metric(nh) = cells%hg_metric(h)
-      s%hg_corner(:, nh) = cells%hg_corner(:, h)
+    allocate(s%block_hex(s%nblock))
+    nhb = 0
+    do b = 1, s%nblock          ! (a block holds cells of one kind: hexahedral or not)
+      s%block_hex(b) = 0
+      if (s%block_start(b + 1) == s%block_start(b)) cycle
+      if (cells%hex_of(s%cell_global(s%block_cell(s%block_start(b)))) == 0) cycle
+      nhb = nhb + 1
+      s%block_hex(b) = nhb
+    end do
+    allocate(s%hex_h(BLOCK_CELLS, CELL_MAX_NODES, HOURGLASS_MODES, nhb), &
+             s%hex_hx(BLOCK_CELLS, 3, HOURGLASS_MODES, nhb), s%hex_corner(BLOCK_CELLS, 8, nhb), &
+             s%hex_stiffness(BLOCK_CELLS, 6, nhb), s%hex_viscosity(BLOCK_CELLS, nhb), &
+             s%hex_metric(BLOCK_CELLS, nhb), s%hex_rule(BLOCK_CELLS, nhb))
+    s%hex_h = 0_i1
+    s%hex_hx = 0.0_wp
+    s%hex_corner = 1_i1
+    s%hex_stiffness = 0.0_wp
+    s%hex_viscosity = 0.0_wp
+    s%hex_metric = 0.0_wp
+    s%hex_rule = .true.                  ! (explicit_dynamics' set-up decides)
+    do b = 1, s%nblock
+      hb = s%block_hex(b)
+      if (hb == 0) cycle
+      do k = s%block_start(b), s%block_start(b + 1) - 1
+        l = s%block_cell(k)
+        i = k - s%block_start(b) + 1
+        h = cells%hex_of(s%cell_global(l))
+        s%hex_stiffness(i, :, hb) = cells%hg_stiffness(:, h)
+        s%hex_viscosity(i, hb) = cells%hg_viscosity(h)
+        s%hex_metric(i, hb) = cells%hg_metric(h)
+        do a = 1, 8
+          slot = cells%hg_corner(a, h)
+          s%hex_corner(i, a, hb) = int(slot, i1)
+          s%hex_h(i, slot, :, hb) = s%hex_h(i, slot, :, hb) + HOURGLASS_VECTORS(a, :)
+          s%hex_hx(i, :, :, hb) = s%hex_hx(i, :, :, hb) + &
+              spread(s%x0(:, s%nodes(slot, l)), 2, HOURGLASS_MODES)* &
+              spread(real(HOURGLASS_VECTORS(a, :), wp), 1, 3)
+        end do
+      end do
     end do
   end subroutine hourglass_set_up
 

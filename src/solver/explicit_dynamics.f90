@@ -852,19 +852,20 @@ contains
     type(cells_t), intent(in) :: cells                !< all cells
     type(explicit_state_t), intent(inout) :: s        !< local state (hexahedra set up)
     logical, allocatable :: on_surface(:)
-    integer :: l, h, e, k
+    integer :: l, hb, e, k
+    logical :: inside
     if (.not. s%hourglass) return
-    if (size(s%hg_rule) == 0) return
     call exterior_nodes(model, on_surface)
     do l = 1, s%ncell
-      h = s%hg_slot(l)
-      if (h == 0) cycle
+      hb = s%block_hex(s%cell_block(l))
+      if (hb == 0) cycle
       e = cells%elements(1, s%cell_global(l))
-      s%hg_rule(h) = .false.
+      inside = .false.
       do k = 1, size(model%elements%conn, 1)
         if (model%elements%conn(k, e) <= 0) cycle
-        if (.not. on_surface(model%elements%conn(k, e))) s%hg_rule(h) = .true.
+        if (.not. on_surface(model%elements%conn(k, e))) inside = .true.
       end do
+      s%hex_rule(s%cell_slot(l), hb) = inside
     end do
   end subroutine hexahedra_under_the_rule
 

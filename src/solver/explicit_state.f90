@@ -4,7 +4,7 @@
 !> in 3D the cells' data live in blocks of BLOCK_CELLS cells in structure-of-arrays order.
 module mefem_explicit_state
   use, intrinsic :: iso_c_binding, only: c_ptr, c_f_pointer
-  use mefem_kinds, only: wp, i8
+  use mefem_kinds, only: wp, i1, i8
   use mefem_cells, only: CELL_MAX_NODES
   use mefem_material_state, only: NHIST, BLOCK_CELLS => BLOCK_POINTS
   use mefem_mortar_contact, only: mortar_contact_t
@@ -197,17 +197,24 @@ module mefem_explicit_state
     integer, allocatable :: np_column(:,:)     !< (4, size(np_cells)) the assembly column of
                                                !< each corner (halo source_target)
     real(wp), allocatable :: np_sums(:,:)      !< (1, ntarget) the nodal sums
-    ! one-point hexahedra (ELFORM 1; doc/theory.md 2.8): their hourglass data, local copies
+    ! one-point hexahedra (ELFORM 1; doc/theory.md 2.8): their hourglass data in the blocks'
+    ! layout (entry i of block b's data: the block's i-th cell)
     logical :: hourglass = .false.             !< the model has hexahedral cells (any rank)
-    integer, allocatable :: hg_slot(:)         !< (ncell) index in the arrays below, 0 if none
-    real(wp), allocatable :: hg_gamma(:,:,:)   !< (CELL_MAX_NODES, 4, local hexahedra) gamma
-    real(wp), allocatable :: hg_stiffness(:,:) !< (6, local hexahedra) K
-    real(wp), allocatable :: hg_viscosity(:)   !< (local hexahedra) c
-    real(wp), allocatable :: hg_metric(:)      !< (local hexahedra) bound of lambda_max(G)
-    logical, allocatable :: hg_rule(:)         !< (local hexahedra) LS-DYNA's characteristic
-                                               !< length rule may set its step: a node of it
-                                               !< lies inside the body (explicit_dynamics)
-    integer, allocatable :: hg_corner(:,:)     !< (8, local hexahedra) node slot per corner
+    integer, allocatable :: block_hex(:)       !< (nblock) the block's index in the arrays
+                                               !< below, 0 if it has no hexahedra
+    integer(i1), allocatable :: hex_h(:,:,:,:) !< (BLOCK_CELLS, CELL_MAX_NODES, 4, blocks of
+                                               !< hexahedra) base vectors h_aI per node
+    real(wp), allocatable :: hex_hx(:,:,:,:)   !< (BLOCK_CELLS, 3, 4, blocks) hX_a = sum_I
+                                               !< h_aI X_I (gamma = h - hX . B)
+    integer(i1), allocatable :: hex_corner(:,:,:)  !< (BLOCK_CELLS, 8, blocks) node slot of
+                                               !< each corner (a pentahedron: repeated)
+    real(wp), allocatable :: hex_stiffness(:,:,:)  !< (BLOCK_CELLS, 6, blocks) K
+    real(wp), allocatable :: hex_viscosity(:,:)    !< (BLOCK_CELLS, blocks) c
+    real(wp), allocatable :: hex_metric(:,:)   !< (BLOCK_CELLS, blocks) bound of lambda_max(G)
+    logical, allocatable :: hex_rule(:,:)      !< (BLOCK_CELLS, blocks) LS-DYNA's
+                                               !< characteristic length rule may set the
+                                               !< cell's step: a node of it lies inside the
+                                               !< body (explicit_dynamics)
     real(wp) :: hourglass_stored = 0.0_wp      !< energy of the stiffness forms, this rank's
                                                !< cells at the last force evaluation
     real(wp) :: hourglass_power = 0.0_wp       !< power of the viscous forms, likewise

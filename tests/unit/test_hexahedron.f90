@@ -5,10 +5,11 @@
 !> derivative of the forces (central differences), the energy is objective, and the block
 !> kernel gives the single-cell routine's forces.
 program test_hexahedron
-  use mefem_kinds, only: wp
+  use mefem_kinds, only: wp, i1
   use mefem_testing, only: test_start, test_finish, check, check_close
   use mefem_strings, only: rtoa
-  use mefem_hexahedron, only: HOURGLASS_MODES, hexahedron_reference, hourglass_stiffness_cell, &
+  use mefem_hexahedron, only: HOURGLASS_MODES, HOURGLASS_VECTORS, hexahedron_reference, &
+                              hourglass_stiffness_cell, &
                               block_hourglass_forces, hourglass_mode_metric
   use mefem_cell_finite_strain, only: cell_deformation_gradient, block_adjugate
   use mefem_material_state, only: BLOCK_POINTS
@@ -181,7 +182,8 @@ contains
     integer, parameter :: LD = BLOCK_POINTS
     real(wp) :: x(3, 8), volume, grad(3, 8), node_volume(8), gamma(8, HOURGLASS_MODES)
     real(wp) :: u(3, 8), f(3, 3), force(3, 8), ke(24, 24), w
-    real(wp) :: bu(LD, 3, 8), bv(LD, 3, 8), bgrad(LD, 3, 8), bgamma(LD, 8, HOURGLASS_MODES)
+    real(wp) :: bu(LD, 3, 8), bv(LD, 3, 8), bgrad(LD, 3, 8), bhx(LD, 3, HOURGLASS_MODES)
+    integer(i1) :: bh(LD, 8, HOURGLASS_MODES)
     real(wp) :: bk(LD, 6), visc(LD), bf(LD, 9), adj(LD, 9), det(LD), bforce(LD, 3, 8)
     real(wp) :: energy(LD), power(LD), k6(6)
     integer :: a
@@ -195,11 +197,14 @@ contains
     bu = 0.0_wp
     bv = 0.0_wp
     bgrad = 0.0_wp
-    bgamma = 0.0_wp
-    do a = 1, 8
+    bh = 0_i1
+    bhx = 0.0_wp
+    do a = 1, 8                        ! the kernel's gamma = h - hX . B, hX = sum_I h_aI X_I
       bu(1, :, a) = u(:, a)
       bgrad(1, :, a) = grad(:, a)
-      bgamma(1, a, :) = gamma(a, :)
+      bh(1, a, :) = HOURGLASS_VECTORS(a, :)
+      bhx(1, :, :) = bhx(1, :, :) + spread(x(:, a), 2, HOURGLASS_MODES)* &
+                     spread(real(HOURGLASS_VECTORS(a, :), wp), 1, 3)
     end do
     bk = 0.0_wp
     bk(1, :) = k6
@@ -208,7 +213,7 @@ contains
     bf(1, :) = reshape(f, [9])
     call block_adjugate(1, bf, adj, det)
     bforce = 0.0_wp
-    call block_hourglass_forces(1, 8, bu, bv, bgrad, bgamma, bk, visc, adj, det, bforce, &
+    call block_hourglass_forces(1, 8, bu, bv, bgrad, bh, bhx, bk, visc, adj, det, bforce, &
                                 energy, power)
     call check(maxval(abs(bforce(1, :, :) - force)) < 1e-12_wp*maxval(abs(force)), &
                'block kernel: the single-cell forces')

@@ -87,8 +87,23 @@ L_RATE = np.array([[-120.0, 30.0, 20.0], [10.0, -60.0, 40.0], [25.0, 15.0, 70.0]
 T_PATCH = 1.0e-5
 
 
-def affine_patch(ihq, qm):
-    blocks = [nodes_card(xp), elements_card('ELEMENT_SOLID', cp),
+def pentahedra(x, conn):
+    """Each hexahedron cut into two prisms, written as LS-DYNA's degenerate hexahedra
+    N1 N2 N3 N4 N5 N5 N6 N6 (triangles N1 N2 N5 and N4 N3 N6), oriented positively."""
+    out = []
+    for v in conn:
+        for a, b in (((v[0], v[1], v[2]), (v[4], v[5], v[6])),
+                     ((v[0], v[2], v[3]), (v[4], v[6], v[7]))):
+            c = [a[0], a[1], b[1], b[0], a[2], a[2], b[2], b[2]]
+            # positive: (x2 - x1) x (x4 - x1) . (x5 - x1) > 0, else mirrored
+            if np.dot(np.cross(x[c[1]] - x[c[0]], x[c[3]] - x[c[0]]), x[c[4]] - x[c[0]]) < 0:
+                c = [a[1], a[0], b[0], b[1], a[2], a[2], b[2], b[2]]
+            out.append(c)
+    return np.array(out)
+
+
+def affine_patch(ihq, qm, conn=cp, label='hexahedra'):
+    blocks = [nodes_card(xp), elements_card('ELEMENT_SOLID', conn),
               hex_part(1, elastic(poisson=0.3), hgid=1), hourglass_cards(ihq, qm)]
     v = xp @ L_RATE.T
     for k in range(len(xp)):
@@ -98,8 +113,8 @@ def affine_patch(ihq, qm):
     blocks += [curve(1, [(0.0, 1.0), (1.0, 1.0)]),
                ['*CONTROL_TERMINATION', f10(T_PATCH), '*DATABASE_BINARY_D3PLOT', f10(T_PATCH),
                 '*DATABASE_GLSTAT', f10(T_PATCH / 10)]]
-    rc, text, out = run_case('hex_patch_ihq%d' % ihq, blocks)
-    checks.check(rc == 0, 'patch test IHQ %d: run succeeds' % ihq, text[-600:])
+    rc, text, out = run_case('hex_patch_%s_ihq%d' % (label, ihq), blocks)
+    checks.check(rc == 0, 'patch test IHQ %d, %s: run succeeds' % (ihq, label), text[-600:])
     if rc != 0:
         return
     point, cell, t = last_state(out, with_time=True)
@@ -117,20 +132,24 @@ def affine_patch(ihq, qm):
     err_s = np.abs(stress - exact[None, :]).max() / np.abs(exact).max()
     g = glstat(out)
     hg = np.abs(g['hourglass energy']).max() / g['internal energy'][-1]
-    print('    patch IHQ %d: |u - u_exact| %.1e, |stress - exact| %.1e (|sigma| %.4g MPa), '
-          'hourglass / internal energy %.1e' % (ihq, err_u, err_s, np.abs(exact).max(), hg))
-    checks.check(err_u < 1e-12, 'patch test IHQ %d: the nodes follow the motion' % ihq,
-                 '%.2e' % err_u)
-    checks.check(err_s < 1e-9, 'patch test IHQ %d: every distorted element has the exact '
-                 'stress' % ihq, '%.2e' % err_s)
-    checks.check(hg < 1e-12, 'patch test IHQ %d: no hourglass energy in a linear field' % ihq,
-                 '%.2e' % hg)
+    print('    patch IHQ %d, %s: |u - u_exact| %.1e, |stress - exact| %.1e (|sigma| %.4g MPa), '
+          'hourglass / internal energy %.1e' % (ihq, label, err_u, err_s, np.abs(exact).max(),
+                                                hg))
+    checks.check(err_u < 1e-12, 'patch test IHQ %d, %s: the nodes follow the motion'
+                 % (ihq, label), '%.2e' % err_u)
+    checks.check(err_s < 1e-9, 'patch test IHQ %d, %s: every distorted element has the exact '
+                 'stress' % (ihq, label), '%.2e' % err_s)
+    checks.check(hg < 1e-12, 'patch test IHQ %d, %s: no hourglass energy in a linear field'
+                 % (ihq, label), '%.2e' % hg)
 
 
 affine_patch(1, 0.1)
 affine_patch(6, 1.0)
+# pentahedra (degenerate hexahedra, their repeated corners merged: doc/theory.md 2.8) pass
+# the same patch test: their merged hourglass vectors are orthogonal to the linear fields too
+affine_patch(6, 1.0, pentahedra(xp, cp), 'pentahedra')
 
-# ---- 1b. tetrahedra and pentahedra in an ELFORM 1 part ------------------------------------------
+# ---- 1b. tetrahedra in an ELFORM 1 part --------------------------------------------------------
 # tetrahedra given as degenerate hexahedra (N1 N2 N3 N4 N4 N4 N4 N4) in an ELFORM 1 part are
 # the linear tetrahedra of ELFORM 10: the same run to round-off
 xt, ct = box_tets(2.0, 2.0, 1.0, 3, 3, 2)
