@@ -127,13 +127,15 @@ contains
   !> energy W and the dissipated power c sum |qdot|^2. Cells with J <= 0 get none (their
   !> step bound stops the run). The shape vectors are formed here from the cells' base
   !> vectors and hX (gamma_aI = h_aI - hX_a . B_I: the module header), which streams 128
-  !> bytes per cell where the vectors themselves would be 256.
-  pure subroutine block_hourglass_forces(n, nn, u, v, grad, h, hx, stiffness, viscosity, adj, &
-                                         det, force, energy, power)
+  !> bytes per cell where the vectors themselves would be 256. Without viscous forms (every
+  !> c = 0) v is not read: the stiffness forms need no velocities.
+  pure subroutine block_hourglass_forces(n, nn, u, viscous, v, grad, h, hx, stiffness, &
+                                         viscosity, adj, det, force, energy, power)
     integer, intent(in) :: n, nn                  !< cells (<= BLOCK_POINTS), nodes per cell
     integer, parameter :: ld = BLOCK_POINTS       !< leading dimension
     real(wp), intent(in) :: u(ld, 3, nn)          !< displacements of the cells' nodes
-    real(wp), intent(in) :: v(ld, 3, nn)          !< their velocities
+    logical, intent(in) :: viscous                !< some cell has a viscous form (c > 0)
+    real(wp), intent(in) :: v(ld, 3, nn)          !< their velocities (read if viscous)
     real(wp), intent(in) :: grad(ld, 3, nn)       !< uniform gradients B_I
     integer(i1), intent(in) :: h(ld, nn, HOURGLASS_MODES)  !< base vectors h_aI (a repeated
                                                   !< corner's added into its node)
@@ -183,11 +185,21 @@ contains
         do c = 1, 3
           do i = 1, n
             q(i, c, k) = q(i, c, k) + gamma(i, a, k)*u(i, c, a)
-            d(i, c, k) = d(i, c, k) + gamma(i, a, k)*v(i, c, a)
           end do
         end do
       end do
     end do
+    if (viscous) then
+      do a = 1, nn
+        do k = 1, HOURGLASS_MODES
+          do c = 1, 3
+            do i = 1, n
+              d(i, c, k) = d(i, c, k) + gamma(i, a, k)*v(i, c, a)
+            end do
+          end do
+        end do
+      end do
+    end if
     do i = 1, n
       energy(i) = 0.0_wp
       power(i) = 0.0_wp

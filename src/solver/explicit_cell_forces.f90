@@ -633,7 +633,7 @@ contains
     real(wp) :: stiffness(LD, 6), viscosity(LD), energy(LD), power(LD), c_inverse(6)
     real(wp) :: position(LD, 3, 8), rule(LD), rate(LD), kept(LD, NHIST)
     logical :: ok(LD), finite(LD), steps_at_once, averaged, hexahedral, rated, erodes, &
-               failed(LD)
+               failed(LD), viscous
     integer :: n, nn, i, a, l, node, first, hb, k
     first = s%block_start(b)
     n = s%block_start(b + 1) - first
@@ -670,11 +670,13 @@ contains
       end do
     end if
     ! rate effects of the material (Cowper-Symonds, LCSR): the cells' effective strain rates
-    ! from the velocities v^{n+1/2} (the hexahedra's hourglass forces use these too)
+    ! from the velocities v^{n+1/2} (the hexahedra's viscous hourglass forces use these too)
     rated = rate_dependent(model%materials(s%material(l)))
     hexahedral = s%hourglass
     if (hexahedral) hexahedral = s%block_hex(b) > 0
-    if (rated .or. hexahedral) then
+    viscous = .false.
+    if (hexahedral) viscous = any(s%hex_viscosity(1:n, s%block_hex(b)) > 0.0_wp)
+    if (rated .or. viscous) then
       do i = 1, n
         do a = 1, nn
           node = s%nodes(a, s%block_cell(first + i - 1))
@@ -780,9 +782,9 @@ contains
           viscosity(i) = 0.0_wp
         end do
       end if
-      call block_hourglass_forces(n, nn, u, v, s%block_grad(:, :, :, b), s%hex_h(:, :, :, hb), &
-                                  s%hex_hx(:, :, :, hb), stiffness, viscosity, adj, det, force, &
-                                  energy, power)
+      call block_hourglass_forces(n, nn, u, viscous, v, s%block_grad(:, :, :, b), &
+                                  s%hex_h(:, :, :, hb), s%hex_hx(:, :, :, hb), stiffness, &
+                                  viscosity, adj, det, force, energy, power)
       l = s%block_cell(first)
       call block_hexahedron_frequency(n, position, s%block_weight(:, b), det, &
           s%lame(1, l) + 2.0_wp*s%lame(2, l), model%materials(s%material(l))%density, rule)

@@ -213,8 +213,8 @@ contains
     bf(1, :) = reshape(f, [9])
     call block_adjugate(1, bf, adj, det)
     bforce = 0.0_wp
-    call block_hourglass_forces(1, 8, bu, bv, bgrad, bh, bhx, bk, visc, adj, det, bforce, &
-                                energy, power)
+    call block_hourglass_forces(1, 8, bu, .false., bv, bgrad, bh, bhx, bk, visc, adj, det, &
+                                bforce, energy, power)
     call check(maxval(abs(bforce(1, :, :) - force)) < 1e-12_wp*maxval(abs(force)), &
                'block kernel: the single-cell forces')
     call check_close(energy(1), w, 1e-12_wp, 'block kernel: the single-cell energy')
