@@ -126,9 +126,10 @@ run: deps
 	@$(MAKE) --no-print-directory $(EXE)
 	mpirun --oversubscribe -np 2 ./$(EXE) -o results/taylor_bar input/taylor_bar.k
 
-# All tests: unit tests on the debug build, deck tests, output and MPI tests.
+# All tests: unit tests on the debug build (and the block kernels' placement checks on the
+# release build), deck tests, output and MPI tests.
 test: deps
-	@$(MAKE) --no-print-directory bin/mefem
+	@$(MAKE) --no-print-directory bin/mefem build/release/tests/test_block_kernels
 	@$(MAKE) --no-print-directory DEBUG=1 bin/mefem_debug unit-tests
 	@bash tests/run_tests.sh
 

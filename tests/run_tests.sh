@@ -47,6 +47,14 @@ for exe in build/debug/tests/test_*; do
   done
 done
 
+# the block kernels' placement checks on the release build, whose vector loops they concern
+exe=build/release/tests/test_block_kernels
+if [ -x "$exe" ]; then
+  out=$(mktemp)
+  (cd tests/unit && "../../$exe" placement) > "$out" 2>&1; rc=$?
+  tally "test_block_kernels placement (release build)" $rc "$out"; rm -f "$out"
+fi
+
 echo "== deck tests"
 out=$(mktemp)
 for deck in input/*.k tests/decks/good/*.k; do

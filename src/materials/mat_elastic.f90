@@ -21,12 +21,12 @@ module mefem_mat_elastic
   use mefem_errors, only: status_t
   use mefem_strings, only: itoa, rtoa
   use mefem_tensor_algebra, only: IDENTITY, determinant, add_outer_product, &
-                                  add_symmetric_identity
-  use mefem_material_state, only: NHIST
+                                  add_symmetric_identity, natural_log
+  use mefem_material_state, only: NHIST, BLOCK_POINTS
   implicit none
   private
 
-  public :: mat_elastic_update, lame_constants
+  public :: mat_elastic_update, mat_elastic_update_block, lame_constants
 
 contains
 
@@ -83,5 +83,46 @@ contains
       call add_symmetric_identity(c_tau, 2.0_wp*(mu - lambda*log_j))
     end if
   end subroutine mat_elastic_update
+
+  !> The explicit update of a block of n points (no tangent, no wave speed; the history does
+  !> not change): mat_elastic_update's arithmetic per point, structure of arrays (entry i of
+  !> every array is point i) so that the compiler vectorises across points. ln J is taken
+  !> point by point through natural_log, a call the compiler cannot vectorise: libmvec's log
+  !> differs from libm's in the last bits, and a point's bits must not depend on its place in
+  !> the block (the same bits on any number of ranks). A point with J <= 0 gets ok(i) =
+  !> .false. and no stress (the caller calls mat_elastic_update on it for the message).
+  !> f(i, 1:9): F_{n+1} column by column; j(i) = det F_{n+1}; tau(i, 1:6): Kirchhoff stress
+  !> XX YY ZZ XY YZ ZX.
+  subroutine mat_elastic_update_block(mat, n, f, j, tau, ok)
+    type(material_t), intent(in) :: mat                !< *MAT_ELASTIC parameters
+    integer, intent(in) :: n                            !< points in the block (<= BLOCK_POINTS)
+    integer, parameter :: ld = BLOCK_POINTS             !< leading dimension
+    real(wp), intent(in) :: f(ld, 9)                    !< deformation gradients F_{n+1}
+    real(wp), intent(in) :: j(ld)                       !< their determinants
+    real(wp), intent(out) :: tau(ld, 6)                 !< Kirchhoff stresses
+    logical, intent(out) :: ok(ld)                      !< point updated
+    real(wp) :: lambda, mu, log_j(ld), pressure
+    integer :: i
+    call lame_constants(mat%young, mat%poisson, lambda, mu)
+    do i = 1, n
+      ok(i) = j(i) > 0.0_wp
+    end do
+    do i = 1, n
+      log_j(i) = natural_log(merge(j(i), 1.0_wp, ok(i)))
+    end do
+    ! b = F F^T (F(a, m) = f(i, a + 3 (m - 1))), tau = mu (b - 1) + lambda ln J 1
+    do i = 1, n
+      pressure = lambda*log_j(i)
+      tau(i, 1) = mu*((f(i, 1)*f(i, 1) + f(i, 4)*f(i, 4) + f(i, 7)*f(i, 7)) - 1.0_wp) + pressure
+      tau(i, 2) = mu*((f(i, 2)*f(i, 2) + f(i, 5)*f(i, 5) + f(i, 8)*f(i, 8)) - 1.0_wp) + pressure
+      tau(i, 3) = mu*((f(i, 3)*f(i, 3) + f(i, 6)*f(i, 6) + f(i, 9)*f(i, 9)) - 1.0_wp) + pressure
+      tau(i, 4) = mu*(f(i, 1)*f(i, 2) + f(i, 4)*f(i, 5) + f(i, 7)*f(i, 8))
+      tau(i, 5) = mu*(f(i, 2)*f(i, 3) + f(i, 5)*f(i, 6) + f(i, 8)*f(i, 9))
+      tau(i, 6) = mu*(f(i, 1)*f(i, 3) + f(i, 4)*f(i, 6) + f(i, 7)*f(i, 9))
+    end do
+    do i = 1, n
+      if (.not. ok(i)) tau(i, :) = 0.0_wp
+    end do
+  end subroutine mat_elastic_update_block
 
 end module mefem_mat_elastic

@@ -222,9 +222,12 @@ contains
       scale(i) = scale(i)*(4.0_wp - x(i)*(scale(i)*scale(i)*scale(i)))*ONE_THIRD
       scale(i) = scale(i)*(4.0_wp - x(i)*(scale(i)*scale(i)*scale(i)))*ONE_THIRD
     end do
-    do i = 1, n                                ! cube root outside the series range: **
+    ! cube root outside the series range: inverse_cube_root's scalar pow, a call the compiler
+    ! does not vectorise (written as ** here, gfortran used libmvec's vector pow, whose last
+    ! bits differ from libm's, so a point's bits depended on its place in the block)
+    do i = 1, n
       if (ok(i) .and. .not. abs(d(i)) <= CUBE_ROOT_SERIES_RANGE) &
-        scale(i) = x(i)**(-1.0_wp/3.0_wp)
+        scale(i) = inverse_cube_root(x(i))
     end do
     ! 1-2: elastic trial state (as mat_j2_update: symmetric_sandwich written out, with f(i, :)
     ! column by column, f(i, 1) = F11, f(i, 2) = F21 ..)

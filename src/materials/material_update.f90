@@ -44,7 +44,7 @@ module mefem_material_update
                              piecewise_linear_law, hardening_rate_factor, rate_dependent, &
                              rate_table_material, HARDENING_CURVE, viscoplastic, &
                              hardening_yield
-  use mefem_mat_elastic, only: mat_elastic_update, lame_constants
+  use mefem_mat_elastic, only: mat_elastic_update, mat_elastic_update_block, lame_constants
   use mefem_mat_j2_plasticity, only: mat_j2_update, mat_j2_update_block, mat_j2_kinematic_update
   use mefem_mat_mooney_rivlin, only: mat_mooney_rivlin_update
   use mefem_tensor_algebra, only: symmetric_eigenvalues, determinant
@@ -164,9 +164,9 @@ contains
   end subroutine material_update
 
   !> Explicit update of a block of n points of one material (structure of arrays, entry i of
-  !> every array is point i; no tangent, no wave speed): the J2 laws by their block kernel,
-  !> the other laws point by point through material_update (same results as material_update
-  !> point by point). A point whose update fails gets ok(i) = .false. and keeps its history;
+  !> every array is point i; no tangent, no wave speed): the J2 laws and *MAT_ELASTIC by their
+  !> block kernels, the other laws point by point through material_update (same results as
+  !> material_update point by point). A point whose update fails gets ok(i) = .false. and keeps its history;
   !> material_update on it gives the reason.
   subroutine material_update_block(mat, curves, n, f, j, hist, tau, ok, strain_rate, dt)
     type(material_t), intent(in) :: mat                !< the material card
@@ -221,6 +221,8 @@ contains
       else
         call mat_j2_update_block(mat, curves, block_law(mat), n, f, j, hist, tau, ok)
       end if
+    case (MAT_ELASTIC)
+      call mat_elastic_update_block(mat, n, f, j, tau, ok)
     case default
       call points_one_by_one()
     end select

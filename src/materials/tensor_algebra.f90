@@ -14,6 +14,7 @@ module mefem_tensor_algebra
   public :: determinant, inverse, trace, deviator, double_contraction, frobenius_norm
   public :: symmetric_to_voigt, voigt_to_symmetric, symmetric_eigenvalues
   public :: add_outer_product, add_symmetric_identity, add_symmetric_product
+  public :: natural_log
   public :: inverse_cube_root, CUBE_ROOT_SERIES_RANGE, CUBE_ROOT_C1, CUBE_ROOT_C2, &
             CUBE_ROOT_C3
 
@@ -59,6 +60,15 @@ contains
     lambda(3) = q + 2.0_wp*p*cos(phi + 2.0_wp*PI/3.0_wp)
     lambda(2) = 3.0_wp*q - lambda(1) - lambda(3)
   end function symmetric_eigenvalues
+
+  !> ln x by libm's scalar log, one value per call. The block kernels call it in their loops
+  !> over points: a loop with this call is not vectorised (the function has no vector
+  !> version and lives in another file), so a point's logarithm does not depend on its place
+  !> in the block (libmvec's vector log differs from libm's in the last bits).
+  pure real(wp) function natural_log(x)
+    real(wp), intent(in) :: x        !< argument (> 0)
+    natural_log = log(x)
+  end function natural_log
 
   !> Determinant of a 3x3 matrix.
   pure real(wp) function determinant(a)
