@@ -531,6 +531,7 @@ contains
     real(wp) :: mu, kappa, j, scale, i_bar, mu_bar, norm_xi, plastic_modulus, yield_old, dgamma
     real(wp) :: jp, s_trial(SYM), back_trial(SYM), xi(SYM)
     real(wp) :: normal(SYM), s(SYM), back_new(SYM), be_new(SYM), adj(3,3), r(3,3)
+    logical :: rotated
     integer :: k
     hist_new = hist_old
     tau = 0.0_wp
@@ -543,11 +544,18 @@ contains
     mu = mat%young/(2.0_wp*(1.0_wp + mat%poisson))
     kappa = mat%young/(3.0_wp*(1.0_wp - 2.0_wp*mat%poisson))
     plastic_modulus = mat%young*mat%tangent_modulus/(mat%young - mat%tangent_modulus)
-    ! elastic trial state (as mat_j2_update) and the back stress in the current frame
+    ! elastic trial state (as mat_j2_update) and the back stress in the current frame (the
+    ! polar rotation, an iteration, only where there is a back stress: none with BETA = 1,
+    ! and none before a point first yields)
     call elastic_trial(f_new, j, hist_old(HIST_CP:HIST_CP + 5), mu, scale, i_bar, mu_bar, &
                        s_trial)
-    call polar_rotation(f_new, r)
-    call symmetric_sandwich(r, hist_old(HIST_BACK:HIST_BACK + 5), 1.0_wp, back_trial)
+    rotated = any(hist_old(HIST_BACK:HIST_BACK + 5) /= 0.0_wp)
+    if (rotated) then
+      call polar_rotation(f_new, r)
+      call symmetric_sandwich(r, hist_old(HIST_BACK:HIST_BACK + 5), 1.0_wp, back_trial)
+    else
+      back_trial = 0.0_wp
+    end if
     xi = s_trial - back_trial
     norm_xi = sym_norm(xi)
     ! yield check and the closed-form return (linear hardening)
@@ -578,7 +586,12 @@ contains
     end do
     call adjugate(f_new, adj)
     call symmetric_sandwich(adj, be_new, scale*scale, hist_new(HIST_CP:HIST_CP + 5))
-    call symmetric_sandwich(transpose(r), back_new, 1.0_wp, hist_new(HIST_BACK:HIST_BACK + 5))
+    if (any(back_new /= 0.0_wp)) then
+      if (.not. rotated) call polar_rotation(f_new, r)
+      call symmetric_sandwich(transpose(r), back_new, 1.0_wp, hist_new(HIST_BACK:HIST_BACK + 5))
+    else
+      hist_new(HIST_BACK:HIST_BACK + 5) = 0.0_wp
+    end if
     sound_speed = sqrt((kappa + 4.0_wp/3.0_wp*mu_bar)/mat%density)
   end subroutine kinematic_stress
 
