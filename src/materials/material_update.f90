@@ -164,8 +164,8 @@ contains
   end subroutine material_update
 
   !> Explicit update of a block of n points of one material (structure of arrays, entry i of
-  !> every array is point i; no tangent, no wave speed): the J2 laws and *MAT_ELASTIC by their
-  !> block kernels, the other laws point by point through material_update (same results as
+  !> every array is point i; no tangent, no wave speed): the J2 laws (*MAT_003 with BETA = 1
+  !> too) and *MAT_ELASTIC by their block kernels, the other laws point by point through material_update (same results as
   !> material_update point by point). A point whose update fails gets ok(i) = .false. and keeps its history;
   !> material_update on it gives the reason.
   subroutine material_update_block(mat, curves, n, f, j, hist, tau, ok, strain_rate, dt)
@@ -223,6 +223,20 @@ contains
       end if
     case (MAT_ELASTIC)
       call mat_elastic_update_block(mat, n, f, j, tau, ok)
+    case (MAT_PLASTIC_KINEMATIC)
+      ! BETA = 1 (no back stress) is *MAT_024's linear law (doc/theory.md 4): its block kernel
+      if (mat%beta == 1.0_wp .and. .not. viscoplastic(mat)) then
+        if (present(strain_rate)) then
+          do i = 1, n
+            factor(i) = hardening_rate_factor(mat, curves, rate(i))
+          end do
+          call mat_j2_update_block(mat, curves, HARDENING_LINEAR, n, f, j, hist, tau, ok, factor)
+        else
+          call mat_j2_update_block(mat, curves, HARDENING_LINEAR, n, f, j, hist, tau, ok)
+        end if
+      else
+        call points_one_by_one()
+      end if
     case default
       call points_one_by_one()
     end select

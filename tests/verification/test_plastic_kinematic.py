@@ -5,7 +5,9 @@ top pulled to +1 % and pushed to -1 % and back to 0 (VAD 2 displacements). The a
 stress of every output state against the one-dimensional bilinear model with mixed hardening
 (yield SIGY + BETA Ep eps_p about a back stress (1 - BETA) Ep eps_p, Ep = E ETAN/(E - ETAN)),
 integrated along the same logarithmic strain path: BETA = 0 (kinematic: the Bauschinger
-effect, reverse yield 2 SIGY below the top) and BETA = 1 (isotropic). mm, s, tonne, N, MPa.
+effect, reverse yield 2 SIGY below the top) and BETA = 1 (isotropic). Explicit BETA = 1 runs
+through *MAT_024's block kernel: the same displacement bits as the *MAT_024 deck.
+mm, s, tonne, N, MPa.
 """
 import os
 import sys
@@ -52,8 +54,13 @@ def reference(strains, beta):
     return np.array(out)
 
 
-def run(beta, implicit):
+def run(beta, implicit, mat024=False):
+    """The cube's run; returns (states' top displacements, axial stresses) or None.
+    mat024: the same law as *MAT_024 (SIGY, ETAN), for BETA = 1."""
     material = ['*MAT_PLASTIC_KINEMATIC', free(1, RHO, E, NU, SIGY, ETAN, beta), f10(0.0)]
+    if mat024:
+        material = ['*MAT_PIECEWISE_LINEAR_PLASTICITY', free(1, RHO, E, NU, SIGY, ETAN, 1.0e21),
+                    free(0.0, 0.0, 0, 0, 0.0)]
     if implicit:
         controls = ['*CONTROL_IMPLICIT_GENERAL', f10(1, T_END / STATES),
                     '*CONTROL_IMPLICIT_SOLUTION', free(12, 11, 15, 1.0e-6)]
@@ -70,11 +77,12 @@ def run(beta, implicit):
               curve(1, [(t * T_END, u) for t, u in PATH]),
               ['*CONTROL_TERMINATION', f10(T_END), '*DATABASE_BINARY_D3PLOT',
                f10(T_END / STATES)] + controls]
-    name = 'mat003_beta%g_%s' % (beta, 'implicit' if implicit else 'explicit')
+    name = 'mat%s_beta%g_%s' % ('024' if mat024 else '003', beta,
+                                'implicit' if implicit else 'explicit')
     rc, text, out = run_case(name, blocks)
     checks.check(rc == 0, '%s: run succeeds' % name, text[-600:])
     if rc != 0:
-        return
+        return None
     import h5py
     with h5py.File(os.path.join(out, name + '.h5')) as h:
         steps = [k for k in sorted(h['states'].keys()) if 'displacement' in h['states'][k]['point']]
@@ -96,9 +104,22 @@ def run(beta, implicit):
     # = 165 MPa on the way back
     checks.check(err < 0.02 * ref.max(), '%s: axial stress follows the 1D mixed-hardening '
                  'model within 2 %% of the peak' % name, '%.2f MPa' % err)
+    return u, s
 
 
+results = {}
 for implicit in (False, True):
     for beta in (0.0, 1.0):
-        run(beta, implicit)
+        results[implicit, beta] = run(beta, implicit)
+# explicit: BETA = 1 has no back stress and is computed by *MAT_024's block kernel (its linear
+# law): the displacements are the bits of the *MAT_024 deck; the output stresses are each
+# law's point routine at the committed state (measured 1.1e-13 MPa apart)
+same = run(1.0, False, mat024=True)
+if same is not None and results[False, 1.0] is not None:
+    checks.check(np.array_equal(same[0], results[False, 1.0][0]),
+                 'explicit MAT_003 with BETA = 1: the displacement bits of MAT_024 with the same '
+                 'SIGY, ETAN')
+    gap = np.abs(same[1] - results[False, 1.0][1]).max()
+    checks.check(gap < 1e-12 * np.abs(same[1]).max(), 'explicit MAT_003 with BETA = 1: the '
+                 'stresses of MAT_024 to 1e-12', '%.2e MPa' % gap)
 checks.exit()
