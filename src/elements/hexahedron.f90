@@ -178,28 +178,9 @@ contains
       end do
     end do
     ! hourglass displacements q_a and velocities qdot_a, every mode in one pass over the nodes
-    q(1:n, :, :) = 0.0_wp
+    call mode_sums(u, q)
     d(1:n, :, :) = 0.0_wp
-    do a = 1, nn
-      do k = 1, HOURGLASS_MODES
-        do c = 1, 3
-          do i = 1, n
-            q(i, c, k) = q(i, c, k) + gamma(i, a, k)*u(i, c, a)
-          end do
-        end do
-      end do
-    end do
-    if (viscous) then
-      do a = 1, nn
-        do k = 1, HOURGLASS_MODES
-          do c = 1, 3
-            do i = 1, n
-              d(i, c, k) = d(i, c, k) + gamma(i, a, k)*v(i, c, a)
-            end do
-          end do
-        end do
-      end do
-    end if
+    if (viscous) call mode_sums(v, d)
     do i = 1, n
       energy(i) = 0.0_wp
       power(i) = 0.0_wp
@@ -243,6 +224,26 @@ contains
         end do
       end do
     end do
+
+  contains
+
+    !> sums(:, :, k) = sum_I gamma_kI field_I of every cell and mode k.
+    pure subroutine mode_sums(field, sums)
+      real(wp), intent(in) :: field(ld, 3, nn)                !< a nodal field
+      real(wp), intent(out) :: sums(ld, 3, HOURGLASS_MODES)   !< its hourglass components
+      integer :: p, node, mode, comp
+      sums(1:n, :, :) = 0.0_wp
+      do node = 1, nn
+        do mode = 1, HOURGLASS_MODES
+          do comp = 1, 3
+            do p = 1, n
+              sums(p, comp, mode) = sums(p, comp, mode) + gamma(p, node, mode)*field(p, comp, node)
+            end do
+          end do
+        end do
+      end do
+    end subroutine mode_sums
+
   end subroutine block_hourglass_forces
 
   !> The stable-step frequency of n hexahedral cells by LS-DYNA's rule for solids: the

@@ -191,7 +191,7 @@ contains
     real(wp) :: hist_new(NHIST), tau_point(3, 3), sound, want(6, LD), alone(6, LD), scale
     logical :: ok(LD), same, placed, all_ok
     type(status_t) :: status
-    integer :: i, n, step, place
+    integer :: i, step
     mat = elastic_steel()
     do step = 1, 2
       scale = merge(PLASTIC_STRAIN, 0.3_wp, step == 1)
@@ -208,21 +208,7 @@ contains
         alone(:, i) = tau(1, :)
       end do
       same = all(alone == want)
-      placed = .true.
-      all_ok = .true.
-      do n = 1, LD                          ! block length n, the points shifted by n
-        do i = 1, n
-          place = 1 + mod(i + n - 1, LD)
-          f(i, :) = reshape(f_all(:, :, place), [9])
-        end do
-        call block_adjugate(n, f, adj, det)
-        call material_update_block(mat, curves, n, f, det, hist, tau, ok)
-        do i = 1, n
-          place = 1 + mod(i + n - 1, LD)
-          all_ok = all_ok .and. ok(i)
-          placed = placed .and. all(tau(i, :) == alone(:, place))
-        end do
-      end do
+      call place_points(mat, f_all, alone, all_ok, placed)
       if (.not. placement_only) call check(same, 'elastic block kernel, strain '// &
                                            trim(rtext(scale))//': the bits of mat_elastic_update')
       call check(all_ok .and. placed, 'elastic block kernel, strain '//trim(rtext(scale))// &
@@ -243,7 +229,7 @@ contains
     real(wp) :: f_all(3, 3, LD), f(LD, 9), adj(LD, 9), det(LD), tau(LD, 6), hist(LD, NHIST)
     real(wp) :: alone(6, LD), stretch
     logical :: ok(LD), placed, all_ok
-    integer :: i, n, place
+    integer :: i
     mat = linear_steel()
     do i = 1, LD                          ! J from 0.6 to 1.5 (range 0.1)
       call random_f(PLASTIC_STRAIN, f_all(:, :, i))
@@ -255,8 +241,24 @@ contains
       call material_update_block(mat, curves, 1, f, det, hist, tau, ok)
       alone(:, i) = tau(1, :)
     end do
-    placed = .true.
+    call place_points(mat, f_all, alone, all_ok, placed)
+    call check(all_ok .and. placed, 'J2 block kernel, J from 0.6 to 1.5: every point the same '// &
+               'bits at every place in blocks of 1 to '//trim(str(LD)))
+  end subroutine check_large_volume_change
+
+  !> Points f_all(:, :, 1:LD) from the virgin state in blocks of every length 1 to LD, shifted
+  !> by the length (each point at many places): all updated (all_ok), each with the stress
+  !> alone(:, point) it gets alone in a block (placed).
+  subroutine place_points(mat, f_all, alone, all_ok, placed)
+    type(material_t), intent(in) :: mat                !< the material
+    real(wp), intent(in) :: f_all(3, 3, LD)            !< the points' deformation gradients
+    real(wp), intent(in) :: alone(6, LD)               !< their stresses alone in a block
+    logical, intent(out) :: all_ok, placed             !< every update ok; every stress equal
+    real(wp) :: f(LD, 9), adj(LD, 9), det(LD), tau(LD, 6), hist(LD, NHIST)
+    logical :: ok(LD)
+    integer :: n, i, place
     all_ok = .true.
+    placed = .true.
     do n = 1, LD
       do i = 1, n
         place = 1 + mod(i + n - 1, LD)
@@ -271,9 +273,7 @@ contains
         placed = placed .and. all(tau(i, :) == alone(:, place))
       end do
     end do
-    call check(all_ok .and. placed, 'J2 block kernel, J from 0.6 to 1.5: every point the same '// &
-               'bits at every place in blocks of 1 to '//trim(str(LD)))
-  end subroutine check_large_volume_change
+  end subroutine place_points
 
   !> Real as short text.
   function rtext(x) result(text)
