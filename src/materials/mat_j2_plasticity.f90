@@ -49,7 +49,8 @@ module mefem_mat_j2_plasticity
   implicit none
   private
 
-  public :: mat_j2_update, mat_j2_update_block, mat_j2_kinematic_update
+  public :: mat_j2_update, mat_j2_update_block, mat_j2_kinematic_update, &
+            mat_j2_kinematic_update_block
 
   real(wp), parameter :: SQRT_TWO_THIRDS = sqrt(2.0_wp/3.0_wp)
   real(wp), parameter :: ONE_THIRD = 1.0_wp/3.0_wp       !< (products instead of divisions)
@@ -518,7 +519,7 @@ contains
 
   !> The stress, history and wave speed of mat_j2_kinematic_update (no tangent).
   pure subroutine kinematic_stress(mat, factor_rate, elastic_only, f_new, hist_old, hist_new, &
-                              tau, sound_speed, status)
+                              tau, sound_speed, status, rotation)
     type(material_t), intent(in) :: mat                !< *MAT_003 parameters
     real(wp), intent(in) :: factor_rate                 !< yield scale of the strain rate
     logical, intent(in) :: elastic_only                 !< no yield check (committed stress)
@@ -528,6 +529,8 @@ contains
     real(wp), intent(out) :: tau(3,3)                   !< Kirchhoff stress
     real(wp), intent(out) :: sound_speed                !< dilatational wave speed
     type(status_t), intent(out) :: status               !< det F <= 0
+    real(wp), intent(in), optional :: rotation(3,3)     !< R of F = R U, computed by the caller
+                                                        !< (block_polar_rotation)
     real(wp) :: mu, kappa, j, scale, i_bar, mu_bar, norm_xi, plastic_modulus, yield_old, dgamma
     real(wp) :: jp, s_trial(SYM), back_trial(SYM), xi(SYM)
     real(wp) :: normal(SYM), s(SYM), back_new(SYM), be_new(SYM), adj(3,3), r(3,3)
@@ -550,8 +553,12 @@ contains
     call elastic_trial(f_new, j, hist_old(HIST_CP:HIST_CP + 5), mu, scale, i_bar, mu_bar, &
                        s_trial)
     rotated = any(hist_old(HIST_BACK:HIST_BACK + 5) /= 0.0_wp)
+    if (present(rotation)) then
+      r = rotation
+      rotated = .true.
+    end if
     if (rotated) then
-      call polar_rotation(f_new, r)
+      if (.not. present(rotation)) call polar_rotation(f_new, r)
       call symmetric_sandwich(r, hist_old(HIST_BACK:HIST_BACK + 5), 1.0_wp, back_trial)
     else
       back_trial = 0.0_wp
@@ -594,6 +601,134 @@ contains
     end if
     sound_speed = sqrt((kappa + 4.0_wp/3.0_wp*mu_bar)/mat%density)
   end subroutine kinematic_stress
+
+  !> The explicit update of a block of n *MAT_003 points (no tangent, no wave speed; VP = 0):
+  !> kinematic_stress point by point without material_update's dispatch, the polar rotations
+  !> of F of all points computed together where a back stress can exist (BETA < 1) by
+  !> block_polar_rotation, whose iteration runs in the vector lanes. A point that fails
+  !> (det F <= 0) gets ok(i) = .false. and keeps its history (the caller calls
+  !> material_update on it for the message). f(i, 1:9): F_{n+1} column by column; j(i) =
+  !> det F_{n+1}; hist(i, :): history at t_n in, t_{n+1} out; tau(i, 1:6): Kirchhoff stress XX
+  !> YY ZZ XY YZ ZX.
+  subroutine mat_j2_kinematic_update_block(mat, n, f, j, hist, tau, ok, rate_factor)
+    type(material_t), intent(in) :: mat                !< *MAT_003 parameters (VP = 0)
+    integer, intent(in) :: n                            !< points in the block (<= BLOCK_POINTS)
+    integer, parameter :: ld = BLOCK_POINTS             !< leading dimension
+    real(wp), intent(in) :: f(ld, 9)                    !< deformation gradients F_{n+1}
+    real(wp), intent(in) :: j(ld)                       !< their determinants
+    real(wp), intent(inout) :: hist(ld, NHIST)          !< histories t_n -> t_{n+1}
+    real(wp), intent(out) :: tau(ld, SYM)               !< Kirchhoff stresses
+    logical, intent(out) :: ok(ld)                      !< point updated
+    real(wp), intent(in), optional :: rate_factor(ld)   !< yield stress scales (1)
+    real(wp) :: rotation(ld, 9), f_point(3, 3), r_point(3, 3), tau_point(3, 3)
+    real(wp) :: hist_new(NHIST), sound, factor
+    type(status_t) :: status
+    integer :: i, k
+    do i = 1, n
+      ok(i) = j(i) > 0.0_wp
+    end do
+    if (mat%beta < 1.0_wp) call block_polar_rotation(n, f, j, rotation)
+    do i = 1, n
+      if (.not. ok(i)) then
+        tau(i, :) = 0.0_wp
+        cycle
+      end if
+      do k = 1, 3
+        f_point(:, k) = f(i, 3*k - 2:3*k)
+        r_point(:, k) = rotation(i, 3*k - 2:3*k)
+      end do
+      factor = 1.0_wp
+      if (present(rate_factor)) factor = rate_factor(i)
+      if (mat%beta < 1.0_wp) then
+        call kinematic_stress(mat, factor, .false., f_point, hist(i, :), hist_new, tau_point, &
+                              sound, status, r_point)
+      else
+        call kinematic_stress(mat, factor, .false., f_point, hist(i, :), hist_new, tau_point, &
+                              sound, status)
+      end if
+      ok(i) = status%ok
+      tau(i, :) = [tau_point(1, 1), tau_point(2, 2), tau_point(3, 3), tau_point(1, 2), &
+                   tau_point(2, 3), tau_point(3, 1)]
+      if (ok(i)) hist(i, :) = hist_new
+    end do
+  end subroutine mat_j2_kinematic_update_block
+
+  !> polar_rotation of n points, structure of arrays (m(i, r + 3 (c - 1)) = M(r, c)): Higham's
+  !> scaled Newton iteration in the vector lanes, each lane taking polar_rotation's steps and
+  !> stopping at its own convergence (a converged lane is no longer changed). Points with
+  !> det F <= 0 get the identity.
+  pure subroutine block_polar_rotation(n, f, det_f, r)
+    integer, intent(in) :: n                            !< points (<= BLOCK_POINTS)
+    integer, parameter :: ld = BLOCK_POINTS             !< leading dimension
+    real(wp), intent(in) :: f(ld, 9)                    !< deformation gradients
+    real(wp), intent(in) :: det_f(ld)                   !< their determinants
+    real(wp), intent(out) :: r(ld, 9)                   !< their rotations
+    real(wp), parameter :: IDENTITY9(9) = [1.0_wp, 0.0_wp, 0.0_wp, 0.0_wp, 1.0_wp, 0.0_wp, &
+                                           0.0_wp, 0.0_wp, 1.0_wp]
+    real(wp) :: x(ld, 9), t(ld, 9), det(ld), g(ld), change(ld), norm_r(ld), active(ld)
+    integer :: i, k, iteration
+    do k = 1, 9
+      do i = 1, n
+        x(i, k) = merge(f(i, k), IDENTITY9(k), det_f(i) > 0.0_wp)
+        r(i, k) = IDENTITY9(k)
+      end do
+    end do
+    do i = 1, n
+      active(i) = merge(1.0_wp, 0.0_wp, det_f(i) > 0.0_wp)
+    end do
+    do iteration = 1, 50
+      if (maxval(active(1:n)) == 0.0_wp) exit
+      do i = 1, n
+        ! x^-T = adj(x)^T / det(x) (adjugate's entries, transposed)
+        t(i, 1) = x(i, 5)*x(i, 9) - x(i, 8)*x(i, 6)
+        t(i, 2) = x(i, 7)*x(i, 6) - x(i, 4)*x(i, 9)
+        t(i, 3) = x(i, 4)*x(i, 8) - x(i, 7)*x(i, 5)
+        t(i, 4) = x(i, 8)*x(i, 3) - x(i, 2)*x(i, 9)
+        t(i, 5) = x(i, 1)*x(i, 9) - x(i, 7)*x(i, 3)
+        t(i, 6) = x(i, 7)*x(i, 2) - x(i, 1)*x(i, 8)
+        t(i, 7) = x(i, 2)*x(i, 6) - x(i, 5)*x(i, 3)
+        t(i, 8) = x(i, 4)*x(i, 3) - x(i, 1)*x(i, 6)
+        t(i, 9) = x(i, 1)*x(i, 5) - x(i, 4)*x(i, 2)
+        det(i) = x(i, 1)*(x(i, 5)*x(i, 9) - x(i, 8)*x(i, 6)) &
+               - x(i, 4)*(x(i, 2)*x(i, 9) - x(i, 8)*x(i, 3)) &
+               + x(i, 7)*(x(i, 2)*x(i, 6) - x(i, 5)*x(i, 3))
+      end do
+      do k = 1, 9
+        do i = 1, n
+          t(i, k) = t(i, k)/det(i)
+        end do
+      end do
+      do i = 1, n
+        g(i) = sqrt(sqrt(t(i, 1)**2 + t(i, 2)**2 + t(i, 3)**2 + t(i, 4)**2 + t(i, 5)**2 + &
+                         t(i, 6)**2 + t(i, 7)**2 + t(i, 8)**2 + t(i, 9)**2)/ &
+                    sqrt(x(i, 1)**2 + x(i, 2)**2 + x(i, 3)**2 + x(i, 4)**2 + x(i, 5)**2 + &
+                         x(i, 6)**2 + x(i, 7)**2 + x(i, 8)**2 + x(i, 9)**2))
+      end do
+      do k = 1, 9
+        do i = 1, n
+          t(i, k) = 0.5_wp*(g(i)*x(i, k) + t(i, k)/g(i))        ! the new iterate
+        end do
+      end do
+      do i = 1, n
+        change(i) = sqrt((t(i, 1) - x(i, 1))**2 + (t(i, 2) - x(i, 2))**2 + &
+                         (t(i, 3) - x(i, 3))**2 + (t(i, 4) - x(i, 4))**2 + &
+                         (t(i, 5) - x(i, 5))**2 + (t(i, 6) - x(i, 6))**2 + &
+                         (t(i, 7) - x(i, 7))**2 + (t(i, 8) - x(i, 8))**2 + &
+                         (t(i, 9) - x(i, 9))**2)
+        norm_r(i) = sqrt(t(i, 1)**2 + t(i, 2)**2 + t(i, 3)**2 + t(i, 4)**2 + t(i, 5)**2 + &
+                         t(i, 6)**2 + t(i, 7)**2 + t(i, 8)**2 + t(i, 9)**2)
+      end do
+      do k = 1, 9
+        do i = 1, n
+          x(i, k) = merge(t(i, k), x(i, k), active(i) > 0.0_wp)
+          r(i, k) = merge(t(i, k), r(i, k), active(i) > 0.0_wp)
+        end do
+      end do
+      do i = 1, n
+        active(i) = merge(0.0_wp, active(i), change(i) <= 1.0e-14_wp*norm_r(i))
+      end do
+    end do
+  end subroutine block_polar_rotation
 
   !> *MAT_003 with VP = 1: the plastic multiplier of the return whose isotropic yield radius
   !> is R (SIGY + BETA Ep alpha), R = 1 + (rate_p/SRC)^(1/SRP) of the plastic strain rate

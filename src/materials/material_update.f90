@@ -45,7 +45,8 @@ module mefem_material_update
                              rate_table_material, HARDENING_CURVE, viscoplastic, &
                              hardening_yield
   use mefem_mat_elastic, only: mat_elastic_update, mat_elastic_update_block, lame_constants
-  use mefem_mat_j2_plasticity, only: mat_j2_update, mat_j2_update_block, mat_j2_kinematic_update
+  use mefem_mat_j2_plasticity, only: mat_j2_update, mat_j2_update_block, mat_j2_kinematic_update, &
+                                     mat_j2_kinematic_update_block
   use mefem_mat_mooney_rivlin, only: mat_mooney_rivlin_update
   use mefem_tensor_algebra, only: symmetric_eigenvalues, determinant
   implicit none
@@ -233,6 +234,15 @@ contains
           call mat_j2_update_block(mat, curves, HARDENING_LINEAR, n, f, j, hist, tau, ok, factor)
         else
           call mat_j2_update_block(mat, curves, HARDENING_LINEAR, n, f, j, hist, tau, ok)
+        end if
+      else if (.not. viscoplastic(mat)) then       ! kinematic hardening
+        if (present(strain_rate)) then
+          do i = 1, n
+            factor(i) = hardening_rate_factor(mat, curves, rate(i))
+          end do
+          call mat_j2_kinematic_update_block(mat, n, f, j, hist, tau, ok, factor)
+        else
+          call mat_j2_kinematic_update_block(mat, n, f, j, hist, tau, ok)
         end if
       else
         call points_one_by_one()

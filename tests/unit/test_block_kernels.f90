@@ -7,6 +7,9 @@
 !>   elastic and plastic steps of the three hardening laws of *MAT_024/*MAT_018 from a
 !>   plastically deformed history; an inverted cell is reported (ok = .false.) with its
 !>   history untouched while its neighbours in the block are updated;
+!> - mat_j2_kinematic_update_block (*MAT_003, BETA = 0.3, through material_update_block): the
+!>   same bits as mat_j2_kinematic_update from a plastic history (its block polar rotation
+!>   the point iteration's), and the same bits at every place in blocks of 1 to BLOCK_POINTS;
 !> - mat_elastic_update_block (through material_update_block): the same bits as
 !>   mat_elastic_update at strains of 1e-2 and 0.3, at any place in blocks of 1 to
 !>   BLOCK_POINTS points, an inverted point reported;
@@ -26,7 +29,7 @@ program test_block_kernels
   use mefem_tensor_algebra, only: IDENTITY
   use mefem_testing, only: test_start, test_finish, check, check_close
   use mefem_errors, only: status_t
-  use mefem_model, only: material_t, curve_t
+  use mefem_model, only: material_t, curve_t, MAT_PLASTIC_KINEMATIC
   use mefem_cells, only: CELL_MAX_NODES
   use mefem_material_state, only: NHIST, HIST_ALPHA, BLOCK_POINTS, material_state_init
   use mefem_material_update, only: material_update, material_update_block
@@ -57,11 +60,13 @@ program test_block_kernels
     call check_material(table_steel(), 'EPS/ES table')
     call check_material(power_law_steel(), 'power law')
     call check_material(fine_table_steel(), 'EPS/ES table 0.002 apart')
+    call check_material(kinematic_steel(), 'MAT_003 BETA 0.3')
     call check_failed_point()
     call check_stable_step()
   end if
   call check_elastic()
   call check_large_volume_change()
+  call check_kinematic_placement()
   call check_placement()
   call test_finish()
 
@@ -245,6 +250,35 @@ contains
     call check(all_ok .and. placed, 'J2 block kernel, J from 0.6 to 1.5: every point the same '// &
                'bits at every place in blocks of 1 to '//trim(str(LD)))
   end subroutine check_large_volume_change
+
+  !> *MAT_003 with BETA = 0.3 (back stress: the block polar rotation), points yielding from
+  !> the virgin state: every point the same bits at every place in blocks of 1 to LD.
+  subroutine check_kinematic_placement()
+    type(material_t) :: mat
+    real(wp) :: f_all(3, 3, LD), f(LD, 9), adj(LD, 9), det(LD), tau(LD, 6), hist(LD, NHIST)
+    real(wp) :: alone(6, LD)
+    logical :: ok(LD), placed, all_ok
+    integer :: i
+    mat = kinematic_steel()
+    do i = 1, LD
+      call random_f(PLASTIC_STRAIN, f_all(:, :, i))
+      call material_state_init(hist(1, :))
+      f(1, :) = reshape(f_all(:, :, i), [9])
+      call block_adjugate(1, f, adj, det)
+      call material_update_block(mat, curves, 1, f, det, hist, tau, ok)
+      alone(:, i) = tau(1, :)
+    end do
+    call place_points(mat, f_all, alone, all_ok, placed)
+    call check(all_ok .and. placed, 'MAT_003 block kernel, BETA 0.3: every point the same '// &
+               'bits at every place in blocks of 1 to '//trim(str(LD)))
+  end subroutine check_kinematic_placement
+
+  !> *MAT_003 with mixed hardening (BETA = 0.3: a back stress), steel (MPa, mm, t).
+  type(material_t) function kinematic_steel() result(mat)
+    mat = linear_steel()
+    mat%kind = MAT_PLASTIC_KINEMATIC
+    mat%beta = 0.3_wp
+  end function kinematic_steel
 
   !> Points f_all(:, :, 1:LD) from the virgin state in blocks of every length 1 to LD, shifted
   !> by the length (each point at many places): all updated (all_ok), each with the stress
