@@ -207,13 +207,9 @@ contains
                              sound_speed=sound, status=status)
         want(:, i) = [tau_point(1, 1), tau_point(2, 2), tau_point(3, 3), tau_point(1, 2), &
                       tau_point(2, 3), tau_point(3, 1)]
-        f(1, :) = reshape(f_all(:, :, i), [9])          ! the point alone in a block
-        call block_adjugate(1, f, adj, det)
-        call material_update_block(mat, curves, 1, f, det, hist, tau, ok)
-        alone(:, i) = tau(1, :)
       end do
-      same = all(alone == want)
       call place_points(mat, f_all, alone, all_ok, placed)
+      same = all(alone == want)
       if (.not. placement_only) call check(same, 'elastic block kernel, strain '// &
                                            trim(rtext(scale))//': the bits of mat_elastic_update')
       call check(all_ok .and. placed, 'elastic block kernel, strain '//trim(rtext(scale))// &
@@ -230,23 +226,15 @@ contains
   !> J2 points with |J - 1| beyond the cube root's series range (the block's scalar loop):
   !> every point the same bits at every place in blocks of 1 to BLOCK_POINTS points.
   subroutine check_large_volume_change()
-    type(material_t) :: mat
-    real(wp) :: f_all(3, 3, LD), f(LD, 9), adj(LD, 9), det(LD), tau(LD, 6), hist(LD, NHIST)
-    real(wp) :: alone(6, LD), stretch
-    logical :: ok(LD), placed, all_ok
+    real(wp) :: f_all(3, 3, LD), alone(6, LD), stretch
+    logical :: placed, all_ok
     integer :: i
-    mat = linear_steel()
     do i = 1, LD                          ! J from 0.6 to 1.5 (range 0.1)
       call random_f(PLASTIC_STRAIN, f_all(:, :, i))
       stretch = (0.6_wp + 0.9_wp*real(i - 1, wp)/real(LD - 1, wp))**(1.0_wp/3.0_wp)
       f_all(:, :, i) = stretch*f_all(:, :, i)
-      call material_state_init(hist(1, :))
-      f(1, :) = reshape(f_all(:, :, i), [9])
-      call block_adjugate(1, f, adj, det)
-      call material_update_block(mat, curves, 1, f, det, hist, tau, ok)
-      alone(:, i) = tau(1, :)
     end do
-    call place_points(mat, f_all, alone, all_ok, placed)
+    call place_points(linear_steel(), f_all, alone, all_ok, placed)
     call check(all_ok .and. placed, 'J2 block kernel, J from 0.6 to 1.5: every point the same '// &
                'bits at every place in blocks of 1 to '//trim(str(LD)))
   end subroutine check_large_volume_change
@@ -254,21 +242,13 @@ contains
   !> *MAT_003 with BETA = 0.3 (back stress: the block polar rotation), points yielding from
   !> the virgin state: every point the same bits at every place in blocks of 1 to LD.
   subroutine check_kinematic_placement()
-    type(material_t) :: mat
-    real(wp) :: f_all(3, 3, LD), f(LD, 9), adj(LD, 9), det(LD), tau(LD, 6), hist(LD, NHIST)
-    real(wp) :: alone(6, LD)
-    logical :: ok(LD), placed, all_ok
+    real(wp) :: f_all(3, 3, LD), alone(6, LD)
+    logical :: placed, all_ok
     integer :: i
-    mat = kinematic_steel()
     do i = 1, LD
       call random_f(PLASTIC_STRAIN, f_all(:, :, i))
-      call material_state_init(hist(1, :))
-      f(1, :) = reshape(f_all(:, :, i), [9])
-      call block_adjugate(1, f, adj, det)
-      call material_update_block(mat, curves, 1, f, det, hist, tau, ok)
-      alone(:, i) = tau(1, :)
     end do
-    call place_points(mat, f_all, alone, all_ok, placed)
+    call place_points(kinematic_steel(), f_all, alone, all_ok, placed)
     call check(all_ok .and. placed, 'MAT_003 block kernel, BETA 0.3: every point the same '// &
                'bits at every place in blocks of 1 to '//trim(str(LD)))
   end subroutine check_kinematic_placement
@@ -280,17 +260,24 @@ contains
     mat%beta = 0.3_wp
   end function kinematic_steel
 
-  !> Points f_all(:, :, 1:LD) from the virgin state in blocks of every length 1 to LD, shifted
-  !> by the length (each point at many places): all updated (all_ok), each with the stress
-  !> alone(:, point) it gets alone in a block (placed).
+  !> Points f_all(:, :, 1:LD) from the virgin state, each alone in a block (their stresses:
+  !> alone), then in blocks of every length 1 to LD, shifted by the length (each point at
+  !> many places): all updated (all_ok), each with the stress it gets alone (placed).
   subroutine place_points(mat, f_all, alone, all_ok, placed)
     type(material_t), intent(in) :: mat                !< the material
     real(wp), intent(in) :: f_all(3, 3, LD)            !< the points' deformation gradients
-    real(wp), intent(in) :: alone(6, LD)               !< their stresses alone in a block
+    real(wp), intent(out) :: alone(6, LD)              !< their stresses alone in a block
     logical, intent(out) :: all_ok, placed             !< every update ok; every stress equal
     real(wp) :: f(LD, 9), adj(LD, 9), det(LD), tau(LD, 6), hist(LD, NHIST)
     logical :: ok(LD)
     integer :: n, i, place
+    do i = 1, LD
+      call material_state_init(hist(1, :))
+      f(1, :) = reshape(f_all(:, :, i), [9])
+      call block_adjugate(1, f, adj, det)
+      call material_update_block(mat, curves, 1, f, det, hist, tau, ok)
+      alone(:, i) = tau(1, :)
+    end do
     all_ok = .true.
     placed = .true.
     do n = 1, LD
