@@ -675,7 +675,7 @@ contains
     hexahedral = s%hourglass
     if (hexahedral) hexahedral = s%block_hex(b) > 0
     viscous = .false.
-    if (hexahedral) viscous = any(s%hex_viscosity(1:n, s%block_hex(b)) > 0.0_wp)
+    if (hexahedral) viscous = s%hex_viscous(s%block_hex(b))
     if (rated .or. viscous) then
       do i = 1, n
         do a = 1, nn
@@ -1085,7 +1085,7 @@ contains
     allocate(s%hex_h(BLOCK_CELLS, CELL_MAX_NODES, HOURGLASS_MODES, nhb), &
              s%hex_hx(BLOCK_CELLS, 3, HOURGLASS_MODES, nhb), s%hex_corner(BLOCK_CELLS, 8, nhb), &
              s%hex_stiffness(BLOCK_CELLS, 6, nhb), s%hex_viscosity(BLOCK_CELLS, nhb), &
-             s%hex_metric(BLOCK_CELLS, nhb), s%hex_rule(BLOCK_CELLS, nhb))
+             s%hex_metric(BLOCK_CELLS, nhb), s%hex_rule(BLOCK_CELLS, nhb), s%hex_viscous(nhb))
     s%hex_h = 0_i1
     s%hex_hx = 0.0_wp
     s%hex_corner = 1_i1
@@ -1112,6 +1112,7 @@ contains
               spread(real(HOURGLASS_VECTORS(a, :), wp), 1, 3)
         end do
       end do
+      s%hex_viscous(hb) = any(s%hex_viscosity(:, hb) > 0.0_wp)
     end do
   end subroutine hourglass_set_up
 

@@ -210,6 +210,7 @@ module mefem_explicit_state
                                                !< each corner (a pentahedron: repeated)
     real(wp), allocatable :: hex_stiffness(:,:,:)  !< (BLOCK_CELLS, 6, blocks) K
     real(wp), allocatable :: hex_viscosity(:,:)    !< (BLOCK_CELLS, blocks) c
+    logical, allocatable :: hex_viscous(:)     !< (blocks) some cell has a viscous form
     real(wp), allocatable :: hex_metric(:,:)   !< (BLOCK_CELLS, blocks) bound of lambda_max(G)
     logical, allocatable :: hex_rule(:,:)      !< (BLOCK_CELLS, blocks) LS-DYNA's
                                                !< characteristic length rule may set the
