@@ -27,7 +27,7 @@ module mefem_explicit_cell_forces
                                       inverse_3x3
   use mefem_stable_time_step, only: cell_critical_omega_squared, block_critical_omega_squared, &
                                     cell_split_weights, inverse_mass_metric, &
-                                    cell_rebalance_weights
+                                    cell_rebalance_weights, metric_packed, metric_unpacked
   use mefem_material_state, only: NHIST, HIST_ALPHA, HIST_DAMAGE, material_state_init, &
                                   BLOCK_CELLS => BLOCK_POINTS
   use mefem_material_update, only: material_update, material_update_block, rate_dependent, &
@@ -330,7 +330,7 @@ contains
     b = s%cell_block(l)
     i = s%cell_slot(l)
     grad = s%block_grad(i, :, :, b)
-    w0 = reshape(s%block_w0(i, :, b), [3, 3])
+    w0 = metric_unpacked(s%block_w0(i, :, b))
     hist = s%block_hist(i, :, b)
   end subroutine block_cell_data
 
@@ -586,7 +586,7 @@ contains
         s%cell_block(l) = b
         s%cell_slot(l) = i
         s%block_grad(i, :, :, b) = cells%grad(:, :, cell_grad_column(cells, c))
-        s%block_w0(i, :, b) = reshape(w0(:, :, l), [9])
+        s%block_w0(i, :, b) = metric_packed(w0(:, :, l))
         s%block_weight(i, b) = s%weight(l)
         call material_state_init(s%block_hist(i, :, b))
       end do
@@ -1285,7 +1285,7 @@ contains
       call cell_shares(l)
       call inverse_mass_metric(dim, nn, grad, share, w0)
       if (s%nblock > 0) then
-        s%block_w0(s%cell_slot(l), :, s%cell_block(l)) = reshape(w0, [9])
+        s%block_w0(s%cell_slot(l), :, s%cell_block(l)) = metric_packed(w0)
       else
         s%w0(:, :, l) = w0(1:dim, 1:dim)
       end if

@@ -7,6 +7,7 @@ module mefem_explicit_state
   use mefem_kinds, only: wp, i1, i8
   use mefem_cells, only: CELL_MAX_NODES
   use mefem_material_state, only: NHIST, BLOCK_CELLS => BLOCK_POINTS
+  use mefem_stable_time_step, only: METRIC_ENTRIES
   use mefem_mortar_contact, only: mortar_contact_t
   use mefem_tied_contact, only: tied_nodes_t
   use mefem_rigid_bodies, only: rigid_bodies_t
@@ -143,7 +144,8 @@ module mefem_explicit_state
     real(wp), pointer, contiguous :: block_grad(:,:,:,:) => null()
                                                !< (BLOCK_CELLS, 3, CELL_MAX_NODES, nblock)
     real(wp), pointer, contiguous :: block_w0(:,:,:) => null()
-                                               !< (BLOCK_CELLS, 9, nblock) W0 by column
+                                               !< (BLOCK_CELLS, METRIC_ENTRIES, nblock) W0
+                                               !< packed (metric_packed)
     real(wp), pointer, contiguous :: block_weight(:,:) => null()
                                                !< (BLOCK_CELLS, nblock) reference volumes
     real(wp), pointer, contiguous :: block_hist(:,:,:) => null()
@@ -365,7 +367,7 @@ contains
     shapes(1, 14:16) = nblocked                                      ! block_cell, cell_block,
                                                                      ! cell_slot
     shapes(:, 17) = [int(BLOCK_CELLS, i8), 3_i8, int(CELL_MAX_NODES, i8), b]   ! block_grad
-    shapes(1:3, 18) = [int(BLOCK_CELLS, i8), 9_i8, b]                ! block_w0
+    shapes(1:3, 18) = [int(BLOCK_CELLS, i8), int(METRIC_ENTRIES, i8), b]  ! block_w0
     shapes(1:2, 19) = [int(BLOCK_CELLS, i8), b]                      ! block_weight
     shapes(1:3, 20) = [int(BLOCK_CELLS, i8), int(NHIST, i8), b]      ! block_hist
   end function arena_shapes

@@ -36,7 +36,8 @@ program test_block_kernels
   use mefem_cell_finite_strain, only: cell_deformation_gradient, cell_internal_force, &
                                       block_deformation_gradient, block_adjugate, &
                                       block_internal_force
-  use mefem_stable_time_step, only: cell_critical_omega_squared, block_critical_omega_squared
+  use mefem_stable_time_step, only: cell_critical_omega_squared, block_critical_omega_squared, &
+                                    METRIC_ENTRIES, metric_packed, metric_unpacked
   use mefem_test_fixtures, only: linear_steel, table_steel, power_law_steel, elastic_steel
   implicit none
 
@@ -345,7 +346,8 @@ contains
 
   !> block_critical_omega_squared vs cell_critical_omega_squared.
   subroutine check_stable_step()
-    real(wp) :: f(LD, 9), adj(LD, 9), det(LD), w0(LD, 9), weight(LD), omega2(LD), m(3, 3)
+    real(wp) :: f(LD, 9), adj(LD, 9), det(LD), w0(LD, METRIC_ENTRIES), weight(LD), omega2(LD)
+    real(wp) :: m(3, 3)
     real(wp) :: f_point(3, 3), w0_point(3, 3), worst, want
     integer :: i
     call random_number(weight)
@@ -357,21 +359,24 @@ contains
       f(i, :) = reshape(f_point, [9])
       call random_number(m)
       w0_point = matmul(m, transpose(m))                     ! symmetric positive
+      w0_point = 0.5_wp*(w0_point + transpose(w0_point))     ! (to the bit)
       if (i == 1) w0_point = reshape([2.0_wp, 0.0_wp, 0.0_wp, 0.0_wp, 2.0_wp, 0.0_wp, 0.0_wp, &
                                       0.0_wp, 2.0_wp], [3, 3])   ! isotropic: triple root
-      w0(i, :) = reshape(w0_point, [9])
+      w0(i, :) = metric_packed(w0_point)
+      if (i == 3) call check(all(metric_unpacked(w0(i, :)) == w0_point), &
+                             'stable step: a packed metric unpacks to the same bits')
     end do
     call block_adjugate(NCELL, f, adj, det)
     call block_critical_omega_squared(NCELL, weight, w0, adj, det, LAMBDA, MU, omega2)
     worst = 0.0_wp
     do i = 3, NCELL
-      want = cell_critical_omega_squared(3, weight(i), reshape(w0(i, :), [3, 3]), &
+      want = cell_critical_omega_squared(3, weight(i), metric_unpacked(w0(i, :)), &
                                          reshape(f(i, :), [3, 3]), LAMBDA, MU)
       worst = max(worst, abs(omega2(i) - want)/want)
     end do
     call check(worst <= 1.0e-13_wp, 'stable step: random cells within 1e-13 of the point '// &
                'kernel (worst '//trim(rstr(worst))//')')
-    want = cell_critical_omega_squared(3, weight(1), reshape(w0(1, :), [3, 3]), &
+    want = cell_critical_omega_squared(3, weight(1), metric_unpacked(w0(1, :)), &
                                        reshape(f(1, :), [3, 3]), LAMBDA, MU)
     call check_close(omega2(1), want, 1.0e-15_wp, 'stable step: isotropic metric at F = I')
     call check_close(omega2(1), weight(1)*2.0_wp*(3.0_wp*LAMBDA + 2.0_wp*MU), 1.0e-15_wp, &
@@ -382,7 +387,8 @@ contains
   !> The same cell in blocks of other lengths and at other places gives the same bits.
   subroutine check_placement()
     integer, parameter :: NN = 7
-    real(wp) :: u(LD, 3, CELL_MAX_NODES), grad(LD, 3, CELL_MAX_NODES), w0(LD, 9), weight(LD)
+    real(wp) :: u(LD, 3, CELL_MAX_NODES), grad(LD, 3, CELL_MAX_NODES), w0(LD, METRIC_ENTRIES)
+    real(wp) :: weight(LD)
     real(wp) :: hist(LD, NHIST), omega2(LD), force(LD, 3, CELL_MAX_NODES), m(3, 3)
     real(wp) :: ref_force(3, NN), ref_hist(NHIST), ref_omega2
     logical :: same
@@ -394,7 +400,7 @@ contains
     call random_number(weight)
     do i = 1, LD
       call random_number(m)
-      w0(i, :) = reshape(matmul(m, transpose(m)), [9])
+      w0(i, :) = metric_packed(matmul(m, transpose(m)))
     end do
     call run_block(1, 1, NN, u, grad, w0, weight, hist, force, omega2)   ! cell 1 alone
     ref_force = force(1, :, 1:NN)
@@ -416,7 +422,7 @@ contains
   subroutine run_block(n, place, nn, u, grad, w0, weight, hist, force, omega2)
     integer, intent(in) :: n, place, nn        !< block length, reference place, nodes
     real(wp), intent(inout) :: u(LD, 3, CELL_MAX_NODES), grad(LD, 3, CELL_MAX_NODES) !< data
-    real(wp), intent(inout) :: w0(LD, 9), weight(LD)                                  !< data
+    real(wp), intent(inout) :: w0(LD, METRIC_ENTRIES), weight(LD)                      !< data
     real(wp), intent(out) :: hist(LD, NHIST)                     !< histories after the step
     real(wp), intent(out) :: force(LD, 3, CELL_MAX_NODES)        !< forces
     real(wp), intent(out) :: omega2(LD)                          !< stable-step bounds
