@@ -15,6 +15,17 @@ module mefem_cell_finite_strain
   public :: cell_deformation_gradient, cell_internal_force, cell_tangent, inverse_3x3, &
             adjugate_3x3
   public :: block_deformation_gradient, block_adjugate, block_internal_force, block_strain_rate
+  public :: block_face_deformation_gradient, block_face_internal_force, face_gradients_compact, &
+            face_gradients_expanded
+
+  !> Compact gradients of an ME-FEM face cell (doc/theory.md 2.2): its MEFEM_FACE_NODES = 7
+  !> slots are the first element's 4 corners (1-4), its enriched node (5), the second
+  !> element's far corner (6) and enriched node (7). The 5 corners' gradients sum to zero (the
+  !> two elements' P1 gradients each do) and the two enriched nodes' gradients are opposite
+  !> (2.6: F_cell = F_P1 + c (b_1 - b_2) (x) n), so the 15 numbers G_1..G_4, g = G_5 hold the
+  !> cell: G_6 = -(G_1 + .. + G_4), G_7 = -g. A boundary cell (5 nodes) has G_6 = G_7 = 0;
+  !> the blocks give its missing slots zero displacements instead (the same F).
+  integer, parameter, public :: FACE_COMPACT_COLUMNS = 5
 
 contains
 
@@ -160,12 +171,76 @@ contains
     end do
   end subroutine block_deformation_gradient
 
+  !> Block form of F for ME-FEM face cells with compact gradients (FACE_COMPACT_COLUMNS):
+  !> F = I + sum_{a=1..4} (u_a - u_6) (x) G_a + (u_5 - u_7) (x) g, the same field as the
+  !> 7-node sum (G_6 = -(G_1 + .. + G_4), G_7 = -g) with 15 gradients streamed instead of 21
+  !> and differences of displacements instead of their sum. A boundary cell's slots 6 and 7
+  !> must hold zero displacements.
+  pure subroutine block_face_deformation_gradient(n, u, grad, f)
+    integer, intent(in) :: n                      !< cells (<= BLOCK_POINTS)
+    integer, parameter :: ld = BLOCK_POINTS       !< leading dimension
+    real(wp), intent(in) :: u(ld, 3, 7)           !< displacements of the cells' 7 slots
+    real(wp), intent(in) :: grad(ld, 3, FACE_COMPACT_COLUMNS) !< compact gradients
+    real(wp), intent(out) :: f(ld, 9)             !< deformation gradients, by column
+    real(wp) :: d1, d2, d3
+    integer :: i, a, p
+    do i = 1, n
+      f(i, 1) = 1.0_wp
+      f(i, 2:4) = 0.0_wp
+      f(i, 5) = 1.0_wp
+      f(i, 6:8) = 0.0_wp
+      f(i, 9) = 1.0_wp
+    end do
+    do a = 1, FACE_COMPACT_COLUMNS
+      ! slot pairs: the corners 1-4 relative to the far corner 6, then the bubble jump 5 - 7
+      p = merge(6, 7, a < FACE_COMPACT_COLUMNS)
+      do i = 1, n
+        d1 = u(i, 1, a) - u(i, 1, p)
+        d2 = u(i, 2, a) - u(i, 2, p)
+        d3 = u(i, 3, a) - u(i, 3, p)
+        f(i, 1) = f(i, 1) + d1*grad(i, 1, a)
+        f(i, 2) = f(i, 2) + d2*grad(i, 1, a)
+        f(i, 3) = f(i, 3) + d3*grad(i, 1, a)
+        f(i, 4) = f(i, 4) + d1*grad(i, 2, a)
+        f(i, 5) = f(i, 5) + d2*grad(i, 2, a)
+        f(i, 6) = f(i, 6) + d3*grad(i, 2, a)
+        f(i, 7) = f(i, 7) + d1*grad(i, 3, a)
+        f(i, 8) = f(i, 8) + d2*grad(i, 3, a)
+        f(i, 9) = f(i, 9) + d3*grad(i, 3, a)
+      end do
+    end do
+  end subroutine block_face_deformation_gradient
+
+  !> The compact gradients (FACE_COMPACT_COLUMNS columns) of an ME-FEM face cell from its
+  !> full ones (slots as above).
+  pure function face_gradients_compact(grad) result(compact)
+    real(wp), intent(in) :: grad(3, 7)            !< gradients of the 7 slots
+    real(wp) :: compact(3, FACE_COMPACT_COLUMNS)
+    compact = grad(:, 1:FACE_COMPACT_COLUMNS)
+  end function face_gradients_compact
+
+  !> The 7 slots' gradients of an ME-FEM face cell of nn nodes (7, or 5 on the boundary)
+  !> from its compact ones (G_6 = -(G_1 + .. + G_4), G_7 = -g; a boundary cell's zero).
+  pure function face_gradients_expanded(nn, compact) result(grad)
+    integer, intent(in) :: nn                     !< nodes of the cell
+    real(wp), intent(in) :: compact(3, FACE_COMPACT_COLUMNS)  !< G_1..G_4, g
+    real(wp) :: grad(3, 7)
+    grad = 0.0_wp
+    grad(:, 1:FACE_COMPACT_COLUMNS) = compact
+    if (nn == 7) then
+      grad(:, 6) = -(compact(:, 1) + compact(:, 2) + compact(:, 3) + compact(:, 4))
+      grad(:, 7) = -compact(:, 5)
+    end if
+  end function face_gradients_expanded
+
   !> Effective strain rates of n cells (block form, as block_deformation_gradient): Fdot =
   !> sum_a v_a (x) grad_a, l = Fdot F^-1 = Fdot adj(F)/J, d = sym(l), and the rate sqrt(d : d)
   !> (deviatoric: sqrt(dev d : dev d)), LS-DYNA's measure for the Cowper-Symonds scale
   !> (doc/theory.md section 4). Cells with J <= 0 get 0.
-  pure subroutine block_strain_rate(n, nn, v, grad, adj, det, deviatoric, rate)
+  pure subroutine block_strain_rate(n, nn, face, v, grad, adj, det, deviatoric, rate)
     integer, intent(in) :: n, nn                  !< cells (<= BLOCK_POINTS), nodes per cell
+    logical, intent(in) :: face                   !< ME-FEM face cells, compact gradients
+                                                  !< (block_face_deformation_gradient)
     integer, parameter :: ld = BLOCK_POINTS       !< leading dimension
     real(wp), intent(in) :: v(ld, 3, nn)          !< velocities of the cells' nodes
     real(wp), intent(in) :: grad(ld, 3, nn)       !< reference gradients
@@ -175,7 +250,11 @@ contains
     real(wp), intent(out) :: rate(ld)             !< effective strain rates
     real(wp) :: fdot(ld, 9), l(9), d(6), mean
     integer :: i, r, c
-    call block_deformation_gradient(n, nn, v, grad, fdot)    ! (I + Fdot: the identity taken off)
+    if (face) then                                ! (I + Fdot: the identity taken off)
+      call block_face_deformation_gradient(n, v, grad, fdot)
+    else
+      call block_deformation_gradient(n, nn, v, grad, fdot)
+    end if
     do i = 1, n
       fdot(i, 1) = fdot(i, 1) - 1.0_wp
       fdot(i, 5) = fdot(i, 5) - 1.0_wp
@@ -270,6 +349,30 @@ contains
       end do
     end do
   end subroutine block_internal_force
+
+  !> Block form of the nodal forces of ME-FEM face cells with compact gradients
+  !> (FACE_COMPACT_COLUMNS): f_a = (w/J) (tau adj(F)^T) G_a for the 4 corners and the first
+  !> enriched node as in block_internal_force, then f_6 = -(f_1 + .. + f_4) and f_7 = -f_5
+  !> (a boundary cell's slots 6 and 7 get these too and are not assembled).
+  pure subroutine block_face_internal_force(n, grad, weight, adj, det, tau, force)
+    integer, intent(in) :: n                      !< cells (<= BLOCK_POINTS)
+    integer, parameter :: ld = BLOCK_POINTS       !< leading dimension
+    real(wp), intent(in) :: grad(ld, 3, FACE_COMPACT_COLUMNS) !< compact gradients
+    real(wp), intent(in) :: weight(ld)            !< reference volumes
+    real(wp), intent(in) :: adj(ld, 9)            !< adj(F), column by column
+    real(wp), intent(in) :: det(ld)               !< J = det F
+    real(wp), intent(in) :: tau(ld, 6)            !< Kirchhoff stresses
+    real(wp), intent(out) :: force(ld, 3, 7)      !< nodal forces of the 7 slots
+    integer :: i, k
+    call block_internal_force(n, FACE_COMPACT_COLUMNS, grad, weight, adj, det, tau, &
+                              force(:, :, 1:FACE_COMPACT_COLUMNS))
+    do k = 1, 3
+      do i = 1, n
+        force(i, k, 6) = -(force(i, k, 1) + force(i, k, 2) + force(i, k, 3) + force(i, k, 4))
+        force(i, k, 7) = -force(i, k, 5)
+      end do
+    end do
+  end subroutine block_face_internal_force
 
   !> Adjugate (transposed cofactor matrix, m adj = det 1) and determinant of a 3x3 matrix.
   pure subroutine adjugate_3x3(m, adj, det)

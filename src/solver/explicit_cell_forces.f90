@@ -24,6 +24,9 @@ module mefem_explicit_cell_forces
   use mefem_cell_finite_strain, only: cell_deformation_gradient, cell_internal_force, &
                                       block_deformation_gradient, block_adjugate, &
                                       block_internal_force, adjugate_3x3, block_strain_rate, &
+                                      block_face_deformation_gradient, &
+                                      block_face_internal_force, face_gradients_compact, &
+                                      face_gradients_expanded, FACE_COMPACT_COLUMNS, &
                                       inverse_3x3
   use mefem_stable_time_step, only: cell_critical_omega_squared, block_critical_omega_squared, &
                                     cell_split_weights, inverse_mass_metric, &
@@ -329,10 +332,28 @@ contains
     integer :: b, i
     b = s%cell_block(l)
     i = s%cell_slot(l)
-    grad = s%block_grad(i, :, :, b)
+    call block_cell_gradients(s, l, grad)
     w0 = metric_unpacked(s%block_w0(i, :, b))
     hist = s%block_hist(i, :, b)
   end subroutine block_cell_data
+
+  !> The reference gradients of local cell l from the block storage (3D): an ME-FEM face
+  !> cell's expanded from their compact form (face_gradients_expanded).
+  subroutine block_cell_gradients(s, l, grad)
+    type(explicit_state_t), intent(in) :: s           !< local state (3D, blocks built)
+    integer, intent(in) :: l                          !< local cell
+    real(wp), intent(out) :: grad(3, CELL_MAX_NODES)  !< reference gradients
+    integer :: b, i
+    b = s%cell_block(l)
+    i = s%cell_slot(l)
+    if (s%block_nodes(b) == MEFEM_FACE_NODES) then
+      grad = 0.0_wp
+      grad(:, 1:MEFEM_FACE_NODES) = face_gradients_expanded(s%nnodes(l), &
+          s%block_grad(i, :, 1:FACE_COMPACT_COLUMNS, b))
+    else
+      grad = s%block_grad(i, :, :, b)
+    end if
+  end subroutine block_cell_gradients
 
   !> The work of cell_forces on the cell's data; the new history is stored (blocks or
   !> per-cell array) once the material update succeeded.
@@ -585,7 +606,12 @@ contains
         c = s%cell_global(l)
         s%cell_block(l) = b
         s%cell_slot(l) = i
-        s%block_grad(i, :, :, b) = cells%grad(:, :, cell_grad_column(cells, c))
+        if (s%block_nodes(b) == MEFEM_FACE_NODES) then   ! compact (face_gradients_compact)
+          s%block_grad(i, :, 1:FACE_COMPACT_COLUMNS, b) = face_gradients_compact( &
+              cells%grad(:, 1:MEFEM_FACE_NODES, cell_grad_column(cells, c)))
+        else
+          s%block_grad(i, :, :, b) = cells%grad(:, :, cell_grad_column(cells, c))
+        end if
         s%block_w0(i, :, b) = metric_packed(w0(:, :, l))
         s%block_weight(i, b) = s%weight(l)
         call material_state_init(s%block_hist(i, :, b))
@@ -633,26 +659,34 @@ contains
     real(wp) :: stiffness(LD, 6), viscosity(LD), energy(LD), power(LD), c_inverse(6)
     real(wp) :: position(LD, 3, 8), rule(LD), rate(LD), kept(LD, NHIST)
     logical :: ok(LD), finite(LD), steps_at_once, averaged, hexahedral, rated, erodes, &
-               failed(LD), viscous
+               failed(LD), viscous, face
     integer :: n, nn, i, a, l, node, first, hb, k
     first = s%block_start(b)
     n = s%block_start(b + 1) - first
     if (n == 0) return
     nn = s%block_nodes(b)
-    ! gather the displacements (the rest is stored in the blocks; a padded slot, node 0, takes
-    ! the first node's: its gradient is zero)
+    face = nn == MEFEM_FACE_NODES                     ! ME-FEM face cells: compact gradients
+    ! gather the displacements (the rest is stored in the blocks; a padded slot, node 0, gets
+    ! zero: its gradient is zero, and a boundary face cell's compact F needs the zero)
     do i = 1, n
       l = s%block_cell(first + i - 1)
       do a = 1, nn
         node = s%nodes(a, l)
-        if (node == 0) node = s%nodes(1, l)
-        u(i, 1, a) = s%u(1, node)
-        u(i, 2, a) = s%u(2, node)
-        u(i, 3, a) = s%u(3, node)
+        if (node > 0) then
+          u(i, 1, a) = s%u(1, node)
+          u(i, 2, a) = s%u(2, node)
+          u(i, 3, a) = s%u(3, node)
+        else
+          u(i, :, a) = 0.0_wp
+        end if
       end do
     end do
     ! F, J and adj(F) once per cell; material update (history in place); forces; stable step
-    call block_deformation_gradient(n, nn, u, s%block_grad(:, :, :, b), f)
+    if (face) then
+      call block_face_deformation_gradient(n, u, s%block_grad(:, :, :, b), f)
+    else
+      call block_deformation_gradient(n, nn, u, s%block_grad(:, :, :, b), f)
+    end if
     call block_adjugate(n, f, adj, det)
     l = s%block_cell(first)
     ! erosion: a failed cell (HIST_ALPHA < 0) goes through the kernels at F = I, its history
@@ -676,16 +710,16 @@ contains
     if (hexahedral) hexahedral = s%block_hex(b) > 0
     viscous = .false.
     if (hexahedral) viscous = s%hex_viscous(s%block_hex(b))
-    if (rated .or. viscous) then
+    if (rated .or. viscous) then                      ! (padded slots: zero, as for u)
       do i = 1, n
         do a = 1, nn
           node = s%nodes(a, s%block_cell(first + i - 1))
-          if (node == 0) node = s%nodes(1, s%block_cell(first + i - 1))
-          v(i, :, a) = s%v(:, node)
+          v(i, :, a) = 0.0_wp
+          if (node > 0) v(i, :, a) = s%v(:, node)
         end do
       end do
     end if
-    if (rated) call block_strain_rate(n, nn, v, s%block_grad(:, :, :, b), adj, det, &
+    if (rated) call block_strain_rate(n, nn, face, v, s%block_grad(:, :, :, b), adj, det, &
                                       model%materials(s%material(l))%vp < 0.0_wp, rate)
     averaged = s%nodal_pressure
     if (averaged) averaged = s%np_cell(l)
@@ -746,8 +780,13 @@ contains
       end if
       if (erodes) call erode_failed()
     end if
-    if (.not. averaged) call block_internal_force(n, nn, s%block_grad(:, :, :, b), &
-                                                  s%block_weight(:, b), adj, det, tau, force)
+    if (face) then
+      call block_face_internal_force(n, s%block_grad(:, :, :, b), s%block_weight(:, b), adj, &
+                                     det, tau, force)
+    else if (.not. averaged) then
+      call block_internal_force(n, nn, s%block_grad(:, :, :, b), s%block_weight(:, b), adj, &
+                                det, tau, force)
+    end if
     call block_critical_omega_squared(n, s%block_weight(:, b), s%block_w0(:, :, b), adj, det, &
                                       s%lame(1, l), s%lame(2, l), omega2)
     if (hexahedral) then
@@ -1298,7 +1337,7 @@ contains
     subroutine local_cell_gradients(l)
       integer, intent(in) :: l                        !< local cell
       if (s%nblock > 0) then
-        grad = s%block_grad(s%cell_slot(l), :, :, s%cell_block(l))
+        call block_cell_gradients(s, l, grad)
       else
         grad = 0.0_wp
         grad(1:dim, :) = s%grad(:, :, l)

@@ -35,7 +35,9 @@ program test_block_kernels
   use mefem_material_update, only: material_update, material_update_block
   use mefem_cell_finite_strain, only: cell_deformation_gradient, cell_internal_force, &
                                       block_deformation_gradient, block_adjugate, &
-                                      block_internal_force
+                                      block_internal_force, block_face_deformation_gradient, &
+                                      block_face_internal_force, face_gradients_expanded, &
+                                      FACE_COMPACT_COLUMNS
   use mefem_stable_time_step, only: cell_critical_omega_squared, block_critical_omega_squared, &
                                     METRIC_ENTRIES, metric_packed, metric_unpacked
   use mefem_test_fixtures, only: linear_steel, table_steel, power_law_steel, elastic_steel
@@ -57,6 +59,8 @@ program test_block_kernels
   if (.not. placement_only) then
     call check_element_kernels(7)
     call check_element_kernels(5)
+    call check_face_kernels(7)
+    call check_face_kernels(5)
     call check_material(linear_steel(), 'linear hardening')
     call check_material(table_steel(), 'EPS/ES table')
     call check_material(power_law_steel(), 'power law')
@@ -68,10 +72,51 @@ program test_block_kernels
   call check_elastic()
   call check_large_volume_change()
   call check_kinematic_placement()
-  call check_placement()
+  call check_placement(.false.)
+  call check_placement(.true.)
   call test_finish()
 
 contains
+
+  !> The face kernels (compact gradients, mefem_cell_finite_strain) against the point kernels
+  !> on the expanded gradients, for NCELL random cells of nn nodes (7, or 5: a boundary cell,
+  !> slots 6 and 7 with zero displacements): F and the forces to round-off (their sums are
+  !> arranged differently, so not the same bits).
+  subroutine check_face_kernels(nn)
+    integer, intent(in) :: nn              !< nodes of the cells
+    real(wp) :: u(LD, 3, 7), compact(LD, 3, FACE_COMPACT_COLUMNS), f(LD, 9), adj(LD, 9)
+    real(wp) :: det(LD), tau(LD, 6), weight(LD), force(LD, 3, 7), grad(3, 7)
+    real(wp) :: f_point(3, 3), tau_point(3, 3), force_point(3, 7), f_error, force_error
+    integer :: i
+    call random_number(u)
+    u = 0.05_wp*(u - 0.5_wp)
+    if (nn == 5) u(:, :, 6:7) = 0.0_wp
+    call random_number(compact)
+    compact = compact - 0.5_wp
+    call random_number(weight)
+    call random_number(tau)
+    tau = 100.0_wp*(tau - 0.5_wp)
+    call block_face_deformation_gradient(NCELL, u, compact, f)
+    call block_adjugate(NCELL, f, adj, det)
+    call block_face_internal_force(NCELL, compact, weight, adj, det, tau, force)
+    f_error = 0.0_wp
+    force_error = 0.0_wp
+    do i = 1, NCELL
+      grad = face_gradients_expanded(nn, compact(i, :, :))
+      call cell_deformation_gradient(3, nn, grad(:, 1:nn), u(i, :, 1:nn), f_point)
+      f_error = max(f_error, maxval(abs(reshape(f_point, [9]) - f(i, :))))
+      tau_point = reshape([tau(i, 1), tau(i, 4), tau(i, 6), tau(i, 4), tau(i, 2), tau(i, 5), &
+                           tau(i, 6), tau(i, 5), tau(i, 3)], [3, 3])
+      call cell_internal_force(3, nn, grad(:, 1:nn), weight(i), reshape(f(i, :), [3, 3]), &
+                               tau_point, force_point(:, 1:nn))
+      force_error = max(force_error, maxval(abs(force_point(:, 1:nn) - force(i, :, 1:nn)))/ &
+                                     maxval(abs(force_point(:, 1:nn))))
+    end do
+    call check(f_error <= 1.0e-15_wp, 'face kernels, '//trim(str(nn))//' nodes: F to '// &
+               '1e-15 of the 7-slot sum (worst '//trim(rstr(f_error))//')')
+    call check(force_error <= 1.0e-14_wp, 'face kernels, '//trim(str(nn))//' nodes: forces '// &
+               'to 1e-14 of the largest (worst '//trim(rstr(force_error))//')')
+  end subroutine check_face_kernels
 
   !> A random deformation gradient I + scale (R - 1/2), R uniform in [0, 1)^(3x3).
   subroutine random_f(scale, f)
@@ -384,8 +429,10 @@ contains
     call check(omega2(2) == huge(1.0_wp), 'stable step: det F < 0 gives huge')
   end subroutine check_stable_step
 
-  !> The same cell in blocks of other lengths and at other places gives the same bits.
-  subroutine check_placement()
+  !> The same cell in blocks of other lengths and at other places gives the same bits (7-node
+  !> cells with full or with compact face gradients).
+  subroutine check_placement(face)
+    logical, intent(in) :: face            !< the face kernels (compact gradients)
     integer, parameter :: NN = 7
     real(wp) :: u(LD, 3, CELL_MAX_NODES), grad(LD, 3, CELL_MAX_NODES), w0(LD, METRIC_ENTRIES)
     real(wp) :: weight(LD)
@@ -402,25 +449,27 @@ contains
       call random_number(m)
       w0(i, :) = metric_packed(matmul(m, transpose(m)))
     end do
-    call run_block(1, 1, NN, u, grad, w0, weight, hist, force, omega2)   ! cell 1 alone
+    call run_block(1, 1, NN, face, u, grad, w0, weight, hist, force, omega2)   ! cell 1 alone
     ref_force = force(1, :, 1:NN)
     ref_hist = hist(1, :)
     ref_omega2 = omega2(1)
     same = .true.
     do n = 2, LD
       place = 1 + mod(7*n + 3, n)          ! places 1 .. n
-      call run_block(n, place, NN, u, grad, w0, weight, hist, force, omega2)
+      call run_block(n, place, NN, face, u, grad, w0, weight, hist, force, omega2)
       same = same .and. all(force(place, :, 1:NN) == ref_force) .and. &
              all(hist(place, :) == ref_hist) .and. omega2(place) == ref_omega2
     end do
     call check(same, 'a cell gives the same bits at any place in blocks of 1 to '// &
-               trim(str(LD))//' cells')
+               trim(str(LD))//' cells'//trim(merge(' (compact face gradients)', &
+                                                   '                         ', face)))
   end subroutine check_placement
 
   !> The kernels on a block of n cells of a table-hardening material from the virgin state,
   !> cell 1's data copied to `place` and new random displacements elsewhere.
-  subroutine run_block(n, place, nn, u, grad, w0, weight, hist, force, omega2)
+  subroutine run_block(n, place, nn, face, u, grad, w0, weight, hist, force, omega2)
     integer, intent(in) :: n, place, nn        !< block length, reference place, nodes
+    logical, intent(in) :: face                !< the face kernels (nn = 7, compact gradients)
     real(wp), intent(inout) :: u(LD, 3, CELL_MAX_NODES), grad(LD, 3, CELL_MAX_NODES) !< data
     real(wp), intent(inout) :: w0(LD, METRIC_ENTRIES), weight(LD)                      !< data
     real(wp), intent(out) :: hist(LD, NHIST)                     !< histories after the step
@@ -438,10 +487,18 @@ contains
     do i = 1, n
       call material_state_init(hist(i, :))
     end do
-    call block_deformation_gradient(n, nn, u, grad, f)
+    if (face) then
+      call block_face_deformation_gradient(n, u, grad, f)
+    else
+      call block_deformation_gradient(n, nn, u, grad, f)
+    end if
     call block_adjugate(n, f, adj, det)
     call material_update_block(table_steel(), curves, n, f, det, hist, tau, ok)
-    call block_internal_force(n, nn, grad, weight, adj, det, tau, force)
+    if (face) then
+      call block_face_internal_force(n, grad, weight, adj, det, tau, force)
+    else
+      call block_internal_force(n, nn, grad, weight, adj, det, tau, force)
+    end if
     call block_critical_omega_squared(n, weight, w0, adj, det, LAMBDA, MU, omega2)
   end subroutine run_block
 

@@ -18,12 +18,14 @@ program test_stable_time_step
   use, intrinsic :: iso_fortran_env, only: output_unit
   use mefem_kinds, only: wp
   use mefem_errors, only: status_t
+  use mefem_strings, only: rtoa
   use mefem_model, only: model_t, material_t, curve_t, ELEM_SOLID, ELEM_SHELL, SECTION_SOLID, &
                          SECTION_SHELL, MAT_ELASTIC, MAT_PIECEWISE_LINEAR, MAT_POWER_LAW, &
                          MAT_MOONEY_RIVLIN, MAT_RIGID, TOPO_TET4, TOPO_TRI3
   use mefem_model_resolve, only: ELFORM_MEFEM, ELFORM_TET_STANDARD, ELFORM_TRI_PLANE_STRAIN
   use mefem_cells, only: cells_t, cells_build, CELL_MAX_NODES, cell_grad_column
   use mefem_lumped_mass, only: lumped_mass
+  use mefem_cell_finite_strain, only: face_gradients_compact, face_gradients_expanded
   use mefem_material_state, only: NHIST, material_state_init
   use mefem_material_update, only: material_update, material_elastic_moduli
   use mefem_stable_time_step, only: cell_mass_shares, cell_inverse_mass_metric, &
@@ -74,6 +76,7 @@ program test_stable_time_step
   call check_mesh('tri regular mixed', 2, 6, 0.0_wp, PART_MIXED, 3.1_wp)
   call check_kept_gradients(3, 3, 0.25_wp)
   call check_kept_gradients(2, 6, 0.3_wp)
+  call check_face_layout()
   call test_finish()
 
 contains
@@ -337,6 +340,47 @@ contains
     tri_area = 0.5_wp*((xc(1, 2) - xc(1, 1))*(xc(2, 3) - xc(2, 1)) - &
                        (xc(2, 2) - xc(2, 1))*(xc(1, 3) - xc(1, 1)))
   end function tri_area
+
+  !> The slot layout of ME-FEM face cells that the explicit blocks' compact gradients rely
+  !> on (mefem_cell_finite_strain, FACE_COMPACT_COLUMNS), on a distorted tet mesh: slots 1-4
+  !> and 6 mesh nodes, 5 and 7 enriched; the gradients expanded from the compact ones equal
+  !> the built ones to round-off of the cell's largest gradient (G_6 the others' negated
+  !> sum, G_7 = -G_5; a boundary cell's 5 nodes as built).
+  subroutine check_face_layout()
+    type(model_t) :: model
+    type(cells_t) :: cells
+    type(status_t) :: status
+    real(wp) :: grad(3, 7), expanded(3, 7), worst, scale
+    integer :: c, nn, faces, boundary
+    logical :: slots_ok
+    call make_mesh(3, 3, 0.25_wp, PART_MEFEM, model)
+    call cells_build(model, cells, status)
+    call check(status%ok, 'face layout: cells built')
+    if (.not. status%ok) return
+    worst = 0.0_wp
+    slots_ok = .true.
+    faces = 0
+    boundary = 0
+    do c = 1, cells%n
+      nn = cells%nnodes(c)
+      if (nn == 7) faces = faces + 1
+      if (nn == 5) boundary = boundary + 1
+      grad = 0.0_wp
+      grad(:, 1:nn) = cells%grad(:, 1:nn, cell_grad_column(cells, c))
+      expanded = face_gradients_expanded(nn, face_gradients_compact(grad))
+      scale = maxval(abs(grad))
+      worst = max(worst, maxval(abs(expanded - grad))/scale)
+      slots_ok = slots_ok .and. all(cells%nodes(1:4, c) <= cells%n_mesh_nodes) .and. &
+                 cells%nodes(5, c) > cells%n_mesh_nodes
+      if (nn == 7) slots_ok = slots_ok .and. cells%nodes(6, c) <= cells%n_mesh_nodes .and. &
+                              cells%nodes(7, c) > cells%n_mesh_nodes
+    end do
+    call check(faces > 0 .and. boundary > 0 .and. faces + boundary == cells%n, &
+               'face layout: every ME-FEM cell has 7 (inside) or 5 (boundary) nodes')
+    call check(slots_ok, 'face layout: corners in slots 1-4 and 6, enriched nodes in 5 and 7')
+    call check(worst <= 1.0e-14_wp, 'face layout: compact gradients expand to the cells'' own '// &
+               '(largest difference '//trim(rtoa(worst))//' of the largest gradient)')
+  end subroutine check_face_layout
 
   !> cells_build with elements wanted (the explicit analysis: a rank's own): the same cells,
   !> numbered alike, and the gradients of exactly those whose first element is wanted, equal
