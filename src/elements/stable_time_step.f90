@@ -29,7 +29,8 @@ module mefem_stable_time_step
 
   public :: cell_mass_shares, cell_inverse_mass_metric, cell_critical_omega_squared, &
             symmetric_max_eigenvalue, block_critical_omega_squared, cell_split_weights, &
-            inverse_mass_metric, cell_rebalance_weights, metric_packed, metric_unpacked
+            inverse_mass_metric, cell_rebalance_weights, metric_packed, metric_unpacked, &
+            cell_reference_bound, block_quick_omega_squared
 
   !> Entries of a packed symmetric 3x3 metric (metric_packed): 11 22 33 12 23 13.
   integer, parameter, public :: METRIC_ENTRIES = 6
@@ -405,6 +406,62 @@ contains
       omega_squared(i) = merge(omega_squared(i), huge(1.0_wp), det(i) > 0.0_wp)
     end do
   end subroutine block_critical_omega_squared
+
+  !> The cell bound's factor at F = I per unit weight, omega_0 = max(lambda, 0) tr W0 +
+  !> 2 mu lambda_max(W0) (3D), which block_quick_omega_squared scales by the deformation.
+  pure real(wp) function cell_reference_bound(w0, lambda, mu) result(omega0)
+    real(wp), intent(in) :: w0(3, 3)              !< reference inverse-mass metric
+    real(wp), intent(in) :: lambda, mu            !< Lame constants (lambda < 0 counts as 0)
+    omega0 = max(lambda, 0.0_wp)*(w0(1, 1) + w0(2, 2) + w0(3, 3)) + &
+             2.0_wp*mu*symmetric_max_eigenvalue(3, w0)
+  end function cell_reference_bound
+
+  !> A quick upper bound of block_critical_omega_squared's bound for n cells (doc/theory.md 7):
+  !> with A = adj(F) and W = A^T W0 A, tr W <= tr W0 lambda_max(A^T A) and lambda_max(W) <=
+  !> lambda_max(W0) lambda_max(A^T A), so omega^2 <= (w/J) s omega_0 for any s >=
+  !> lambda_max(A^T A); s = q + 2 sqrt(p2/6), the largest-eigenvalue formula with its cosine
+  !> at 1 (q the mean eigenvalue, p2 the squared norm of the deviator), exact at F = I and
+  !> for two equal eigenvalues below the largest. 24 multiply-adds and a square root per
+  !> cell, against W's 45 and the eigenvalue's series; no W0. huge for J <= 0.
+  pure subroutine block_quick_omega_squared(n, weight, omega0, adj, det, omega_squared)
+    integer, intent(in) :: n                      !< cells (<= BLOCK_POINTS)
+    integer, parameter :: ld = BLOCK_POINTS       !< leading dimension
+    real(wp), intent(in) :: weight(ld)            !< reference volumes
+    real(wp), intent(in) :: omega0(ld)            !< cell_reference_bound of each cell
+    real(wp), intent(in) :: adj(ld, 9)            !< adj(F), column by column
+    real(wp), intent(in) :: det(ld)               !< J = det F
+    real(wp), intent(out) :: omega_squared(ld)    !< bounds of omega^2 (huge for J <= 0)
+    real(wp), parameter :: ONE_THIRD = 1.0_wp/3.0_wp, ONE_SIXTH = 1.0_wp/6.0_wp
+    real(wp) :: m11, m22, m33, m12, m23, m13, d11, d22, d33
+    real(wp), dimension(ld) :: q, root
+    integer :: i
+    do i = 1, n                         ! M = A^T A: the columns' dot products
+      m11 = adj(i, 1)**2 + adj(i, 2)**2 + adj(i, 3)**2
+      m22 = adj(i, 4)**2 + adj(i, 5)**2 + adj(i, 6)**2
+      m33 = adj(i, 7)**2 + adj(i, 8)**2 + adj(i, 9)**2
+      m12 = adj(i, 1)*adj(i, 4) + adj(i, 2)*adj(i, 5) + adj(i, 3)*adj(i, 6)
+      m23 = adj(i, 4)*adj(i, 7) + adj(i, 5)*adj(i, 8) + adj(i, 6)*adj(i, 9)
+      m13 = adj(i, 1)*adj(i, 7) + adj(i, 2)*adj(i, 8) + adj(i, 3)*adj(i, 9)
+      q(i) = (m11 + m22 + m33)*ONE_THIRD
+      d11 = m11 - q(i)
+      d22 = m22 - q(i)
+      d33 = m33 - q(i)
+      root(i) = (d11**2 + d22**2 + d33**2 + 2.0_wp*(m12**2 + m23**2 + m13**2))*ONE_SIXTH
+    end do
+    do i = 1, n
+      root(i) = sqrt(root(i))
+    end do
+    do i = 1, n               ! (q reused: J or 1, selects and divisions in loops of their own)
+      root(i) = q(i) + 2.0_wp*root(i)
+      q(i) = merge(det(i), 1.0_wp, det(i) > 0.0_wp)
+    end do
+    do i = 1, n
+      omega_squared(i) = weight(i)/q(i)*root(i)*omega0(i)
+    end do
+    do i = 1, n
+      omega_squared(i) = merge(omega_squared(i), huge(1.0_wp), det(i) > 0.0_wp)
+    end do
+  end subroutine block_quick_omega_squared
 
   !> Largest eigenvalue of a symmetric n x n matrix, n = 1, 2, 3, in closed form (2x2: mean
   !> plus the radius; 3x3: the trigonometric solution of the characteristic cubic, Smith 1961).

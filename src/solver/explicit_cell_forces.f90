@@ -30,7 +30,8 @@ module mefem_explicit_cell_forces
                                       inverse_3x3
   use mefem_stable_time_step, only: cell_critical_omega_squared, block_critical_omega_squared, &
                                     cell_split_weights, inverse_mass_metric, &
-                                    cell_rebalance_weights, metric_packed, metric_unpacked
+                                    cell_rebalance_weights, metric_packed, metric_unpacked, &
+                                    cell_reference_bound, block_quick_omega_squared
   use mefem_material_state, only: NHIST, HIST_ALPHA, HIST_DAMAGE, material_state_init, &
                                   BLOCK_CELLS => BLOCK_POINTS
   use mefem_material_update, only: material_update, material_update_block, rate_dependent, &
@@ -44,7 +45,7 @@ module mefem_explicit_cell_forces
   private
 
   public :: explicit_cells_set_up, explicit_cell_loop, block_cell_data, explicit_blocks_group
-  public :: explicit_mass_split, volume_scale, nodal_reference_volumes
+  public :: explicit_mass_split, volume_scale, nodal_reference_volumes, set_cell_metric
   public :: explicit_steal_set_up, explicit_steal_tear_down
 
   !> Rebalancing passes of the stiffness-weighted mass split (explicit_mass_split; doc/theory.md
@@ -56,6 +57,15 @@ module mefem_explicit_cell_forces
   !> with 2 / 4 / 8 (ELFORM 10: 5 387 -> 5 051 with 4); shares times omega_c^4 oscillate.
   integer, parameter :: SPLIT_PASSES = 4
 
+  !> The quick step bound (block_quick_omega_squared; doc/theory.md 7) is taken by a cell whose
+  !> quick step is above QUICK_STEP_MARGIN times the last cycle's stable step, the exact bound
+  !> computed for the others: the smallest step is then exact as long as it grows by less than
+  !> this factor from one cycle to the next (a cell's step changes by the strain of one cycle,
+  !> ~1e-3; every cell is exact after a new mass split, which can raise it by more); after a
+  !> larger jump (the controlling cell eroded, a step cap lifted) the step is the quick
+  !> bound's for a few cycles, conservative, and the margin takes it back up.
+  real(wp), parameter :: QUICK_STEP_MARGIN = 1.1_wp
+
 contains
 
   !> 3D: group the local cells into blocks (with their gradients, metrics, volumes and
@@ -66,7 +76,11 @@ contains
     real(wp), intent(in) :: w0(:,:,:)                 !< (3, 3, s%ncell) local cells' metrics
     type(halo_t), intent(inout) :: halo               !< force exchange
     integer, intent(in) :: starts(:), nodes_of(:), order(:)  !< explicit_blocks_group's
+    character(len=8) :: value
+    integer :: length, status
     call build_blocks(s, cells, w0, starts, nodes_of, order)
+    call get_environment_variable('MEFEM_EXACT_STEPS', value, length, status)
+    s%exact_steps = status == 0 .and. trim(value) == '1'
     call hourglass_set_up(s, cells)
     call nodal_pressure_set_up(s, cells, halo)
     call plan_pushed_assembly(s, halo)
@@ -82,11 +96,20 @@ contains
   !> ranks first so that the exchange overlaps the others was measured slower
   !> (doc/performance.md, "How the cycle is organised"): the ranks meet at the exchange
   !> anyway.
-  subroutine explicit_cell_loop(model, s, halo)
+  subroutine explicit_cell_loop(model, s, halo, dt_last)
     type(model_t), intent(in) :: model                !< resolved model
     type(explicit_state_t), intent(inout) :: s        !< local state
     type(halo_t), intent(inout) :: halo               !< force exchange (started here)
+    real(wp), intent(in) :: dt_last                   !< the last cycle's stable step (0: none,
+                                                      !< every cell's exact bound)
     integer :: k, own, l
+    ! (every cell exact at the first evaluation and after a new mass split, whose metrics can
+    ! raise the smallest step by more than the margin)
+    s%exact_step_below = huge(1.0_wp)
+    if (dt_last > 0.0_wp .and. .not. (s%exact_steps .or. s%new_split)) &
+      s%exact_step_below = QUICK_STEP_MARGIN*dt_last
+    s%new_split = .false.
+    s%bound_blocks = s%bound_blocks + s%nblock
     s%dt_stable = huge(1.0_wp)
     s%dt_element = 0
     s%failed = .false.
@@ -191,12 +214,15 @@ contains
         s%peers(j)%dt_element = 0
         s%peers(j)%time = s%time
         s%peers(j)%dt_step = s%dt_step
+        s%peers(j)%exact_step_below = s%exact_step_below
         s%peers(j)%failed = .false.
         do k = first, last
           call block_forces(model, s%peers(j), k, .true.)
         end do
         call comm_work_finished(s%arena, s%peer_rank(j), last - first + 1)
         s%blocks_for_others = s%blocks_for_others + (last - first + 1)
+        s%exact_bound_blocks = s%exact_bound_blocks + s%peers(j)%exact_bound_blocks
+        s%peers(j)%exact_bound_blocks = 0
         call keep_smaller_step(model, s, s%peers(j)%dt_stable, s%peers(j)%dt_element)
         if (s%peers(j)%failed .and. .not. s%failed) then
           s%failed = .true.
@@ -354,6 +380,17 @@ contains
       grad = s%block_grad(i, :, :, b)
     end if
   end subroutine block_cell_gradients
+
+  !> Store the inverse-mass metric W0 of local cell l in the blocks (3D), packed
+  !> (metric_packed), with the quick step bound's factor cell_reference_bound.
+  subroutine set_cell_metric(s, l, w0)
+    type(explicit_state_t), intent(inout) :: s        !< local state (3D, blocks built)
+    integer, intent(in) :: l                          !< local cell
+    real(wp), intent(in) :: w0(3, 3)                  !< its metric
+    s%block_w0(s%cell_slot(l), :, s%cell_block(l)) = metric_packed(w0)
+    s%block_omega0(s%cell_slot(l), s%cell_block(l)) = cell_reference_bound(w0, s%lame(1, l), &
+                                                                           s%lame(2, l))
+  end subroutine set_cell_metric
 
   !> The work of cell_forces on the cell's data; the new history is stored (blocks or
   !> per-cell array) once the material update succeeded.
@@ -597,6 +634,7 @@ contains
     s%block_cell = order
     s%block_grad = 0.0_wp
     s%block_w0 = 0.0_wp
+    s%block_omega0 = 0.0_wp
     s%block_weight = 0.0_wp
     s%block_hist = 0.0_wp
     do b = 1, s%nblock
@@ -612,7 +650,7 @@ contains
         else
           s%block_grad(i, :, :, b) = cells%grad(:, :, cell_grad_column(cells, c))
         end if
-        s%block_w0(i, :, b) = metric_packed(w0(:, :, l))
+        call set_cell_metric(s, l, w0(:, :, l))
         s%block_weight(i, b) = s%weight(l)
         call material_state_init(s%block_hist(i, :, b))
       end do
@@ -658,8 +696,9 @@ contains
     real(wp) :: v(LD, 3, CELL_MAX_NODES)
     real(wp) :: stiffness(LD, 6), viscosity(LD), energy(LD), power(LD), c_inverse(6)
     real(wp) :: position(LD, 3, 8), rule(LD), rate(LD), kept(LD, NHIST)
+    real(wp) :: omega_exact(LD), exact(LD), limit
     logical :: ok(LD), finite(LD), steps_at_once, averaged, hexahedral, rated, erodes, &
-               failed(LD), viscous, face
+               failed(LD), viscous, face, quick
     integer :: n, nn, i, a, l, node, first, hb, k
     first = s%block_start(b)
     n = s%block_start(b + 1) - first
@@ -787,8 +826,32 @@ contains
       call block_internal_force(n, nn, s%block_grad(:, :, :, b), s%block_weight(:, b), adj, &
                                 det, tau, force)
     end if
-    call block_critical_omega_squared(n, s%block_weight(:, b), s%block_w0(:, :, b), adj, det, &
-                                      s%lame(1, l), s%lame(2, l), omega2)
+    ! the step bound: the quick one (no W0) for every cell, the exact one where the quick step
+    ! is not above exact_step_below (a cell's choice depends on its own data only: the same
+    ! bits on any number of ranks); every cell exact with hexahedra (their bound has more
+    ! terms) and with mass scaling (each cell's bound places its added mass)
+    quick = .not. (hexahedral .or. s%mass_scaling) .and. s%exact_step_below < huge(1.0_wp)
+    if (quick) then
+      call block_quick_omega_squared(n, s%block_weight(:, b), s%block_omega0(:, b), adj, det, &
+                                     omega2)
+      ! exact where omega^2 >= (2 TSSFAC / exact_step_below)^2 (or not a number)
+      limit = (2.0_wp*model%controls%tssfac/s%exact_step_below)**2
+      do i = 1, n
+        exact(i) = merge(0.0_wp, 1.0_wp, omega2(i) < limit)
+      end do
+      if (any(exact(1:n) > 0.0_wp)) then
+        s%exact_bound_blocks = s%exact_bound_blocks + 1
+        call block_critical_omega_squared(n, s%block_weight(:, b), s%block_w0(:, :, b), adj, &
+                                          det, s%lame(1, l), s%lame(2, l), omega_exact)
+        do i = 1, n
+          omega2(i) = merge(omega_exact(i), omega2(i), exact(i) > 0.0_wp)
+        end do
+      end if
+    else
+      s%exact_bound_blocks = s%exact_bound_blocks + 1
+      call block_critical_omega_squared(n, s%block_weight(:, b), s%block_w0(:, :, b), adj, &
+                                        det, s%lame(1, l), s%lame(2, l), omega2)
+    end if
     if (hexahedral) then
       ! one-point hexahedra: the hourglass forces (velocities of the padded slots: the first
       ! node's, their gamma is zero) and the step: the larger of the element bound's and
@@ -1324,12 +1387,13 @@ contains
       call cell_shares(l)
       call inverse_mass_metric(dim, nn, grad, share, w0)
       if (s%nblock > 0) then
-        s%block_w0(s%cell_slot(l), :, s%cell_block(l)) = metric_packed(w0)
+        call set_cell_metric(s, l, w0)
       else
         s%w0(:, :, l) = w0(1:dim, 1:dim)
       end if
       if (s%mass_scaling) s%share(1:nn, l) = share(1:nn)
     end do
+    s%new_split = .true.
 
   contains
 

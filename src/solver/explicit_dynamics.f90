@@ -883,7 +883,7 @@ contains
     real(wp) :: clock
     clock = comm_wtime()
     s%time = t
-    call explicit_cell_loop(model, s, halo)
+    call explicit_cell_loop(model, s, halo, dt)
     timing%forces = timing%forces + (comm_wtime() - clock)
     ! the next step depends on the cells only: its minimum over the ranks runs while the
     ! forces are assembled and the accelerations computed (next_time_step waits for it)
@@ -1276,6 +1276,13 @@ contains
           rtoa(spread(1, 3))//' / '//rtoa(spread(2, 3))//' s, time-step reduction '// &
           rtoa(spread(1, 4))//' / '//rtoa(spread(2, 4))//' s, nodal update '// &
           rtoa(spread(1, 5))//' / '//rtoa(spread(2, 5))//' s')
+      if (s%dim == 3) then
+        shared_blocks(1:2) = [real(s%exact_bound_blocks, wp), real(s%bound_blocks, wp)]
+        call comm_sum(shared_blocks(1:2))
+        call say('explicit: step bound: exact in '// &
+                 rtoa(100.0_wp*shared_blocks(1)/max(shared_blocks(2), 1.0_wp))// &
+                 ' % of the cell blocks, the quick bound in the others')
+      end if
       if (comm_size() > 1 .and. s%dim == 3) then
         shared_blocks = [real(s%blocks_for_others, wp), real(s%blocks_by_others, wp), &
                          real(s%nblock, wp)*cycle]

@@ -30,8 +30,8 @@ module mefem_explicit_restart
   use mefem_mortar_contact, only: mortar_contact_erode, mortar_contact_restart_put, &
                                   mortar_contact_restart_get
   use mefem_explicit_state, only: explicit_state_t
-  use mefem_explicit_cell_forces, only: nodal_reference_volumes
-  use mefem_stable_time_step, only: metric_packed, metric_unpacked
+  use mefem_explicit_cell_forces, only: nodal_reference_volumes, set_cell_metric
+  use mefem_stable_time_step, only: metric_unpacked
   use mefem_explicit_output, only: schedule_t
   use mefem_restart_file, only: restart_file_t, restart_put_reals, restart_put_ints, &
                                 restart_put_text, restart_get_reals, restart_get_ints, &
@@ -250,8 +250,7 @@ contains
     call get_cells(f, 'cells.mass_metric', s, cells, d*d, local)
     do l = 1, s%ncell
       if (s%nblock > 0) then
-        s%block_w0(s%cell_slot(l), :, s%cell_block(l)) = &
-            metric_packed(reshape(local(:, l), [3, 3]))
+        call set_cell_metric(s, l, reshape(local(:, l), [3, 3]))
       else
         s%w0(:, :, l) = reshape(local(:, l), [d, d])
       end if

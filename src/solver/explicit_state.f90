@@ -19,11 +19,11 @@ module mefem_explicit_state
   public :: set_to_zero, state_arena_create, state_peer_view
 
   integer, parameter :: ARENA_SIZES = 5                !< sizes recorded in the arena's array 1
-  integer, parameter :: ARENA_ARRAYS = 20              !< arrays in the arena (arena_shapes)
+  integer, parameter :: ARENA_ARRAYS = 21              !< arrays in the arena (arena_shapes)
   !> which of them hold reals (the others default integers)
   logical, parameter :: ARENA_REAL(ARENA_ARRAYS) = [.false., .true., .false., .false., .true., &
       .false., .true., .false., .true., .true., .true., .false., .false., .false., .false., &
-      .false., .true., .true., .true., .true.]
+      .false., .true., .true., .true., .true., .true.]
   integer(i8), parameter :: INT_BYTES = storage_size(0)/8       !< bytes of a default integer
   integer(i8), parameter :: REAL_BYTES = storage_size(1.0_wp)/8 !< bytes of a real(wp)
 
@@ -150,6 +150,9 @@ module mefem_explicit_state
                                                !< (BLOCK_CELLS, nblock) reference volumes
     real(wp), pointer, contiguous :: block_hist(:,:,:) => null()
                                                !< (BLOCK_CELLS, NHIST, nblock) histories
+    real(wp), pointer, contiguous :: block_omega0(:,:) => null()
+                                               !< (BLOCK_CELLS, nblock) the step bound's
+                                               !< reference factor (cell_reference_bound)
     integer, allocatable :: cell_global(:)     !< (ncell) global cell index
     integer, pointer, contiguous :: cell_element(:) => null()
                                                !< (ncell) first model element of the cell
@@ -225,6 +228,9 @@ module mefem_explicit_state
     ! time step of the last force evaluation
     real(wp) :: dt_step = 0.0_wp               !< the step of the positions the forces are
                                                !< computed at (VP = 1: the plastic rate)
+    real(wp) :: exact_step_below = huge(1.0_wp) !< a cell whose quick step bound is above
+                                               !< this takes it, the others their exact bound
+                                               !< (block_forces; huge: every cell exact)
     real(wp) :: dt_stable = huge(1.0_wp)       !< TSSFAC min 2/omega over the cells computed
     integer :: dt_element = 0                  !< model element (first of its cell) that set it
     logical :: failed = .false.                !< a cell failed (message in failure)
@@ -236,10 +242,17 @@ module mefem_explicit_state
     type(explicit_state_t), allocatable :: peers(:)  !< 3D: views of the other ranks of this
                                                !< node, whose blocks this rank may compute
     integer, allocatable :: peer_rank(:)       !< (size(peers)) their world ranks
+    logical :: new_split = .false.             !< the mass split has just been made
+                                               !< (explicit_mass_split): exact step bounds
+    logical :: exact_steps = .false.           !< MEFEM_EXACT_STEPS=1 (tests): every cell's
+                                               !< exact step bound, no quick ones
     logical :: steal_test = .false.            !< MEFEM_STEAL_TEST=1: rank 0 leaves half of
                                                !< its blocks to the others (tests)
     integer(i8) :: blocks_for_others = 0       !< other ranks' blocks computed here (run)
     integer(i8) :: blocks_by_others = 0        !< this rank's blocks computed by others (run)
+    integer(i8) :: exact_bound_blocks = 0      !< blocks computed here whose step bound was
+                                               !< the exact one (run; block_forces)
+    integer(i8) :: bound_blocks = 0            !< blocks of this rank's cell loops (run)
     ! rigid bodies (replicated on every rank) and this rank's nodes of them
     type(rigid_bodies_t) :: bodies
     integer :: nrigid = 0                      !< local nodes of rigid bodies
@@ -370,6 +383,7 @@ contains
     shapes(1:3, 18) = [int(BLOCK_CELLS, i8), int(METRIC_ENTRIES, i8), b]  ! block_w0
     shapes(1:2, 19) = [int(BLOCK_CELLS, i8), b]                      ! block_weight
     shapes(1:3, 20) = [int(BLOCK_CELLS, i8), int(NHIST, i8), b]      ! block_hist
+    shapes(1:2, 21) = [int(BLOCK_CELLS, i8), b]                      ! block_omega0
   end function arena_shapes
 
   !> Point the arena's arrays at the addresses given, with arena_shapes' shapes.
@@ -397,6 +411,7 @@ contains
     call c_f_pointer(address_of(18), s%block_w0, shapes(1:3, 18))
     call c_f_pointer(address_of(19), s%block_weight, shapes(1:2, 19))
     call c_f_pointer(address_of(20), s%block_hist, shapes(1:3, 20))
+    call c_f_pointer(address_of(21), s%block_omega0, shapes(1:2, 21))
   end subroutine associate_arrays
 
 end module mefem_explicit_state

@@ -39,7 +39,8 @@ program test_block_kernels
                                       block_face_internal_force, face_gradients_expanded, &
                                       FACE_COMPACT_COLUMNS
   use mefem_stable_time_step, only: cell_critical_omega_squared, block_critical_omega_squared, &
-                                    METRIC_ENTRIES, metric_packed, metric_unpacked
+                                    METRIC_ENTRIES, metric_packed, metric_unpacked, &
+                                    cell_reference_bound, block_quick_omega_squared
   use mefem_test_fixtures, only: linear_steel, table_steel, power_law_steel, elastic_steel
   implicit none
 
@@ -393,7 +394,7 @@ contains
   subroutine check_stable_step()
     real(wp) :: f(LD, 9), adj(LD, 9), det(LD), w0(LD, METRIC_ENTRIES), weight(LD), omega2(LD)
     real(wp) :: m(3, 3)
-    real(wp) :: f_point(3, 3), w0_point(3, 3), worst, want
+    real(wp) :: f_point(3, 3), w0_point(3, 3), worst, want, omega0(LD), quick(LD)
     integer :: i
     call random_number(weight)
     do i = 1, NCELL
@@ -427,6 +428,30 @@ contains
     call check_close(omega2(1), weight(1)*2.0_wp*(3.0_wp*LAMBDA + 2.0_wp*MU), 1.0e-15_wp, &
                      'stable step: isotropic metric, closed form w (3 lambda + 2 mu) tr/3')
     call check(omega2(2) == huge(1.0_wp), 'stable step: det F < 0 gives huge')
+    ! the quick bound: above the exact one everywhere, equal at F = I, huge for det F < 0
+    do i = 1, NCELL
+      omega0(i) = cell_reference_bound(metric_unpacked(w0(i, :)), LAMBDA, MU)
+    end do
+    call block_quick_omega_squared(NCELL, weight, omega0, adj, det, quick)
+    worst = huge(1.0_wp)
+    do i = 3, NCELL
+      worst = min(worst, quick(i)/omega2(i))
+    end do
+    call check(worst >= 1.0_wp - 1.0e-14_wp, 'stable step: the quick bound is above the '// &
+               'exact one in every random cell (smallest ratio '//trim(rstr(worst))//')')
+    call check_close(quick(1), omega2(1), 1.0e-14_wp, 'stable step: quick bound = exact at F = I')
+    call check(quick(2) == huge(1.0_wp), 'stable step: quick bound, det F < 0 gives huge')
+    ! and a cell compressed along one axis: adj = diag(1, 0.8, 0.8), lambda_max(adj^T adj) = 1
+    ! with the two others equal below it, where the quick bound of it is exact
+    f(3, :) = [0.8_wp, 0.0_wp, 0.0_wp, 0.0_wp, 1.0_wp, 0.0_wp, 0.0_wp, 0.0_wp, 1.0_wp]
+    w0(3, :) = metric_packed(reshape([2.0_wp, 0.0_wp, 0.0_wp, 0.0_wp, 2.0_wp, 0.0_wp, &
+                                      0.0_wp, 0.0_wp, 2.0_wp], [3, 3]))
+    omega0(3) = cell_reference_bound(metric_unpacked(w0(3, :)), LAMBDA, MU)
+    call block_adjugate(3, f, adj, det)
+    call block_quick_omega_squared(3, weight, omega0, adj, det, quick)
+    ! omega^2 <= (w/J) lambda_max(adj^T adj) omega_0, J = 0.8, omega_0 = 2 (3 lambda + 2 mu)
+    call check_close(quick(3), weight(3)/0.8_wp*2.0_wp*(3.0_wp*LAMBDA + 2.0_wp*MU), &
+                     1.0e-14_wp, 'stable step: quick bound of a compressed cell, closed form')
   end subroutine check_stable_step
 
   !> The same cell in blocks of other lengths and at other places gives the same bits (7-node
@@ -475,7 +500,7 @@ contains
     real(wp), intent(out) :: hist(LD, NHIST)                     !< histories after the step
     real(wp), intent(out) :: force(LD, 3, CELL_MAX_NODES)        !< forces
     real(wp), intent(out) :: omega2(LD)                          !< stable-step bounds
-    real(wp) :: f(LD, 9), adj(LD, 9), det(LD), tau(LD, 6)
+    real(wp) :: f(LD, 9), adj(LD, 9), det(LD), tau(LD, 6), omega0(LD), quick(LD)
     logical :: ok(LD)
     integer :: i
     call random_number(u(2:LD, :, :))
@@ -500,6 +525,14 @@ contains
       call block_internal_force(n, nn, grad, weight, adj, det, tau, force)
     end if
     call block_critical_omega_squared(n, weight, w0, adj, det, LAMBDA, MU, omega2)
+    ! the quick bound in omega2's imaginary place: added, as a check of its bits too
+    do i = 1, n
+      omega0(i) = cell_reference_bound(metric_unpacked(w0(i, :)), LAMBDA, MU)
+    end do
+    call block_quick_omega_squared(n, weight, omega0, adj, det, quick)
+    do i = 1, n
+      omega2(i) = omega2(i) + quick(i)
+    end do
   end subroutine run_block
 
   !> Integer as text.
