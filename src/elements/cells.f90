@@ -35,7 +35,7 @@ module mefem_cells
   use mefem_cell_finite_strain, only: inverse_3x3
   use mefem_enrichment, only: enrichment_t, enrichment_setup
   use mefem_smoothing_domains, only: smoothing_domains_t, smoothing_domains_build, &
-                                      smoothing_domains_count
+                                      smoothing_domains_count, simplex_geometry
   implicit none
   private
 
@@ -398,13 +398,14 @@ contains
     type(smoothing_domains_t) :: domains
     integer :: dim, nv, ne, i, e, m, k, slot, c, local, column
     real(wp) :: grad_n(cells%dim, cells%dim + 1), grad_enr(cells%dim), share
+    real(wp) :: altitude(cells%dim + 1), normal(3, cells%dim + 1)
     dim = cells%dim
     nv = dim + 1
     call part_simplices(model, p, elems, conn)
     ne = size(elems)
     if (ne == 0) return
     call smoothing_domains_build(conn, model%nodes%x, domains, status, &
-                                 element_ids=model%elements%id(elems))
+                                 element_ids=model%elements%id(elems), lean=.true.)
     if (.not. status%ok) then
       status%message = 'part '//itoa(model%parts(p)%id)//': '//status%message
       return
@@ -414,12 +415,14 @@ contains
       do i = 1, ne
         c = cells%n + 1
         cells%n = c
-        call linear_gradients(domains, i, grad_n)
         call start_cell(cells, c, elems(i))
         cells%nnodes(c) = nv
         cells%nodes(1:nv, c) = conn(:, i)
         column = cell_grad_column(cells, c)
-        if (column > 0) cells%grad(:, 1:nv, column) = grad_n
+        if (column > 0) then
+          call element_gradients(i, grad_n, altitude, normal)
+          cells%grad(:, 1:nv, column) = grad_n
+        end if
         cells%weight(c) = domains%elem_measure(i)
         cells%material(c) = model%parts(p)%material
         cells%nodal_pressure(c) = dim == 3 .and. &
@@ -433,15 +436,19 @@ contains
       cells%weight(c) = domains%domain_weight(m)
       cells%material(c) = model%parts(p)%material
       call start_cell(cells, c, elems(domains%domain_elem(1, m)))
+      column = cell_grad_column(cells, c)
       do slot = 1, 2
         i = domains%domain_elem(slot, m)
         if (i == 0) cycle
         e = elems(i)
         cells%elements(slot, c) = e
         k = domains%domain_local(slot, m)
-        call linear_gradients(domains, i, grad_n)
-        grad_enr = real(nv, wp)*cells%enrichment%kappa/domains%altitude(k, i)* &
-                   domains%inward_normal(1:dim, k, i)
+        grad_n = 0.0_wp                   ! (the nodes alone where the gradients are not kept)
+        grad_enr = 0.0_wp
+        if (column > 0) then
+          call element_gradients(i, grad_n, altitude, normal)
+          grad_enr = real(nv, wp)*cells%enrichment%kappa/altitude(k)*normal(1:dim, k)
+        end if
         share = domains%elem_measure(i)/real(nv, wp)/domains%domain_weight(m)
         do local = 1, nv          ! hierarchical: the corners carry P1 alone (no - Psi_e/(dim+1))
           call add_gradient(cells, c, conn(local, i), share*grad_n(:, local))
@@ -449,6 +456,24 @@ contains
         call add_gradient(cells, c, cells%enriched_of(e), share*grad_enr)
       end do
     end do
+
+  contains
+
+    !> Gradients of the linear shape functions of element i of the part, grad N_I = n_I/H_I,
+    !> with its altitudes and inward normals (computed here: the domains are built lean).
+    subroutine element_gradients(i, grad_n, altitude, normal)
+      integer, intent(in) :: i                        !< element within the part
+      real(wp), intent(out) :: grad_n(:,:)            !< (dim, dim+1)
+      real(wp), intent(out) :: altitude(:)            !< (dim+1) altitude over side k
+      real(wp), intent(out) :: normal(:,:)            !< (3, dim+1) inward normal of side k
+      real(wp) :: measure, side(cells%dim + 1)
+      integer :: corner
+      call simplex_geometry(model%nodes%x(:, conn(:, i)), measure, altitude, normal, side)
+      do corner = 1, size(grad_n, 2)
+        grad_n(:, corner) = normal(1:size(grad_n, 1), corner)/altitude(corner)
+      end do
+    end subroutine element_gradients
+
   end subroutine add_part_cells
 
   !> The deformable elements of part p (model indices, ascending) and their corners (the
@@ -464,17 +489,6 @@ contains
     conn = model%elements%conn(1:model%dimension + 1, elems)
   end subroutine part_simplices
 
-  !> Gradients of the linear shape functions of element i: grad N_I = n_I / H_I.
-  pure subroutine linear_gradients(domains, i, grad_n)
-    type(smoothing_domains_t), intent(in) :: domains   !< geometry
-    integer, intent(in) :: i                           !< element within the part
-    real(wp), intent(out) :: grad_n(:,:)               !< (dim, dim+1)
-    integer :: local
-    do local = 1, size(grad_n, 2)
-      grad_n(:, local) = domains%inward_normal(1:size(grad_n, 1), local, i)/ &
-                         domains%altitude(local, i)
-    end do
-  end subroutine linear_gradients
 
   !> Add a gradient contribution of node to cell c (appending the node if new; the gradient
   !> is kept only where the cell's column is).

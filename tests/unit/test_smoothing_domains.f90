@@ -7,7 +7,8 @@ program test_smoothing_domains
   use mefem_kinds, only: wp, i8
   use mefem_errors, only: status_t
   use mefem_smoothing_domains, only: smoothing_domains_t, smoothing_domains_build, &
-      smoothing_domains_count, TRIANGLE_EDGE_CORNERS, TETRAHEDRON_FACE_CORNERS
+      smoothing_domains_count, TRIANGLE_EDGE_CORNERS, TETRAHEDRON_FACE_CORNERS, &
+      simplex_geometry
   use mefem_testing, only: test_start, test_finish, check, check_close, check_equal
   implicit none
 
@@ -373,6 +374,7 @@ contains
     call check_close(sum(dp%domain_weight), lx*ly, 1.0e-13_wp, &
                      trim(what)//' perturbed: sum A_m = area')
     call check_common(trim(what)//' perturbed', conn, x, dp)
+    call check_lean(trim(what)//' perturbed', conn, x, dp)
   end subroutine test_triangles
 
   !> (2) and (3) in 3D.
@@ -442,7 +444,44 @@ contains
     call check_close(sum(dp%domain_weight), volume, 1.0e-13_wp, &
                      trim(what)//' perturbed: sum V_m = volume')
     call check_common(trim(what)//' perturbed', conn, x, dp)
+    call check_lean(trim(what)//' perturbed', conn, x, dp)
   end subroutine test_tetrahedra
+
+  !> The lean build (the cells' arrays only) gives the full build's adjacency, boundary
+  !> count, element measures and domain weights, and simplex_geometry the full build's
+  !> altitudes and normals, to the bit.
+  subroutine check_lean(what, conn, x, full)
+    character(len=*), intent(in) :: what          !< case label
+    integer, intent(in) :: conn(:,:)              !< (nvert, nelem) corners
+    real(wp), intent(in) :: x(:,:)                !< (3, nnode) coordinates
+    type(smoothing_domains_t), intent(in) :: full !< the full build
+    type(smoothing_domains_t) :: lean
+    type(status_t) :: status
+    real(wp) :: measure, altitude(4), normal(3, 4), side(4)
+    integer :: e, nv
+    logical :: same
+    call smoothing_domains_build(conn, x, lean, status, lean=.true.)
+    call check(status%ok, what//': lean build succeeds')
+    if (.not. status%ok) return
+    call check(.not. (allocated(lean%inward_normal) .or. allocated(lean%altitude) .or. &
+                      allocated(lean%elem_domain) .or. allocated(lean%domain_nodes)), &
+               what//': lean build keeps no normals, altitudes or side lists')
+    same = lean%ndomain == full%ndomain .and. lean%nboundary == full%nboundary
+    if (same) same = all(lean%domain_elem == full%domain_elem) .and. &
+                     all(lean%domain_local == full%domain_local) .and. &
+                     all(lean%elem_measure == full%elem_measure) .and. &
+                     all(lean%domain_weight == full%domain_weight)
+    call check(same, what//': lean build = full build (adjacency, measures, weights)')
+    nv = size(conn, 1)
+    do e = 1, size(conn, 2)
+      call simplex_geometry(x(:, conn(:, e)), measure, altitude(1:nv), normal(:, 1:nv), &
+                            side(1:nv))
+      same = same .and. measure == full%elem_measure(e) .and. &
+             all(altitude(1:nv) == full%altitude(:, e)) .and. &
+             all(normal(:, 1:nv) == full%inward_normal(:, :, e))
+    end do
+    call check(same, what//': simplex_geometry = the full build''s element geometry')
+  end subroutine check_lean
 
   !> (4) invalid meshes are reported through status with the elements named.
   subroutine test_errors()
