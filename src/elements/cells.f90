@@ -39,7 +39,7 @@ module mefem_cells
   implicit none
   private
 
-  public :: cells_build, cells_summary, cell_grad_column
+  public :: cells_build, cells_summary, cell_grad_column, cells_subset, cells_release_topology
 
   integer, parameter, public :: CELL_MAX_NODES = 8   !< a hexahedron
   integer, parameter, public :: MEFEM_FACE_NODES = 7 !< 3D interior face: 5 corners + 2 enriched
@@ -193,6 +193,43 @@ contains
       deallocate(want)
     end if
   end subroutine cells_build
+
+  !> The topology (nodes, weight, elements, material) of the cells `list` (global cell
+  !> numbers) as cells of their own, numbered 1..size(list) in the list's order: what the
+  !> explicit analysis keeps for its output piece once the global cells are released.
+  subroutine cells_subset(cells, list, subset)
+    type(cells_t), intent(in) :: cells        !< all cells (topology)
+    integer, intent(in) :: list(:)            !< the cells kept
+    type(cells_t), intent(out) :: subset      !< their topology, no gradients
+    subset%dim = cells%dim
+    subset%n = size(list)
+    subset%n_mesh_nodes = cells%n_mesh_nodes
+    subset%n_enriched = cells%n_enriched
+    subset%nnodes = cells%nnodes(list)
+    subset%nodes = cells%nodes(:, list)
+    subset%weight = cells%weight(list)
+    subset%material = cells%material(list)
+    subset%nodal_pressure = cells%nodal_pressure(list)
+    subset%elements = cells%elements(:, list)
+    allocate(subset%grad(cells%dim, CELL_MAX_NODES, 0))
+  end subroutine cells_subset
+
+  !> Free the per-cell arrays of the global cells (the explicit analysis, after its set-up:
+  !> every rank held them for the whole model); the counts stay.
+  subroutine cells_release_topology(cells)
+    type(cells_t), intent(inout) :: cells     !< all cells: their counts only from now on
+    if (allocated(cells%nnodes)) deallocate(cells%nnodes)
+    if (allocated(cells%nodes)) deallocate(cells%nodes)
+    if (allocated(cells%grad)) deallocate(cells%grad)
+    if (allocated(cells%grad_column)) deallocate(cells%grad_column)
+    if (allocated(cells%weight)) deallocate(cells%weight)
+    if (allocated(cells%material)) deallocate(cells%material)
+    if (allocated(cells%nodal_pressure)) deallocate(cells%nodal_pressure)
+    if (allocated(cells%elements)) deallocate(cells%elements)
+    if (allocated(cells%enriched_of)) deallocate(cells%enriched_of)
+    if (allocated(cells%enriched_element)) deallocate(cells%enriched_element)
+    if (allocated(cells%hex_of)) deallocate(cells%hex_of)
+  end subroutine cells_release_topology
 
   !> The column of cells%grad that holds cell c's reference gradients (0: not kept, the cells
   !> were built with elements wanted and c's first element is not one of them).

@@ -47,7 +47,8 @@ module mefem_explicit_dynamics
                                    explicit_layout_local_node, explicit_layout_release_plan
   use mefem_halo, only: halo_t, halo_build, halo_assemble_finish, halo_assemble, &
                         halo_assembly_share_on_node, halo_free
-  use mefem_cells, only: cells_t, cells_build, cells_summary, CELL_MAX_NODES, cell_grad_column
+  use mefem_cells, only: cells_t, cells_build, cells_summary, CELL_MAX_NODES, cell_grad_column, &
+                         cells_subset, cells_release_topology
   use mefem_lumped_mass, only: lumped_mass
   use mefem_stable_time_step, only: cell_mass_shares, cell_inverse_mass_metric
   use mefem_material_state, only: NHIST, material_state_init
@@ -120,7 +121,7 @@ contains
     integer, intent(in) :: element_rank(:)            !< rank of every element
     integer, intent(in) :: element_chunk(:)           !< chunk of every element (assembly)
     character(len=*), intent(in), optional :: restart_path  !< restart file to continue from
-    type(cells_t) :: cells
+    type(cells_t) :: cells, result_cells
     type(explicit_layout_t) :: layout
     type(halo_t) :: halo
     type(explicit_state_t) :: s
@@ -141,7 +142,10 @@ contains
     if (.not. status%ok) call fatal('element set-up: '//status%message)
     call cells_summary(cells)
     call set_up(model, decomp, element_rank, element_chunk, cells, layout, halo, s)
-    deallocate(cells%grad)            ! read by the set-up only: the cells' copies are in s
+    ! the set-up was the last reader of the global cells: the output keeps the topology of
+    ! the cells its piece reads, the rest (per cell, the whole model on every rank) goes
+    call cells_subset(cells, layout%result_cell, result_cells)
+    call cells_release_topology(cells)
     call say('explicit: '//itoa(layout%nnode_global)//' nodes (with enriched), '// &
              itoa(cells%n)//' cells on '//itoa(comm_size())//' rank(s)')
     call report_chunks(layout, halo, max(-1, maxval(element_chunk)) + 1)
@@ -218,7 +222,7 @@ contains
         call comm_min(dt)
         call bound_step(model, t, .false., dt)
         if (dt > 0.0_wp) then
-          call write_outputs(model, decomp, cells, layout, s, schedule, cycle, t, dt_old, &
+          call write_outputs(model, decomp, result_cells, layout, s, schedule, cycle, t, dt_old, &
                              .false., timing%output)
           call write_restart_file(next_dump_name())
         end if
@@ -232,9 +236,9 @@ contains
         exit
       end if
       call bound_step(model, t, .false., dt)
-      if (dt < 0.0_wp) call stop_on_failure(model, decomp, cells, layout, s, schedule, cycle, &
+      if (dt < 0.0_wp) call stop_on_failure(model, decomp, result_cells, layout, s, schedule, cycle, &
                                             t, dt_old, timing)
-      call write_outputs(model, decomp, cells, layout, s, schedule, cycle, t, dt_old, .false., &
+      call write_outputs(model, decomp, result_cells, layout, s, schedule, cycle, t, dt_old, .false., &
                          timing%output)
       call progress_update(cycle, t, dt_old, printed)
       call restart_files_due(model, cycle, t, schedule%next_dump, dump_due, runrsf_due)
@@ -248,7 +252,7 @@ contains
             itoa(cycle)//', t = '//rtoa(t)//', dt = '//rtoa(dt)//', wall '// &
             rtoa(comm_wtime() - t_start)//' s')
         if (iand(action, SENSE_STATE) /= 0 .and. iand(action, SENSE_STOP) == 0) then
-          call write_outputs(model, decomp, cells, layout, s, schedule, cycle, t, dt_old, &
+          call write_outputs(model, decomp, result_cells, layout, s, schedule, cycle, t, dt_old, &
                              .true., timing%output)
           call say('explicit: d3kil (sw4): result state written at cycle '//itoa(cycle)// &
                    ', t = '//rtoa(t))
@@ -260,7 +264,7 @@ contains
         end if
       end if
       if (dt < dt_floor) then
-        call write_outputs(model, decomp, cells, layout, s, schedule, cycle, t, dt_old, .true., &
+        call write_outputs(model, decomp, result_cells, layout, s, schedule, cycle, t, dt_old, .true., &
                            timing%output)
         call close_histories()
         call fatal('explicit: the time step '//rtoa(dt)//' fell below DTMIN x the initial '// &
@@ -271,7 +275,7 @@ contains
     end do
     if (model%controls%d3dump_cycles > 0 .and. dump_cycle /= cycle) &
       call write_restart_file(next_dump_name())       ! (at the end, as LS-DYNA does)
-    call write_outputs(model, decomp, cells, layout, s, schedule, cycle, t, dt_old, .true., &
+    call write_outputs(model, decomp, result_cells, layout, s, schedule, cycle, t, dt_old, .true., &
                        timing%output)
     call close_histories()
     call progress_finish()
@@ -295,7 +299,7 @@ contains
         call rigid_body_loads(model, s, t)
       end if
       call next_time_step(s, dt)
-      if (dt < 0.0_wp) call stop_on_failure(model, decomp, cells, layout, s, schedule, cycle, t, &
+      if (dt < 0.0_wp) call stop_on_failure(model, decomp, result_cells, layout, s, schedule, cycle, t, &
                                             0.0_wp, timing)
       call bound_step(model, t, .true., dt)
       dt_first = dt
@@ -305,7 +309,7 @@ contains
       dt_floor = model%controls%dt_min_fraction*dt_first
       dt_old = 0.0_wp
       call open_histories(model, schedule)
-      call write_outputs(model, decomp, cells, layout, s, schedule, cycle, t, dt, .false., &
+      call write_outputs(model, decomp, result_cells, layout, s, schedule, cycle, t, dt, .false., &
                          timing%output)
     end subroutine initial_state
 
@@ -1021,7 +1025,8 @@ contains
   subroutine stop_on_failure(model, decomp, cells, layout, s, schedule, cycle, t, dt, timing)
     type(model_t), intent(in) :: model                !< resolved model
     type(decomposition_t), intent(in) :: decomp       !< this rank's output piece
-    type(cells_t), intent(in) :: cells                !< all cells
+    type(cells_t), intent(in) :: cells                !< the cells of the output piece
+                                                      !< (layout%result_cell)
     type(explicit_layout_t), intent(in) :: layout     !< this rank's share
     type(explicit_state_t), intent(in) :: s           !< local state
     type(schedule_t), intent(inout) :: schedule       !< what is due when

@@ -56,7 +56,8 @@ contains
   subroutine write_outputs(model, decomp, cells, layout, s, schedule, cycle, t, dt, final, seconds)
     type(model_t), intent(in) :: model                !< resolved model
     type(decomposition_t), intent(in) :: decomp       !< this rank's output piece
-    type(cells_t), intent(in) :: cells                !< all cells
+    type(cells_t), intent(in) :: cells                !< the cells of the output piece, in the
+                                                      !< order of layout%result_cell
     type(explicit_layout_t), intent(in) :: layout     !< this rank's share
     type(explicit_state_t), intent(in) :: s           !< local state
     type(schedule_t), intent(inout) :: schedule       !< what is due when
@@ -118,7 +119,8 @@ contains
   subroutine write_state(model, decomp, cells, layout, s, state, t, dt)
     type(model_t), intent(in) :: model                !< resolved model
     type(decomposition_t), intent(in) :: decomp       !< this rank's output piece
-    type(cells_t), intent(in) :: cells                !< all cells
+    type(cells_t), intent(in) :: cells                !< the cells of the output piece, in the
+                                                      !< order of layout%result_cell
     type(explicit_layout_t), intent(in) :: layout     !< this rank's share
     type(explicit_state_t), intent(in) :: s           !< local state
     integer, intent(in) :: state                      !< output state number
@@ -189,7 +191,7 @@ contains
       point_fields(2)%values(1:s%dim, k) = s%v(:, local) + 0.5_wp*dt*s%a(:, local)
     end do
     call cell_result_fields(model, decomp, cells, gathered(1:6, :), gathered(7, :), &
-                            point_fields(3:6), cell_fields, layout%result_cell)
+                            point_fields(3:6), cell_fields)
     if (s%contact%n > 0) then             ! contact data are replicated: any rank fills any node
       point_fields(7)%name = 'contact_pressure'
       point_fields(8)%name = 'contact_gap'
