@@ -182,33 +182,18 @@ contains
     real(wp), intent(in) :: u(ld, 3, 7)           !< displacements of the cells' 7 slots
     real(wp), intent(in) :: grad(ld, 3, FACE_COMPACT_COLUMNS) !< compact gradients
     real(wp), intent(out) :: f(ld, 9)             !< deformation gradients, by column
-    real(wp) :: d1, d2, d3
-    integer :: i, a, p
-    do i = 1, n
-      f(i, 1) = 1.0_wp
-      f(i, 2:4) = 0.0_wp
-      f(i, 5) = 1.0_wp
-      f(i, 6:8) = 0.0_wp
-      f(i, 9) = 1.0_wp
-    end do
+    real(wp) :: d(ld, 3, FACE_COMPACT_COLUMNS)
+    integer :: i, k, a, p
     do a = 1, FACE_COMPACT_COLUMNS
       ! slot pairs: the corners 1-4 relative to the far corner 6, then the bubble jump 5 - 7
       p = merge(6, 7, a < FACE_COMPACT_COLUMNS)
-      do i = 1, n
-        d1 = u(i, 1, a) - u(i, 1, p)
-        d2 = u(i, 2, a) - u(i, 2, p)
-        d3 = u(i, 3, a) - u(i, 3, p)
-        f(i, 1) = f(i, 1) + d1*grad(i, 1, a)
-        f(i, 2) = f(i, 2) + d2*grad(i, 1, a)
-        f(i, 3) = f(i, 3) + d3*grad(i, 1, a)
-        f(i, 4) = f(i, 4) + d1*grad(i, 2, a)
-        f(i, 5) = f(i, 5) + d2*grad(i, 2, a)
-        f(i, 6) = f(i, 6) + d3*grad(i, 2, a)
-        f(i, 7) = f(i, 7) + d1*grad(i, 3, a)
-        f(i, 8) = f(i, 8) + d2*grad(i, 3, a)
-        f(i, 9) = f(i, 9) + d3*grad(i, 3, a)
+      do k = 1, 3
+        do i = 1, n
+          d(i, k, a) = u(i, k, a) - u(i, k, p)
+        end do
       end do
     end do
+    call block_deformation_gradient(n, FACE_COMPACT_COLUMNS, d, grad, f)
   end subroutine block_face_deformation_gradient
 
   !> The compact gradients (FACE_COMPACT_COLUMNS columns) of an ME-FEM face cell from its
